@@ -1,0 +1,63 @@
+#ifndef ddfem_report_output_h
+#define ddfem_report_output_h
+
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/lac/vector.h>
+
+#include <ddfem/solver/discretization.h>
+#include <ddfem/solver/static_solver.h>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace ddfem::report
+{
+  using namespace dealii;
+
+  /**
+   * Writes the states of a solve as VTU files, one per load step, and a
+   * .pvd record over them: displacement, material id, det F and the von
+   * Mises Cauchy stress (cell averages). Declared in the prm subsection
+   * "Output" next to the output directory.
+   */
+  class VtuWriter
+  {
+  public:
+    /// Declares "Output/Write VTU".
+    static void
+    declare_parameters(ParameterHandler &prm);
+
+    /// Reads "Output/Write VTU".
+    void
+    parse_parameters(ParameterHandler &prm);
+
+    /**
+     * Prepares to write files named @p basename-<step>.vtu and
+     * @p basename.pvd into @p directory.
+     */
+    void
+    initialize(const std::string &directory, const std::string &basename);
+
+    /**
+     * Writes the state @p u with @p fields at load step @p step and load
+     * factor @p t, if the "Write VTU" setting asks for it (@p last tells
+     * whether this is the final state).
+     */
+    void
+    write(const solver::Discretization           &discretization,
+          const Vector<double>                   &u,
+          const solver::StaticSolver::CellFields &fields,
+          const unsigned int                      step,
+          const double                            t,
+          const bool                              last);
+
+  private:
+    std::string                                 when;
+    std::string                                 directory;
+    std::string                                 basename;
+    std::vector<std::pair<double, std::string>> records;
+  };
+} // namespace ddfem::report
+
+#endif

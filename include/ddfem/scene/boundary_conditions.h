@@ -1,0 +1,142 @@
+#ifndef ddfem_scene_boundary_conditions_h
+#define ddfem_scene_boundary_conditions_h
+
+#include <deal.II/base/function_parser.h>
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/point.h>
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace ddfem::scene
+{
+  using namespace dealii;
+
+  /**
+   * A part of the scene's boundary: one face of the grid's bounding box
+   * ("x-", "x+", "y-", "y+", "z-", "z+") or the points inside an
+   * axis-aligned box "box x0 y0 z0 x1 y1 z1" (meters).
+   */
+  struct Region
+  {
+    /**
+     * Parses @p text; @p extent is the far corner of the grid's bounding
+     * box (the near corner is the origin) and @p h the voxel size, used for
+     * the geometric tolerance. @p where names the parameter in messages.
+     */
+    Region(const std::string &text,
+           const Point<3>    &extent,
+           const double       h,
+           const std::string &where);
+
+    /// Whether @p p lies in the region (within a tolerance of 1e-6 h).
+    bool
+    contains(const Point<3> &p) const;
+
+    /// The outward unit normal of a face region; zero for a box.
+    Tensor<1, 3>
+    face_normal() const;
+
+    /// Center of the region's bounding box.
+    Point<3>
+    center() const;
+
+    /// The text the region was parsed from.
+    std::string name;
+    /// True for a face of the bounding box, false for a box.
+    bool is_face;
+    /// Lower and upper corner (a degenerate box for a face).
+    Point<3> lower, upper;
+    /// Geometric tolerance (m).
+    double tolerance;
+  };
+
+  /**
+   * The boundary conditions and loads of a scene. Up to
+   * BoundaryConditions::max_conditions conditions are declared in the
+   * subsections "Boundary conditions/Condition 1" ... "Condition 8"; each
+   * is one of: fixed, sliding (zero normal displacement on a face),
+   * prescribed displacement, prescribed rotation about an axis, traction
+   * and pressure (dead loads in the reference configuration). A body force
+   * is declared in "Loads". Every load and prescribed motion is scaled by
+   * the load factor t in [0, 1] the solver steps through (rotations by
+   * their angle).
+   */
+  class BoundaryConditions
+  {
+  public:
+    /// Number of condition slots in the parameter file.
+    static constexpr unsigned int max_conditions = 8;
+
+    /// Declares the subsections "Boundary conditions" and "Loads".
+    static void
+    declare_parameters(ParameterHandler &prm);
+
+    /**
+     * Reads and validates the conditions. @p extent is the far corner of
+     * the grid's bounding box, @p h the voxel size.
+     */
+    void
+    parse_parameters(ParameterHandler &prm,
+                     const Point<3>   &extent,
+                     const double      h);
+
+    /**
+     * Prescribed displacement component @p component at the reference
+     * point @p p at load factor @p t, for every Dirichlet condition whose
+     * region contains @p p; later conditions override earlier ones.
+     * Returns false if no condition constrains this component there.
+     */
+    bool
+    prescribed_displacement(const Point<3>    &p,
+                            const unsigned int component,
+                            const double       t,
+                            double            &value) const;
+
+    /**
+     * The sum of the traction and pressure loads (Pa) at load factor 1 on
+     * a boundary face with center @p face_center, at the point @p p with
+     * outward unit normal @p normal. Zero where no such condition applies.
+     */
+    Tensor<1, 3>
+    traction(const Point<3>     &face_center,
+             const Point<3>     &p,
+             const Tensor<1, 3> &normal) const;
+
+    /// Whether any traction or pressure condition is given.
+    bool
+    has_traction() const;
+
+    /// Body force (N/m^3) at load factor 1 at the reference point @p p.
+    Tensor<1, 3>
+    body_force(const Point<3> &p) const;
+
+    /// Whether the body force is non-zero anywhere (a non-empty expression).
+    bool
+    has_body_force() const
+    {
+      return body_force_given;
+    }
+
+  private:
+    /// One parsed condition.
+    struct Condition
+    {
+      std::string                        type;
+      std::unique_ptr<Region>            region;
+      std::unique_ptr<FunctionParser<3>> value;
+      std::vector<bool>                  constrained;
+      Tensor<1, 3>                       axis;
+      Point<3>                           center;
+      double                             angle;
+    };
+
+    std::vector<Condition>             conditions;
+    std::unique_ptr<FunctionParser<3>> body;
+    bool                               body_force_given = false;
+  };
+} // namespace ddfem::scene
+
+#endif

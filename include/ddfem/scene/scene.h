@@ -1,0 +1,69 @@
+#ifndef ddfem_scene_scene_h
+#define ddfem_scene_scene_h
+
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/point.h>
+#include <deal.II/grid/tria.h>
+
+#include <ddfem/scene/boundary_conditions.h>
+#include <ddfem/scene/layout.h>
+#include <ddfem/scene/palette.h>
+#include <ddfem/scene/voxel_grid.h>
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace ddfem::scene
+{
+  using namespace dealii;
+
+  /**
+   * Everything a parameter file says about the object being simulated:
+   * the voxel grid's size, the palette, the material layout, boundary
+   * conditions, loads and probe points. Independent of the discretization
+   * method.
+   */
+  class Scene
+  {
+  public:
+    /// Declares "Geometry", "Materials", "Layout", "Boundary conditions",
+    /// "Loads" and the probe list.
+    static void
+    declare_parameters(ParameterHandler &prm);
+
+    /// Reads and validates all of the above, then fills the voxel grid.
+    void
+    parse_parameters(ParameterHandler &prm);
+
+    /// The voxel grid with one material id per voxel.
+    VoxelGrid grid;
+    /// The materials voxel ids refer to.
+    Palette palette;
+    /// Boundary conditions and loads.
+    BoundaryConditions boundary_conditions;
+    /// Points (m) whose displacement is reported.
+    std::vector<Point<3>> probes;
+
+  private:
+    Layout layout;
+  };
+
+  /**
+   * Builds the hexahedral mesh of a voxel grid coarsened @p level times:
+   * cells are the 2^level x 2^level x 2^level blocks of voxels that contain
+   * at least one solid voxel (level 0: the solid voxels themselves). Void
+   * blocks get no cell, hence no degrees of freedom. The grid size must be
+   * divisible by 2^level.
+   *
+   * Returns, for each active cell in the order of active_cell_index(), the
+   * lexicographic index of its block in the coarsened grid. The cell's
+   * material id is the block's voxel id at level 0 and 0 otherwise.
+   */
+  std::vector<std::size_t>
+  make_voxel_mesh(const VoxelGrid   &grid,
+                  const unsigned int level,
+                  Triangulation<3>  &tria);
+} // namespace ddfem::scene
+
+#endif

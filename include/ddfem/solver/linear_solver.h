@@ -1,0 +1,86 @@
+#ifndef ddfem_solver_linear_solver_h
+#define ddfem_solver_linear_solver_h
+
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/lac/sparse_direct.h>
+#include <deal.II/lac/sparse_matrix.h>
+#include <deal.II/lac/trilinos_precondition.h>
+#include <deal.II/lac/trilinos_sparse_matrix.h>
+#include <deal.II/lac/vector.h>
+
+#include <string>
+#include <vector>
+
+namespace ddfem::solver
+{
+  using namespace dealii;
+
+  /**
+   * Solves the linearized systems K x = b of the Newton method, either with
+   * a sparse direct factorization (UMFPACK) or with conjugate gradients
+   * preconditioned by Trilinos ML algebraic multigrid whose near null space
+   * are the six rigid body modes. 'auto' picks the direct solver for small
+   * systems. Declared in the prm subsection "Linear solver".
+   */
+  class LinearSolver
+  {
+  public:
+    /// Thrown when a solve fails (singular or indefinite matrix, no
+    /// convergence); the Newton method reacts by regularizing.
+    struct Failure : public std::runtime_error
+    {
+      /// A failure described by @p what.
+      using std::runtime_error::runtime_error;
+    };
+
+    /// Declares the subsection "Linear solver".
+    static void
+    declare_parameters(ParameterHandler &prm);
+
+    /// Reads the subsection "Linear solver".
+    void
+    parse_parameters(ParameterHandler &prm);
+
+    /**
+     * Prepares for systems on @p dof_handler (FE_Q(p)^3 with the default
+     * node-wise numbering): chooses the method and computes the rigid body
+     * modes for the multigrid preconditioner.
+     */
+    void
+    initialize(const DoFHandler<3> &dof_handler);
+
+    /**
+     * Solves @p K x = @p b. Returns the number of iterations (1 for the
+     * direct solver). Throws Failure if the solver does not succeed.
+     */
+    unsigned int
+    solve(const SparseMatrix<double> &K,
+          Vector<double>             &x,
+          const Vector<double>       &b);
+
+    /// The method in use: "direct" or "cg-amg".
+    const std::string &
+    method() const
+    {
+      return chosen;
+    }
+
+  private:
+    std::string  requested;
+    std::string  chosen;
+    double       tolerance;
+    unsigned int max_iterations;
+    unsigned int direct_limit;
+    unsigned int degree;
+
+    /// The six rigid body modes, mode-major (mode k at [k * n_dofs]).
+    std::vector<double> rigid_body_modes;
+
+    SparseDirectUMFPACK               direct;
+    TrilinosWrappers::SparseMatrix    trilinos_matrix;
+    TrilinosWrappers::PreconditionAMG amg;
+  };
+} // namespace ddfem::solver
+
+#endif

@@ -1,0 +1,212 @@
+#ifndef ddfem_solver_static_solver_h
+#define ddfem_solver_static_solver_h
+
+#include <deal.II/base/conditional_ostream.h>
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/timer.h>
+#include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/sparse_matrix.h>
+#include <deal.II/lac/sparsity_pattern.h>
+#include <deal.II/lac/vector.h>
+
+#include <ddfem/material/kernel.h>
+#include <ddfem/scene/boundary_conditions.h>
+#include <ddfem/solver/discretization.h>
+#include <ddfem/solver/linear_solver.h>
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace ddfem::solver
+{
+  using namespace dealii;
+
+  /**
+   * Quasi-static hyperelastic equilibrium on a Discretization: minimizes
+   * the total potential energy
+   *
+   *   E(u) = sum_cells int psi(F) dV - t f_ext . u
+   *
+   * for load factors t stepping from 0 to 1, by Newton's method with a
+   * backtracking line search on E (the DDFEM paper's Algorithm 1). States
+   * with det F <= 0 anywhere have infinite energy and are never accepted.
+   * Non-descent Newton directions (indefinite tangents, e.g. in buckling)
+   * and failed linear solves are handled by shifting the tangent by a
+   * growing multiple of its diagonal; load increments whose Newton
+   * iteration fails are cut in half.
+   */
+  class StaticSolver
+  {
+  public:
+    /// Parameters of the subsection "Nonlinear solver".
+    struct Parameters
+    {
+      /// Declares the subsection "Nonlinear solver".
+      static void
+      declare_parameters(ParameterHandler &prm);
+      /// Reads the subsection "Nonlinear solver".
+      void
+      parse_parameters(ParameterHandler &prm);
+
+      /// Nominal number of equal load increments.
+      unsigned int load_steps = 10;
+      /// Smallest load increment, as a fraction of the nominal one, before
+      /// the solver gives up.
+      double minimum_step = 1e-3;
+      /// Newton iterations per load increment before it counts as failed.
+      unsigned int max_iterations = 30;
+      /// Relative residual tolerance of Newton's method.
+      double tolerance = 1e-8;
+    };
+
+    /// What a solve did.
+    struct Statistics
+    {
+      /// Whether the full load (t = 1) was reached.
+      bool converged = false;
+      /// Accepted load increments.
+      unsigned int load_steps = 0;
+      /// Load increments that failed and were cut.
+      unsigned int step_cuts = 0;
+      /// Newton iterations over all load increments (failed ones included).
+      unsigned int newton_iterations = 0;
+      /// Linear solver iterations over all Newton iterations.
+      unsigned int linear_iterations = 0;
+      /// Newton iterations that needed a regularized tangent.
+      unsigned int regularized_iterations = 0;
+      /// Smallest det F at any quadrature point in the final state.
+      double min_J = 1;
+      /// Why the solve stopped early (empty if converged).
+      std::string failure;
+    };
+
+    /// Per-cell results for output: averages over quadrature points.
+    struct CellFields
+    {
+      /// Average det F of each active cell.
+      Vector<double> J;
+      /// Average von Mises Cauchy stress of each active cell (Pa).
+      Vector<double> von_mises;
+      /// Smallest det F at any quadrature point.
+      double min_J;
+    };
+
+    /**
+     * A solver for @p discretization under @p boundary_conditions. The
+     * objects passed must outlive the solver. @p timer receives the
+     * sections "assembly", "linear solve" and "line search".
+     */
+    StaticSolver(const Discretization            &discretization,
+                 const scene::BoundaryConditions &boundary_conditions,
+                 const Parameters                &parameters,
+                 LinearSolver                    &linear_solver,
+                 TimerOutput                     &timer,
+                 ConditionalOStream              &pcout);
+
+    /**
+     * Finds the Dirichlet nodes, assembles the external load vector,
+     * builds the sparsity pattern and checks that the Dirichlet conditions
+     * remove all rigid body motions of every connected part of the solid.
+     * Throws ExcMessage describing the problem otherwise (no Dirichlet
+     * condition, floating voxels, parts joined only along an edge or at a
+     * corner).
+     */
+    void
+    setup();
+
+    /**
+     * Steps the load factor from 0 to 1. After each accepted increment,
+     * calls @p on_step with the increment's number (from 1) and its load
+     * factor.
+     */
+    Statistics
+    solve(const std::function<void(unsigned int, double)> &on_step);
+
+    /// The displacement (m) of the last accepted state.
+    const Vector<double> &
+    solution() const
+    {
+      return displacement;
+    }
+
+    /// Total potential energy E(@p u) at load factor @p t (J); +infinity if
+    /// det F <= 0 anywhere.
+    double
+    energy(const Vector<double> &u, const double t) const;
+
+    /**
+     * The unconstrained gradient dE/du (@p residual) and Hessian
+     * (@p tangent, reinitialized on sparsity_pattern()) at @p u and load
+     * factor @p t. For verification.
+     */
+    void
+    residual_and_tangent(const Vector<double> &u,
+                         const double          t,
+                         Vector<double>       &residual,
+                         SparseMatrix<double> &tangent) const;
+
+    /// The sparsity pattern of the tangent (no constraints applied).
+    const SparsityPattern &
+    sparsity_pattern() const
+    {
+      return pattern;
+    }
+
+    /// Per-cell det F and von Mises stress of the state @p u.
+    CellFields
+    cell_fields(const Vector<double> &u) const;
+
+    /// The displacement at point @p p of the state @p u (throws if @p p
+    /// lies outside the solid).
+    Tensor<1, 3>
+    point_value(const Vector<double> &u, const Point<3> &p) const;
+
+  private:
+    /**
+     * One pass over all cells: energy always, the raw gradient into
+     * @p residual if non-null, and the tangent and Newton right hand side
+     * condensed with @p constraints if @p tangent is non-null. Returns the
+     * total potential energy (+infinity if inadmissible); sets @p min_J.
+     */
+    double
+    assemble(const Vector<double>            &u,
+             const double                     t,
+             Vector<double>                  *residual,
+             const AffineConstraints<double> *constraints,
+             SparseMatrix<double>            *tangent,
+             Vector<double>                  *newton_rhs,
+             double                          &min_J) const;
+
+    /// Newton's method at load factor @p t starting from @p u.
+    bool
+    newton(const double t, Vector<double> &u, Statistics &statistics);
+
+    /// Throws if the Dirichlet nodes leave rigid motions free (see setup()).
+    void
+    check_supports() const;
+
+    const Discretization            &discretization;
+    const scene::BoundaryConditions &boundary_conditions;
+    const Parameters                 parameters;
+    LinearSolver                    &linear_solver;
+    TimerOutput                     &timer;
+    ConditionalOStream              &pcout;
+
+    /// Dirichlet degrees of freedom with their support point and component.
+    struct DirichletDof
+    {
+      types::global_dof_index index;
+      Point<3>                point;
+      unsigned int            component;
+    };
+    std::vector<DirichletDof> dirichlet_dofs;
+
+    SparsityPattern      pattern;
+    SparseMatrix<double> system_matrix;
+    Vector<double>       external_force;
+    Vector<double>       displacement;
+  };
+} // namespace ddfem::solver
+
+#endif

@@ -1,0 +1,347 @@
+#include <deal.II/base/conditional_ostream.h>
+#include <deal.II/base/timer.h>
+#include <deal.II/base/utilities.h>
+
+#include <ddfem/app/application.h>
+#include <ddfem/report/output.h>
+#include <ddfem/scene/scene.h>
+#include <ddfem/solver/discretization.h>
+#include <ddfem/solver/linear_solver.h>
+#include <ddfem/solver/static_solver.h>
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+
+namespace ddfem::app
+{
+  namespace
+  {
+    const char *usage =
+      "Usage: ddfem PRM [--set \"Subsection/Name=value\"]...\n"
+      "       ddfem --print-parameters\n"
+      "       ddfem --help\n"
+      "\n"
+      "Runs the scene described by the deal.II parameter file PRM and writes\n"
+      "summary.json, VTU files and the parameters used into its\n"
+      "'Output/Output directory'. --set overrides any parameter (repeatable);\n"
+      "nested subsections are separated by '/'. --print-parameters lists\n"
+      "every parameter with its documentation and default.\n";
+
+    /// Peak resident memory of this process (MB).
+    double
+    peak_memory_mb()
+    {
+      Utilities::System::MemoryStats stats;
+      Utilities::System::get_memory_stats(stats);
+      return stats.VmHWM / 1024.;
+    }
+
+    /// Applies "Subsection/.../Name=value" to @p prm.
+    void
+    apply_override(ParameterHandler &prm, const std::string &text)
+    {
+      const auto equal = text.find('=');
+      AssertThrow(equal != std::string::npos,
+                  ExcMessage("--set \"" + text +
+                             "\": expected \"Subsection/Name=value\"."));
+      const auto path =
+        Utilities::split_string_list(text.substr(0, equal), '/');
+      const auto value = Utilities::trim(text.substr(equal + 1));
+      AssertThrow(!path.empty(),
+                  ExcMessage("--set \"" + text + "\": no parameter name."));
+      for (unsigned int i = 0; i + 1 < path.size(); ++i)
+        prm.enter_subsection(path[i]);
+      try
+        {
+          prm.set(path.back(), value);
+        }
+      catch (ExceptionBase &e)
+        {
+          std::ostringstream message;
+          e.print_info(message);
+          AssertThrow(false,
+                      ExcMessage("--set \"" + text +
+                                 "\": " + Utilities::trim(message.str())));
+        }
+      for (unsigned int i = 0; i + 1 < path.size(); ++i)
+        prm.leave_subsection();
+    }
+
+    /**
+     * One simulation of a scene with the fine continuous method: builds the
+     * discretization, solves, writes VTU and summary.json.
+     */
+    class Simulation
+    {
+    public:
+      explicit Simulation(std::ostream &out)
+        : pcout(out)
+        , timer(pcout, TimerOutput::never, TimerOutput::wall_times)
+      {}
+
+      void
+      parse_parameters(ParameterHandler &prm, const std::string &prm_file)
+      {
+        scene_name = prm.get("Scene name");
+        if (scene_name.empty())
+          scene_name = std::filesystem::path(prm_file).stem().string();
+        method = prm.get("Method");
+        prm.enter_subsection("Discretization");
+        degree = prm.get_integer("Polynomial degree");
+        prm.leave_subsection();
+        prm.enter_subsection("Output");
+        directory      = prm.get("Output directory");
+        screen_timings = prm.get_bool("Screen timings");
+        prm.leave_subsection();
+        solver_parameters.parse_parameters(prm);
+        linear_solver.parse_parameters(prm);
+        vtu.parse_parameters(prm);
+        scene.parse_parameters(prm);
+      }
+
+      int
+      run(const ParameterHandler &prm)
+      {
+        Timer                                   total;
+        std::unique_ptr<solver::Discretization> discretization;
+        std::unique_ptr<solver::StaticSolver>   solver;
+        {
+          TimerOutput::Scope scope(timer, "setup");
+          discretization =
+            std::make_unique<solver::Discretization>(scene, degree);
+          solver =
+            std::make_unique<solver::StaticSolver>(*discretization,
+                                                   scene.boundary_conditions,
+                                                   solver_parameters,
+                                                   linear_solver,
+                                                   timer,
+                                                   pcout);
+          solver->setup();
+        }
+        const auto &n = scene.grid.size();
+        pcout << "Scene \"" << scene_name << "\", method " << method << "\n"
+              << "  grid " << n[0] << " x " << n[1] << " x " << n[2]
+              << " voxels of " << scene.grid.voxel_size() << " m, "
+              << scene.grid.n_solid_voxels() << " solid\n"
+              << "  " << discretization->triangulation.n_active_cells()
+              << " cells, " << discretization->dof_handler.n_dofs()
+              << " DoFs (FE_Q(" << degree << ")^3), linear solver "
+              << linear_solver.method() << std::endl;
+
+        // All input is valid: from here on, results are written.
+        std::filesystem::create_directories(directory);
+        {
+          std::ofstream used(directory + "/parameters.prm");
+          prm.print_parameters(used, ParameterHandler::ShortPRM);
+        }
+        vtu.initialize(directory, "solution");
+        const auto on_step = [&](const unsigned int step, const double t) {
+          TimerOutput::Scope scope(timer, "output");
+          vtu.write(*discretization,
+                    solver->solution(),
+                    solver->cell_fields(solver->solution()),
+                    step,
+                    t,
+                    t >= 1);
+        };
+        const auto statistics = solver->solve(on_step);
+
+        // Results.
+        const Vector<double> &u      = solver->solution();
+        const auto            fields = solver->cell_fields(u);
+        double                max_u  = 0;
+        for (const auto &cell :
+             discretization->dof_handler.active_cell_iterators())
+          for (const unsigned int v : cell->vertex_indices())
+            {
+              Tensor<1, 3> d;
+              for (unsigned int c = 0; c < 3; ++c)
+                d[c] = u(cell->vertex_dof_index(v, c));
+              max_u = std::max(max_u, d.norm());
+            }
+
+        nlohmann::json summary;
+        summary["scene"]        = scene_name;
+        summary["method"]       = method;
+        summary["grid"]         = {n[0], n[1], n[2]};
+        summary["voxel_size"]   = scene.grid.voxel_size();
+        summary["solid_voxels"] = scene.grid.n_solid_voxels();
+        summary["cells"]  = discretization->triangulation.n_active_cells();
+        summary["dofs"]   = discretization->dof_handler.n_dofs();
+        summary["degree"] = degree;
+        summary["linear_solver"]          = linear_solver.method();
+        summary["load_steps"]             = statistics.load_steps;
+        summary["step_cuts"]              = statistics.step_cuts;
+        summary["newton_iterations"]      = statistics.newton_iterations;
+        summary["linear_iterations"]      = statistics.linear_iterations;
+        summary["regularized_iterations"] = statistics.regularized_iterations;
+        summary["converged"]              = statistics.converged;
+        if (!statistics.converged)
+          summary["failure"] = statistics.failure;
+        summary["min_J"]            = fields.min_J;
+        summary["max_displacement"] = max_u;
+
+        pcout << (statistics.converged ? "Converged" : "NOT converged")
+              << " after " << statistics.load_steps << " load steps and "
+              << statistics.newton_iterations << " Newton iterations\n"
+              << "  min J = " << std::setprecision(4) << fields.min_J
+              << ", max |u| = " << max_u << " m" << std::endl;
+        summary["probes"] = nlohmann::json::array();
+        for (const Point<3> &p : scene.probes)
+          {
+            const Tensor<1, 3> d = solver->point_value(u, p);
+            summary["probes"].push_back({{"point", {p[0], p[1], p[2]}},
+                                         {"displacement", {d[0], d[1], d[2]}}});
+            pcout << "  probe (" << p << "): u = (" << d << ")" << std::endl;
+          }
+
+        const auto times = timer.get_summary_data(TimerOutput::total_wall_time);
+        const double   wall = total.wall_time();
+        nlohmann::json phases;
+        for (const auto &[section, seconds] : times)
+          phases[section] = seconds;
+        summary["wall_time_s"]       = wall;
+        summary["phase_wall_time_s"] = phases;
+        summary["time_per_newton_iteration_s"] =
+          wall / std::max(1u, statistics.newton_iterations);
+        summary["peak_memory_mb"] = peak_memory_mb();
+        std::ofstream(directory + "/summary.json")
+          << summary.dump(2) << std::endl;
+
+        if (screen_timings)
+          {
+            pcout << "  wall time " << wall << " s";
+            for (const auto &[section, seconds] : times)
+              pcout << ", " << section << " " << seconds << " s";
+            pcout << "\n  peak memory " << peak_memory_mb() << " MB"
+                  << std::endl;
+          }
+        if (!statistics.converged)
+          {
+            pcout << "Error: " << statistics.failure << "." << std::endl;
+            return 1;
+          }
+        return 0;
+      }
+
+    private:
+      ConditionalOStream               pcout;
+      TimerOutput                      timer;
+      std::string                      scene_name, method, directory;
+      unsigned int                     degree;
+      bool                             screen_timings;
+      scene::Scene                     scene;
+      solver::StaticSolver::Parameters solver_parameters;
+      solver::LinearSolver             linear_solver;
+      report::VtuWriter                vtu;
+    };
+  } // namespace
+
+
+
+  void
+  declare_parameters(ParameterHandler &prm)
+  {
+    prm.declare_entry(
+      "Scene name",
+      "",
+      Patterns::Anything(),
+      "Name of the scene in reports; empty means the parameter file's "
+      "name without extension.");
+    prm.declare_entry(
+      "Method",
+      "fine",
+      Patterns::Selection("fine"),
+      "Discretization: 'fine' is the continuous Neo-Hookean model on the "
+      "voxel grid, one hexahedron per solid voxel.");
+    prm.enter_subsection("Discretization");
+    prm.declare_entry("Polynomial degree",
+                      "1",
+                      Patterns::Integer(1, 3),
+                      "Degree p of the FE_Q(p)^3 displacement element.");
+    prm.leave_subsection();
+    prm.enter_subsection("Output");
+    prm.declare_entry(
+      "Output directory",
+      "output",
+      Patterns::DirectoryName(),
+      "Directory for summary.json, parameters.prm and VTU files; created "
+      "if missing.");
+    prm.declare_entry(
+      "Screen timings",
+      "true",
+      Patterns::Bool(),
+      "Print wall times and memory on screen. Tests switch this off to "
+      "keep screen output deterministic (summary.json always has them).");
+    prm.leave_subsection();
+    report::VtuWriter::declare_parameters(prm);
+    scene::Scene::declare_parameters(prm);
+    solver::StaticSolver::Parameters::declare_parameters(prm);
+    solver::LinearSolver::declare_parameters(prm);
+  }
+
+
+
+  int
+  run(const std::vector<std::string> &arguments,
+      std::ostream                   &out,
+      std::ostream                   &err)
+  {
+    if (arguments.empty() || arguments[0] == "--help" || arguments[0] == "-h")
+      {
+        (arguments.empty() ? err : out) << usage;
+        return arguments.empty() ? 1 : 0;
+      }
+    try
+      {
+        ParameterHandler prm;
+        declare_parameters(prm);
+        if (arguments[0] == "--print-parameters")
+          {
+            prm.print_parameters(out, ParameterHandler::PRM);
+            return 0;
+          }
+
+        const std::string prm_file = arguments[0];
+        AssertThrow(std::ifstream(prm_file).good(),
+                    ExcMessage("Cannot read the parameter file \"" + prm_file +
+                               "\"."));
+        try
+          {
+            prm.parse_input(prm_file);
+          }
+        catch (ExceptionBase &e)
+          {
+            std::ostringstream message;
+            e.print_info(message);
+            AssertThrow(false,
+                        ExcMessage("In parameter file \"" + prm_file +
+                                   "\": " + Utilities::trim(message.str())));
+          }
+        for (unsigned int i = 1; i < arguments.size(); ++i)
+          {
+            AssertThrow(arguments[i] == "--set" && i + 1 < arguments.size(),
+                        ExcMessage("Unexpected argument \"" + arguments[i] +
+                                   "\".\n" + usage));
+            apply_override(prm, arguments[++i]);
+          }
+
+        Simulation simulation(out);
+        simulation.parse_parameters(prm, prm_file);
+        return simulation.run(prm);
+      }
+    catch (ExceptionBase &e)
+      {
+        std::ostringstream message;
+        e.print_info(message);
+        err << "Error: " << Utilities::trim(message.str()) << std::endl;
+      }
+    catch (std::exception &e)
+      {
+        err << "Error: " << e.what() << std::endl;
+      }
+    return 1;
+  }
+} // namespace ddfem::app

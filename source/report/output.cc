@@ -1,0 +1,84 @@
+#include <deal.II/base/data_out_base.h>
+#include <deal.II/numerics/data_out.h>
+
+#include <ddfem/report/output.h>
+
+#include <fstream>
+
+namespace ddfem::report
+{
+  void
+  VtuWriter::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Output");
+    prm.declare_entry(
+      "Write VTU",
+      "every step",
+      Patterns::Selection("every step|last step|none"),
+      "Which load steps are written as VTU files (with a .pvd record).");
+    prm.leave_subsection();
+  }
+
+
+
+  void
+  VtuWriter::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Output");
+    when = prm.get("Write VTU");
+    prm.leave_subsection();
+  }
+
+
+
+  void
+  VtuWriter::initialize(const std::string &dir, const std::string &name)
+  {
+    directory = dir;
+    basename  = name;
+    records.clear();
+  }
+
+
+
+  void
+  VtuWriter::write(const solver::Discretization           &discretization,
+                   const Vector<double>                   &u,
+                   const solver::StaticSolver::CellFields &fields,
+                   const unsigned int                      step,
+                   const double                            t,
+                   const bool                              last)
+  {
+    if (when == "none" || (when == "last step" && !last))
+      return;
+
+    Vector<double> material_id(discretization.triangulation.n_active_cells());
+    for (const auto &cell :
+         discretization.triangulation.active_cell_iterators())
+      material_id(cell->active_cell_index()) = cell->material_id();
+
+    DataOut<3> data_out;
+    data_out.attach_dof_handler(discretization.dof_handler);
+    const std::vector<DataComponentInterpretation::DataComponentInterpretation>
+      vector_field(3, DataComponentInterpretation::component_is_part_of_vector);
+    data_out.add_data_vector(u,
+                             std::vector<std::string>(3, "displacement"),
+                             DataOut<3>::type_dof_data,
+                             vector_field);
+    data_out.add_data_vector(material_id, "material_id");
+    data_out.add_data_vector(fields.J, "J");
+    data_out.add_data_vector(fields.von_mises, "von_Mises_stress");
+    data_out.build_patches(discretization.mapping, discretization.fe.degree);
+
+    const std::string name =
+      basename + "-" + Utilities::int_to_string(step, 4) + ".vtu";
+    std::ofstream vtu(directory + "/" + name);
+    data_out.write_vtu(vtu);
+    AssertThrow(vtu,
+                ExcMessage("Could not write \"" + directory + "/" + name +
+                           "\"."));
+    records.emplace_back(t, name);
+    std::ofstream pvd(directory + "/" + basename + ".pvd");
+    DataOutBase::write_pvd_record(pvd, records);
+  }
+} // namespace ddfem::report

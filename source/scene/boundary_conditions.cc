@@ -1,0 +1,377 @@
+#include <deal.II/base/utilities.h>
+
+#include <ddfem/scene/boundary_conditions.h>
+
+#include <cmath>
+
+namespace ddfem::scene
+{
+  namespace
+  {
+    /**
+     * Builds a FunctionParser from ';'-separated expressions in x, y, z. A
+     * component "free" is marked unconstrained in @p constrained (if given)
+     * and evaluates to 0.
+     */
+    std::unique_ptr<FunctionParser<3>>
+    make_parser(const std::string &text,
+                const unsigned int n_components,
+                const std::string &where,
+                std::vector<bool> *constrained = nullptr)
+    {
+      std::vector<std::string> expressions =
+        Utilities::split_string_list(text, ';');
+      AssertThrow(expressions.size() == n_components,
+                  ExcMessage(where + " = \"" + text + "\": expected " +
+                             std::to_string(n_components) +
+                             " expression(s) separated by ';', found " +
+                             std::to_string(expressions.size()) + "."));
+      if (constrained)
+        constrained->assign(n_components, true);
+      for (unsigned int c = 0; c < n_components; ++c)
+        if (expressions[c] == "free")
+          {
+            AssertThrow(constrained != nullptr,
+                        ExcMessage(
+                          where +
+                          ": 'free' is only allowed for displacements."));
+            (*constrained)[c] = false;
+            expressions[c]    = "0";
+          }
+      auto parser = std::make_unique<FunctionParser<3>>(n_components);
+      try
+        {
+          parser->initialize("x,y,z", expressions, {{"pi", numbers::PI}});
+          parser->value(Point<3>()); // muparser reports some errors only here
+        }
+      catch (ExceptionBase &e)
+        {
+          std::ostringstream message;
+          e.print_info(message);
+          AssertThrow(false,
+                      ExcMessage(where + " = \"" + text +
+                                 "\" is not a valid expression of x, y, z: " +
+                                 message.str()));
+        }
+      return parser;
+    }
+  } // namespace
+
+
+
+  Region::Region(const std::string &text,
+                 const Point<3>    &extent,
+                 const double       h,
+                 const std::string &where)
+    : name(text)
+    , is_face(true)
+    , upper(extent)
+    , tolerance(1e-6 * h)
+  {
+    const auto words = Utilities::split_string_list(text, ' ');
+    if (words.size() == 1 && words[0].size() == 2 &&
+        std::string("xyz").find(words[0][0]) != std::string::npos &&
+        (words[0][1] == '-' || words[0][1] == '+'))
+      {
+        const unsigned int d = words[0][0] - 'x';
+        if (words[0][1] == '-')
+          upper[d] = 0;
+        else
+          lower[d] = extent[d];
+      }
+    else
+      {
+        AssertThrow(words.size() == 7 && words[0] == "box",
+                    ExcMessage(
+                      where + " = \"" + text +
+                      "\": expected a face (x-, x+, y-, y+, z-, z+) or "
+                      "'box x0 y0 z0 x1 y1 z1' (meters)."));
+        is_face = false;
+        try
+          {
+            for (unsigned int d = 0; d < 3; ++d)
+              {
+                lower[d] = Utilities::string_to_double(words[1 + d]);
+                upper[d] = Utilities::string_to_double(words[4 + d]);
+              }
+          }
+        catch (...)
+          {
+            AssertThrow(false,
+                        ExcMessage(where + " = \"" + text +
+                                   "\": coordinates must be numbers."));
+          }
+        for (unsigned int d = 0; d < 3; ++d)
+          AssertThrow(lower[d] <= upper[d],
+                      ExcMessage(
+                        where + " = \"" + text +
+                        "\": the lower corner must not exceed the upper one."));
+      }
+  }
+
+
+
+  bool
+  Region::contains(const Point<3> &p) const
+  {
+    for (unsigned int d = 0; d < 3; ++d)
+      if (p[d] < lower[d] - tolerance || p[d] > upper[d] + tolerance)
+        return false;
+    return true;
+  }
+
+
+
+  Tensor<1, 3>
+  Region::face_normal() const
+  {
+    Tensor<1, 3> normal;
+    if (is_face)
+      for (unsigned int d = 0; d < 3; ++d)
+        if (lower[d] == upper[d])
+          normal[d] = (lower[d] == 0 ? -1 : 1);
+    return normal;
+  }
+
+
+
+  Point<3>
+  Region::center() const
+  {
+    return Point<3>(0.5 * (lower + upper));
+  }
+
+
+
+  void
+  BoundaryConditions::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Boundary conditions");
+    for (unsigned int c = 1; c <= max_conditions; ++c)
+      {
+        prm.enter_subsection("Condition " + std::to_string(c));
+        prm.declare_entry(
+          "Type",
+          "none",
+          Patterns::Selection(
+            "none|fixed|sliding|displacement|rotation|traction|pressure"),
+          "fixed: zero displacement. sliding: zero normal displacement "
+          "on a face region (e.g. a floor). displacement: prescribed "
+          "displacement 'Value'. rotation: rigid rotation by 'Angle' "
+          "about 'Axis' through 'Center'. traction: force per reference "
+          "area 'Value'. pressure: pressure 'Value' on the reference "
+          "normal (positive pushes into the body). All are dead loads "
+          "scaled by the load factor.");
+        prm.declare_entry(
+          "Region",
+          "y-",
+          Patterns::Anything(),
+          "Where the condition applies: a face of the grid's bounding box "
+          "(x-, x+, y-, y+, z-, z+) or 'box x0 y0 z0 x1 y1 z1' (meters). "
+          "Dirichlet conditions act on the nodes in the region, loads on "
+          "the boundary faces whose center lies in it.");
+        prm.declare_entry(
+          "Value",
+          "0; 0; 0",
+          Patterns::Anything(),
+          "displacement (m) or traction (Pa): three muparser expressions "
+          "of x, y, z (reference coordinates, m) separated by ';'; a "
+          "displacement component may be 'free'. pressure (Pa): one "
+          "expression.");
+        prm.declare_entry(
+          "Axis",
+          "0, 1, 0",
+          Patterns::List(Patterns::Double(), 3, 3),
+          "rotation: the rotation axis (normalized internally).");
+        prm.declare_entry(
+          "Angle",
+          "90",
+          Patterns::Double(),
+          "rotation: angle in degrees at load factor 1 (right-handed "
+          "about 'Axis').");
+        prm.declare_entry(
+          "Center",
+          "auto",
+          Patterns::Anything(),
+          "rotation: a point on the axis 'x, y, z' (m), or 'auto' for the "
+          "center of the region.");
+        prm.leave_subsection();
+      }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Loads");
+    prm.declare_entry(
+      "Body force",
+      "0; 0; 0",
+      Patterns::Anything(),
+      "Body force per reference volume (N/m^3) at load factor 1: three "
+      "muparser expressions of x, y, z separated by ';'. Gravity is "
+      "'0; 0; -9.81*density'.");
+    prm.leave_subsection();
+  }
+
+
+
+  void
+  BoundaryConditions::parse_parameters(ParameterHandler &prm,
+                                       const Point<3>   &extent,
+                                       const double      h)
+  {
+    conditions.clear();
+    prm.enter_subsection("Boundary conditions");
+    for (unsigned int c = 1; c <= max_conditions; ++c)
+      {
+        const std::string where =
+          "Boundary conditions/Condition " + std::to_string(c);
+        prm.enter_subsection("Condition " + std::to_string(c));
+        Condition condition;
+        condition.type = prm.get("Type");
+        if (condition.type != "none")
+          {
+            condition.region = std::make_unique<Region>(prm.get("Region"),
+                                                        extent,
+                                                        h,
+                                                        where + "/Region");
+            if (condition.type == "fixed")
+              condition.constrained.assign(3, true);
+            else if (condition.type == "sliding")
+              {
+                AssertThrow(condition.region->is_face,
+                            ExcMessage(where +
+                                       ": 'sliding' needs a face region "
+                                       "(x-, x+, y-, y+, z-, z+), not a box."));
+                condition.constrained.assign(3, false);
+                for (unsigned int d = 0; d < 3; ++d)
+                  condition.constrained[d] =
+                    (condition.region->face_normal()[d] != 0);
+              }
+            else if (condition.type == "displacement")
+              condition.value = make_parser(prm.get("Value"),
+                                            3,
+                                            where + "/Value",
+                                            &condition.constrained);
+            else if (condition.type == "traction")
+              condition.value =
+                make_parser(prm.get("Value"), 3, where + "/Value");
+            else if (condition.type == "pressure")
+              condition.value =
+                make_parser(prm.get("Value"), 1, where + "/Value");
+            else if (condition.type == "rotation")
+              {
+                const auto axis = Utilities::string_to_double(
+                  Utilities::split_string_list(prm.get("Axis")));
+                condition.axis = Tensor<1, 3>({axis[0], axis[1], axis[2]});
+                AssertThrow(condition.axis.norm() > 0,
+                            ExcMessage(where +
+                                       "/Axis must not be the zero vector."));
+                condition.axis /= condition.axis.norm();
+                condition.angle = prm.get_double("Angle") * numbers::PI / 180.;
+                condition.constrained.assign(3, true);
+                const std::string center = prm.get("Center");
+                if (center == "auto")
+                  condition.center = condition.region->center();
+                else
+                  {
+                    const auto words = Utilities::split_string_list(center);
+                    AssertThrow(words.size() == 3,
+                                ExcMessage(
+                                  where + "/Center = \"" + center +
+                                  "\": expected 'auto' or 'x, y, z'."));
+                    for (unsigned int d = 0; d < 3; ++d)
+                      condition.center[d] =
+                        Utilities::string_to_double(words[d]);
+                  }
+              }
+            conditions.push_back(std::move(condition));
+          }
+        prm.leave_subsection();
+      }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Loads");
+    const std::string body_text = prm.get("Body force");
+    body                        = make_parser(body_text, 3, "Loads/Body force");
+    prm.leave_subsection();
+    body_force_given = false;
+    for (const std::string &e : Utilities::split_string_list(body_text, ';'))
+      if (e != "0")
+        body_force_given = true;
+  }
+
+
+
+  bool
+  BoundaryConditions::prescribed_displacement(const Point<3>    &p,
+                                              const unsigned int component,
+                                              const double       t,
+                                              double            &value) const
+  {
+    bool found = false;
+    for (const Condition &condition : conditions)
+      {
+        if (condition.constrained.empty() ||
+            !condition.constrained[component] || !condition.region->contains(p))
+          continue;
+        found = true;
+        if (condition.type == "displacement")
+          value = t * condition.value->value(p, component);
+        else if (condition.type == "rotation")
+          {
+            // Rodrigues: R r = r cos(a) + (k x r) sin(a) + k (k.r)(1 - cos(a))
+            const double       a       = t * condition.angle;
+            const Tensor<1, 3> r       = p - condition.center;
+            const Tensor<1, 3> k       = condition.axis;
+            const Tensor<1, 3> rotated = r * std::cos(a) +
+                                         cross_product_3d(k, r) * std::sin(a) +
+                                         k * (k * r) * (1 - std::cos(a));
+            value = rotated[component] - r[component];
+          }
+        else
+          value = 0;
+      }
+    return found;
+  }
+
+
+
+  Tensor<1, 3>
+  BoundaryConditions::traction(const Point<3>     &face_center,
+                               const Point<3>     &p,
+                               const Tensor<1, 3> &normal) const
+  {
+    Tensor<1, 3> t;
+    for (const Condition &condition : conditions)
+      if ((condition.type == "traction" || condition.type == "pressure") &&
+          condition.region->contains(face_center))
+        {
+          if (condition.type == "pressure")
+            t -= condition.value->value(p) * normal;
+          else
+            for (unsigned int d = 0; d < 3; ++d)
+              t[d] += condition.value->value(p, d);
+        }
+    return t;
+  }
+
+
+
+  bool
+  BoundaryConditions::has_traction() const
+  {
+    for (const Condition &condition : conditions)
+      if (condition.type == "traction" || condition.type == "pressure")
+        return true;
+    return false;
+  }
+
+
+
+  Tensor<1, 3>
+  BoundaryConditions::body_force(const Point<3> &p) const
+  {
+    Tensor<1, 3> b;
+    for (unsigned int d = 0; d < 3; ++d)
+      b[d] = body->value(p, d);
+    return b;
+  }
+} // namespace ddfem::scene

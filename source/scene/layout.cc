@@ -1,0 +1,417 @@
+#include <deal.II/base/utilities.h>
+
+#include <ddfem/scene/layout.h>
+#include <ddfem/scene/voxel_io.h>
+
+#include <cmath>
+#include <random>
+
+namespace ddfem::scene
+{
+  namespace
+  {
+    /// Index of axis name "x", "y" or "z".
+    unsigned int
+    axis_index(const std::string &name)
+    {
+      return name == "x" ? 0 : (name == "y" ? 1 : 2);
+    }
+
+    /// Converts @p value to a material id, checking it against the palette.
+    MaterialId
+    checked_id(const long         value,
+               const unsigned int n_materials,
+               const std::string &where)
+    {
+      AssertThrow(value >= 0 && value <= static_cast<long>(n_materials),
+                  ExcMessage(
+                    where + ": material id " + std::to_string(value) +
+                    " is not in the palette; allowed are 0 (void) to " +
+                    std::to_string(n_materials) + "."));
+      return static_cast<MaterialId>(value);
+    }
+
+    /// Converts a list of integers to checked material ids.
+    std::vector<MaterialId>
+    checked_ids(const std::string &list,
+                const unsigned int n_materials,
+                const std::string &where)
+    {
+      std::vector<MaterialId> ids;
+      for (const int v :
+           Utilities::string_to_int(Utilities::split_string_list(list)))
+        ids.push_back(checked_id(v, n_materials, where));
+      AssertThrow(!ids.empty(),
+                  ExcMessage(where + " must list at least one material id."));
+      return ids;
+    }
+  } // namespace
+
+
+
+  void
+  Layout::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Layout");
+    {
+      prm.declare_entry(
+        "Type",
+        "uniform",
+        Patterns::Selection(
+          "uniform|layers|skin|fibers|random|voxel file|surface mesh"),
+        "The base layout of material ids. 'uniform' fills every voxel "
+        "with 'Material'; the others are described in the subsection "
+        "of the same name. 'Shapes' are painted over the base layout.");
+      prm.declare_entry(
+        "Material",
+        "1",
+        Patterns::Integer(0, 254),
+        "Material id of the uniform layout, and of the core, matrix or "
+        "inside of the skin, fibers and surface mesh layouts (0 = void).");
+      prm.declare_entry(
+        "Shapes",
+        "",
+        Patterns::Anything(),
+        "Primitives painted over the base layout in the order given, separated by "
+        "';'. Each is 'box x0 y0 z0 x1 y1 z1 : id', 'sphere cx cy cz r : id' or "
+        "'cylinder ax ay az bx by bz r : id' (a cylinder of radius r around the "
+        "segment from a to b). Coordinates in meters; a voxel takes the id if its "
+        "center lies inside.");
+
+      prm.enter_subsection("Layers");
+      prm.declare_entry("Axis",
+                        "y",
+                        Patterns::Selection("x|y|z"),
+                        "Axis the layers stack along.");
+      prm.declare_entry(
+        "Thickness",
+        "0.01",
+        Patterns::Double(0),
+        "Thickness of one layer (m); should be a multiple of the voxel size.");
+      prm.declare_entry(
+        "Materials",
+        "1, 3",
+        Patterns::List(Patterns::Integer(0, 254), 1),
+        "Material ids of consecutive layers, repeated cyclically.");
+      prm.leave_subsection();
+
+      prm.enter_subsection("Skin");
+      prm.declare_entry("Thickness",
+                        "0.01",
+                        Patterns::Double(0),
+                        "Skin thickness (m).");
+      prm.declare_entry(
+        "Faces",
+        "all",
+        Patterns::List(Patterns::Selection("all|x-|x+|y-|y+|z-|z+")),
+        "Faces of the grid's bounding box that carry the skin.");
+      prm.declare_entry("Skin material",
+                        "3",
+                        Patterns::Integer(0, 254),
+                        "Material id of the skin.");
+      prm.leave_subsection();
+
+      prm.enter_subsection("Fibers");
+      prm.declare_entry("Axis",
+                        "y",
+                        Patterns::Selection("x|y|z"),
+                        "Axis of the bar the fibers wind around.");
+      prm.declare_entry("Count",
+                        "4",
+                        Patterns::Integer(1),
+                        "Number of helical fibers.");
+      prm.declare_entry("Fiber radius",
+                        "0.02",
+                        Patterns::Double(0),
+                        "Radius of each fiber (m).");
+      prm.declare_entry(
+        "Helix radius",
+        "0.08",
+        Patterns::Double(0),
+        "Distance of each fiber's center line from the bar's axis (m).");
+      prm.declare_entry(
+        "Pitch",
+        "1",
+        Patterns::Double(0),
+        "Length along the axis of one full turn of a fiber (m).");
+      prm.declare_entry("Fiber material",
+                        "3",
+                        Patterns::Integer(0, 254),
+                        "Material id of the fibers.");
+      prm.leave_subsection();
+
+      prm.enter_subsection("Random");
+      prm.declare_entry("Seed",
+                        "1",
+                        Patterns::Integer(0),
+                        "Seed of the random layout.");
+      prm.declare_entry(
+        "Materials",
+        "1, 2, 3",
+        Patterns::List(Patterns::Integer(0, 254), 1),
+        "Material ids drawn with equal probability for each voxel.");
+      prm.leave_subsection();
+
+      prm.enter_subsection("Voxel file");
+      prm.declare_entry(
+        "File name",
+        "",
+        Patterns::FileName(),
+        "Text file: a header 'nx ny nz' equal to the grid size, then "
+        "nx*ny*nz material ids, x fastest, then y, then z. '#' starts a "
+        "comment line.");
+      prm.leave_subsection();
+
+      prm.enter_subsection("Surface mesh");
+      prm.declare_entry(
+        "File name",
+        "",
+        Patterns::FileName(),
+        "Closed triangle surface (.stl ASCII or binary, or .obj). Voxels "
+        "inside get 'Material', all others are void.");
+      prm.declare_entry(
+        "Fit to grid",
+        "true",
+        Patterns::Bool(),
+        "Scale and center the mesh uniformly to fill the grid's bounding "
+        "box; if false, mesh coordinates are taken as meters.");
+      prm.leave_subsection();
+    }
+    prm.leave_subsection();
+  }
+
+
+
+  void
+  Layout::parse_parameters(ParameterHandler &prm, const unsigned int n_mat)
+  {
+    n_materials = n_mat;
+    prm.enter_subsection("Layout");
+    {
+      type = prm.get("Type");
+      material =
+        checked_id(prm.get_integer("Material"), n_materials, "Layout/Material");
+      shapes = parse_shapes(prm.get("Shapes"), n_materials);
+
+      prm.enter_subsection("Layers");
+      layer_axis      = axis_index(prm.get("Axis"));
+      layer_thickness = prm.get_double("Thickness");
+      layer_materials = checked_ids(prm.get("Materials"),
+                                    n_materials,
+                                    "Layout/Layers/Materials");
+      prm.leave_subsection();
+
+      prm.enter_subsection("Skin");
+      skin_thickness = prm.get_double("Thickness");
+      skin_faces     = Utilities::split_string_list(prm.get("Faces"));
+      skin_material  = checked_id(prm.get_integer("Skin material"),
+                                 n_materials,
+                                 "Layout/Skin/Skin material");
+      prm.leave_subsection();
+
+      prm.enter_subsection("Fibers");
+      fiber_axis     = axis_index(prm.get("Axis"));
+      fiber_count    = prm.get_integer("Count");
+      fiber_radius   = prm.get_double("Fiber radius");
+      helix_radius   = prm.get_double("Helix radius");
+      fiber_pitch    = prm.get_double("Pitch");
+      fiber_material = checked_id(prm.get_integer("Fiber material"),
+                                  n_materials,
+                                  "Layout/Fibers/Fiber material");
+      prm.leave_subsection();
+
+      prm.enter_subsection("Random");
+      random_seed      = prm.get_integer("Seed");
+      random_materials = checked_ids(prm.get("Materials"),
+                                     n_materials,
+                                     "Layout/Random/Materials");
+      prm.leave_subsection();
+
+      prm.enter_subsection("Voxel file");
+      voxel_file = prm.get("File name");
+      prm.leave_subsection();
+
+      prm.enter_subsection("Surface mesh");
+      surface_file = prm.get("File name");
+      fit_surface  = prm.get_bool("Fit to grid");
+      prm.leave_subsection();
+    }
+    prm.leave_subsection();
+
+    AssertThrow(type != "layers" || layer_thickness > 0,
+                ExcMessage("Layout/Layers/Thickness must be > 0."));
+    AssertThrow(type != "fibers" || fiber_pitch > 0,
+                ExcMessage("Layout/Fibers/Pitch must be > 0."));
+    AssertThrow(
+      type != "voxel file" || !voxel_file.empty(),
+      ExcMessage(
+        "Layout/Voxel file/File name must be set for 'Type = voxel file'."));
+    AssertThrow(
+      type != "surface mesh" || !surface_file.empty(),
+      ExcMessage(
+        "Layout/Surface mesh/File name must be set for 'Type = surface mesh'."));
+  }
+
+
+
+  std::vector<Layout::Shape>
+  Layout::parse_shapes(const std::string &text, const unsigned int n_materials)
+  {
+    std::vector<Shape> result;
+    for (const std::string &entry : Utilities::split_string_list(text, ';'))
+      {
+        const std::string where = "Layout/Shapes, entry \"" + entry + "\"";
+        const auto        parts = Utilities::split_string_list(entry, ':');
+        AssertThrow(
+          parts.size() == 2,
+          ExcMessage(where + ": expected '<kind> <numbers> : <material id>'."));
+        auto words = Utilities::split_string_list(parts[0], ' ');
+        AssertThrow(!words.empty(),
+                    ExcMessage(where + ": missing shape kind."));
+
+        Shape        shape;
+        unsigned int expected = 0;
+        if (words[0] == "box")
+          shape.kind = Shape::Kind::box, expected = 6;
+        else if (words[0] == "sphere")
+          shape.kind = Shape::Kind::sphere, expected = 4;
+        else if (words[0] == "cylinder")
+          shape.kind = Shape::Kind::cylinder, expected = 7;
+        else
+          AssertThrow(false,
+                      ExcMessage(where + ": unknown shape '" + words[0] +
+                                 "'; allowed are box, sphere, cylinder."));
+        words.erase(words.begin());
+        AssertThrow(words.size() == expected,
+                    ExcMessage(where + ": '" + parts[0] + "' needs " +
+                               std::to_string(expected) + " numbers."));
+        try
+          {
+            shape.values = Utilities::string_to_double(words);
+          }
+        catch (...)
+          {
+            AssertThrow(false,
+                        ExcMessage(where +
+                                   ": not all coordinates are numbers."));
+          }
+        int id = -1;
+        try
+          {
+            id = Utilities::string_to_int(parts[1]);
+          }
+        catch (...)
+          {
+            AssertThrow(false,
+                        ExcMessage(where +
+                                   ": the material id is not an integer."));
+          }
+        shape.material = checked_id(id, n_materials, where);
+        result.push_back(shape);
+      }
+    return result;
+  }
+
+
+
+  bool
+  Layout::Shape::contains(const Point<3> &p) const
+  {
+    const auto &v = values;
+    switch (kind)
+      {
+        case Kind::box:
+          return p[0] >= v[0] && p[0] <= v[3] && p[1] >= v[1] && p[1] <= v[4] &&
+                 p[2] >= v[2] && p[2] <= v[5];
+        case Kind::sphere:
+          return p.distance(Point<3>(v[0], v[1], v[2])) <= v[3];
+        case Kind::cylinder:
+          {
+            const Point<3>     a(v[0], v[1], v[2]), b(v[3], v[4], v[5]);
+            const Tensor<1, 3> axis = b - a;
+            const double       t    = (p - a) * axis / axis.norm_square();
+            return t >= 0 && t <= 1 && (p - (a + t * axis)).norm() <= v[6];
+          }
+      }
+    return false;
+  }
+
+
+
+  void
+  Layout::fill(VoxelGrid &grid) const
+  {
+    const auto    &n      = grid.size();
+    const Point<3> extent = grid.extent();
+
+    if (type == "voxel file")
+      read_voxel_file(voxel_file, n_materials + 1, grid);
+    else if (type == "surface mesh")
+      {
+        TriangleMesh mesh = read_surface_mesh(surface_file);
+        if (fit_surface)
+          fit_to_box(mesh, Point<3>(), extent);
+        grid = VoxelGrid(n, grid.voxel_size(), void_id);
+        voxelize(mesh, material, grid);
+      }
+    else
+      {
+        std::mt19937 random(random_seed);
+        for (unsigned int k = 0; k < n[2]; ++k)
+          for (unsigned int j = 0; j < n[1]; ++j)
+            for (unsigned int i = 0; i < n[0]; ++i)
+              {
+                const Point<3> c  = grid.center(i, j, k);
+                MaterialId     id = material;
+                if (type == "layers")
+                  {
+                    const auto layer =
+                      static_cast<std::size_t>(c[layer_axis] / layer_thickness);
+                    id = layer_materials[layer % layer_materials.size()];
+                  }
+                else if (type == "skin")
+                  {
+                    for (const std::string &face : skin_faces)
+                      for (unsigned int d = 0; d < 3; ++d)
+                        {
+                          const std::string axis(1, "xyz"[d]);
+                          if ((face == "all" || face == axis + "-") &&
+                              c[d] < skin_thickness)
+                            id = skin_material;
+                          if ((face == "all" || face == axis + "+") &&
+                              extent[d] - c[d] < skin_thickness)
+                            id = skin_material;
+                        }
+                  }
+                else if (type == "fibers")
+                  {
+                    const unsigned int a1 = (fiber_axis + 1) % 3,
+                                       a2 = (fiber_axis + 2) % 3;
+                    const double x        = c[a1] - 0.5 * extent[a1];
+                    const double y        = c[a2] - 0.5 * extent[a2];
+                    for (unsigned int f = 0; f < fiber_count; ++f)
+                      {
+                        const double angle =
+                          2 * numbers::PI * f / fiber_count +
+                          2 * numbers::PI * c[fiber_axis] / fiber_pitch;
+                        const double dx = x - helix_radius * std::cos(angle);
+                        const double dy = y - helix_radius * std::sin(angle);
+                        if (dx * dx + dy * dy <= fiber_radius * fiber_radius)
+                          id = fiber_material;
+                      }
+                  }
+                else if (type == "random")
+                  id = random_materials[random() % random_materials.size()];
+                grid(i, j, k) = id;
+              }
+      }
+
+    if (!shapes.empty())
+      for (unsigned int k = 0; k < n[2]; ++k)
+        for (unsigned int j = 0; j < n[1]; ++j)
+          for (unsigned int i = 0; i < n[0]; ++i)
+            for (const Shape &shape : shapes)
+              if (shape.contains(grid.center(i, j, k)))
+                grid(i, j, k) = shape.material;
+  }
+} // namespace ddfem::scene

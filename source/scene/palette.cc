@@ -1,0 +1,117 @@
+#include <deal.II/base/utilities.h>
+
+#include <ddfem/scene/palette.h>
+
+#include <sstream>
+
+namespace ddfem::scene
+{
+  material::MaterialPoint
+  PaletteMaterial::material_point() const
+  {
+    material::MaterialPoint point;
+    point.mu     = mu;
+    point.lambda = lambda;
+    return point;
+  }
+
+
+
+  void
+  Palette::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Materials");
+    prm.declare_entry(
+      "Palette",
+      "E=1e5 nu=0.45; E=1e6 nu=0.45; E=1e7 nu=0.45",
+      Patterns::Anything(),
+      "The compressible Neo-Hookean materials voxels refer to, separated by "
+      "';'. Voxel id 0 is void, id m >= 1 is the m-th material here. Each "
+      "material is either 'E=<Young's modulus in Pa> nu=<Poisson ratio>' "
+      "with E > 0 and -1 < nu < 0.5, or 'mu=<Pa> lambda=<Pa>' with mu > 0 "
+      "and lambda > -2/3 mu. The default is the papers' palette.");
+    prm.leave_subsection();
+  }
+
+
+
+  void
+  Palette::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Materials");
+    parse(prm.get("Palette"));
+    prm.leave_subsection();
+  }
+
+
+
+  void
+  Palette::parse(const std::string &description)
+  {
+    std::vector<PaletteMaterial> result;
+    for (const std::string &entry :
+         Utilities::split_string_list(description, ';'))
+      {
+        const std::string where = "Materials/Palette, material " +
+                                  std::to_string(result.size() + 1) + " (\"" +
+                                  entry + "\")";
+        std::map<std::string, double> values;
+        for (const std::string &pair : Utilities::split_string_list(entry, ' '))
+          {
+            const auto tokens = Utilities::split_string_list(pair, '=');
+            AssertThrow(tokens.size() == 2,
+                        ExcMessage(where +
+                                   ": expected 'name=value' pairs, got \"" +
+                                   pair + "\"."));
+            try
+              {
+                values[tokens[0]] = Utilities::string_to_double(tokens[1]);
+              }
+            catch (...)
+              {
+                AssertThrow(false,
+                            ExcMessage(where + ": \"" + tokens[1] +
+                                       "\" is not a number."));
+              }
+          }
+
+        PaletteMaterial m;
+        if (values.size() == 2 && values.count("E") && values.count("nu"))
+          {
+            m.youngs_modulus = values["E"];
+            m.poisson_ratio  = values["nu"];
+            AssertThrow(m.youngs_modulus > 0,
+                        ExcMessage(where + ": Young's modulus E must be > 0."));
+            AssertThrow(m.poisson_ratio > -1 && m.poisson_ratio < 0.5,
+                        ExcMessage(
+                          where + ": Poisson ratio nu must lie in (-1, 0.5)."));
+            m.mu     = m.youngs_modulus / (2 * (1 + m.poisson_ratio));
+            m.lambda = m.youngs_modulus * m.poisson_ratio /
+                       ((1 + m.poisson_ratio) * (1 - 2 * m.poisson_ratio));
+          }
+        else if (values.size() == 2 && values.count("mu") &&
+                 values.count("lambda"))
+          {
+            m.mu     = values["mu"];
+            m.lambda = values["lambda"];
+            AssertThrow(m.mu > 0, ExcMessage(where + ": mu must be > 0."));
+            AssertThrow(m.lambda > -2. / 3. * m.mu,
+                        ExcMessage(where + ": lambda must be > -2/3 mu."));
+            m.youngs_modulus =
+              m.mu * (3 * m.lambda + 2 * m.mu) / (m.lambda + m.mu);
+            m.poisson_ratio = m.lambda / (2 * (m.lambda + m.mu));
+          }
+        else
+          AssertThrow(
+            false,
+            ExcMessage(
+              where + ": give exactly 'E=... nu=...' or 'mu=... lambda=...'."));
+        result.push_back(m);
+      }
+    AssertThrow(!result.empty() && result.size() < 255,
+                ExcMessage("Materials/Palette must list between 1 and 254 "
+                           "materials, found " +
+                           std::to_string(result.size()) + "."));
+    materials = std::move(result);
+  }
+} // namespace ddfem::scene

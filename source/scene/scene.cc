@@ -1,0 +1,146 @@
+#include <deal.II/base/utilities.h>
+#include <deal.II/grid/tria_description.h>
+
+#include <ddfem/scene/scene.h>
+
+namespace ddfem::scene
+{
+  void
+  Scene::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Geometry");
+    prm.declare_entry("Grid size",
+                      "16, 16, 16",
+                      Patterns::List(Patterns::Integer(1), 3, 3),
+                      "Number of voxels nx, ny, nz along x, y, z.");
+    prm.declare_entry("Voxel size",
+                      "0.01",
+                      Patterns::Double(0),
+                      "Edge length of a voxel (m).");
+    prm.declare_entry(
+      "Probe points",
+      "",
+      Patterns::Anything(),
+      "Points 'x, y, z' (m, reference configuration) separated by ';' "
+      "whose displacement is printed and written to summary.json.");
+    prm.leave_subsection();
+
+    Palette::declare_parameters(prm);
+    Layout::declare_parameters(prm);
+    BoundaryConditions::declare_parameters(prm);
+  }
+
+
+
+  void
+  Scene::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Geometry");
+    const auto n = Utilities::string_to_int(
+      Utilities::split_string_list(prm.get("Grid size")));
+    const double h = prm.get_double("Voxel size");
+    AssertThrow(h > 0, ExcMessage("Geometry/Voxel size must be > 0."));
+    AssertThrow(static_cast<double>(n[0]) * n[1] * n[2] <= 2e8,
+                ExcMessage(
+                  "Geometry/Grid size: at most 2e8 voxels are supported."));
+    grid = VoxelGrid({{static_cast<unsigned int>(n[0]),
+                       static_cast<unsigned int>(n[1]),
+                       static_cast<unsigned int>(n[2])}},
+                     h);
+    probes.clear();
+    for (const std::string &p :
+         Utilities::split_string_list(prm.get("Probe points"), ';'))
+      {
+        const auto words = Utilities::split_string_list(p);
+        AssertThrow(words.size() == 3,
+                    ExcMessage("Geometry/Probe points: \"" + p +
+                               "\" is not 'x, y, z'."));
+        Point<3> point;
+        for (unsigned int d = 0; d < 3; ++d)
+          point[d] = Utilities::string_to_double(words[d]);
+        probes.push_back(point);
+      }
+    prm.leave_subsection();
+
+    palette.parse_parameters(prm);
+    layout.parse_parameters(prm, palette.size());
+    boundary_conditions.parse_parameters(prm, grid.extent(), h);
+    layout.fill(grid);
+  }
+
+
+
+  std::vector<std::size_t>
+  make_voxel_mesh(const VoxelGrid   &grid,
+                  const unsigned int level,
+                  Triangulation<3>  &tria)
+  {
+    const unsigned int b = 1u << level;
+    const auto        &n = grid.size();
+    for (unsigned int d = 0; d < 3; ++d)
+      AssertThrow(n[d] % b == 0,
+                  ExcMessage("Geometry/Grid size: " + std::to_string(n[d]) +
+                             " voxels along axis " + std::to_string(d) +
+                             " is not divisible by " + std::to_string(b) +
+                             ", the block size of coarsening level " +
+                             std::to_string(level) + "."));
+    const std::array<unsigned int, 3> m = {{n[0] / b, n[1] / b, n[2] / b}};
+    const double                      H = grid.voxel_size() * b;
+
+    // Blocks with at least one solid voxel, lexicographic.
+    std::vector<std::size_t> blocks;
+    for (unsigned int K = 0; K < m[2]; ++K)
+      for (unsigned int J = 0; J < m[1]; ++J)
+        for (unsigned int I = 0; I < m[0]; ++I)
+          {
+            bool solid = false;
+            for (unsigned int k = 0; k < b && !solid; ++k)
+              for (unsigned int j = 0; j < b && !solid; ++j)
+                for (unsigned int i = 0; i < b && !solid; ++i)
+                  solid = grid(b * I + i, b * J + j, b * K + k) != void_id;
+            if (solid)
+              blocks.push_back(I +
+                               m[0] * (J + static_cast<std::size_t>(m[1]) * K));
+          }
+    AssertThrow(!blocks.empty(),
+                ExcMessage("The scene has no solid voxel: every voxel of the " +
+                           std::to_string(n[0]) + "x" + std::to_string(n[1]) +
+                           "x" + std::to_string(n[2]) +
+                           " grid is void (check Layout)."));
+
+    // Number only the vertices solid blocks use.
+    const auto vertex_index =
+      [&](unsigned int i, unsigned int j, unsigned int k) {
+        return i + (m[0] + 1) * (j + static_cast<std::size_t>(m[1] + 1) * k);
+      };
+    std::vector<unsigned int> new_index((m[0] + 1) * (m[1] + 1) *
+                                          static_cast<std::size_t>(m[2] + 1),
+                                        numbers::invalid_unsigned_int);
+    std::vector<Point<3>>     vertices;
+    std::vector<CellData<3>>  cells(blocks.size());
+    for (std::size_t c = 0; c < blocks.size(); ++c)
+      {
+        const std::size_t  B = blocks[c];
+        const unsigned int I = B % m[0], J = (B / m[0]) % m[1],
+                           K = B / (static_cast<std::size_t>(m[0]) * m[1]);
+        for (unsigned int v = 0; v < 8; ++v)
+          {
+            const unsigned int i = I + (v & 1), j = J + ((v >> 1) & 1),
+                               k = K + ((v >> 2) & 1);
+            unsigned int &index  = new_index[vertex_index(i, j, k)];
+            if (index == numbers::invalid_unsigned_int)
+              {
+                index = vertices.size();
+                vertices.emplace_back(i * H, j * H, k * H);
+              }
+            cells[c].vertices[v] = index;
+          }
+        cells[c].material_id = (level == 0) ? grid[B] : 0;
+      }
+
+    tria.clear();
+    tria.create_triangulation(vertices, cells, SubCellData());
+    Assert(tria.n_active_cells() == blocks.size(), ExcInternalError());
+    return blocks;
+  }
+} // namespace ddfem::scene

@@ -1,0 +1,38 @@
+#include <deal.II/base/exceptions.h>
+
+#include <ddfem/scene/voxel_grid.h>
+
+#include <algorithm>
+
+namespace ddfem::scene
+{
+  VoxelGrid::VoxelGrid(const std::array<unsigned int, 3> &n,
+                       const double                       h,
+                       const MaterialId                   fill)
+    : n(n)
+    , h(h)
+    , ids(static_cast<std::size_t>(n[0]) * n[1] * n[2], fill)
+  {
+    AssertThrow(h > 0,
+                ExcMessage("VoxelGrid: the voxel size must be positive."));
+  }
+
+
+
+  std::size_t
+  VoxelGrid::n_solid_voxels() const
+  {
+    return ids.size() - std::count(ids.begin(), ids.end(), void_id);
+  }
+
+
+
+  std::array<unsigned int, 3>
+  VoxelGrid::coordinates(const std::size_t v) const
+  {
+    AssertIndexRange(v, ids.size());
+    return {{static_cast<unsigned int>(v % n[0]),
+             static_cast<unsigned int>(v / n[0] % n[1]),
+             static_cast<unsigned int>(v / n[0] / n[1])}};
+  }
+} // namespace ddfem::scene

@@ -1,0 +1,568 @@
+#include <deal.II/base/exceptions.h>
+
+#include <ddfem/scene/voxel_io.h>
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <map>
+#include <sstream>
+#include <string_view>
+#include <utility>
+
+namespace ddfem::scene
+{
+  namespace
+  {
+    // The white-space separated tokens of a line.
+    std::vector<std::string_view>
+    split(const std::string_view line)
+    {
+      const char                   *white_space = " \t\r\v\f";
+      std::vector<std::string_view> tokens;
+      for (std::size_t begin = line.find_first_not_of(white_space);
+           begin != std::string_view::npos;)
+        {
+          const std::size_t end =
+            std::min(line.find_first_of(white_space, begin), line.size());
+          tokens.push_back(line.substr(begin, end - begin));
+          begin = line.find_first_not_of(white_space, end);
+        }
+      return tokens;
+    }
+
+
+
+    // "nx ny nz" as in the voxel file header.
+    std::string
+    size_string(const std::array<unsigned int, 3> &n)
+    {
+      return std::to_string(n[0]) + " " + std::to_string(n[1]) + " " +
+             std::to_string(n[2]);
+    }
+
+
+
+    // Parses the whole token as a number; false on any junk.
+    template <typename Number>
+    bool
+    parse(const std::string_view token, Number &value)
+    {
+      const char *end    = token.data() + token.size();
+      const auto  result = std::from_chars(token.data(), end, value);
+      return result.ec == std::errc() && result.ptr == end;
+    }
+
+
+
+    // Parses tokens[first..first+2] as a point with finite coordinates.
+    bool
+    parse_point(const std::vector<std::string_view> &tokens,
+                const std::size_t                    first,
+                Point<3>                            &point)
+    {
+      if (tokens.size() < first + 3)
+        return false;
+      for (unsigned int d = 0; d < 3; ++d)
+        if (!parse(tokens[first + d], point[d]) || !std::isfinite(point[d]))
+          return false;
+      return true;
+    }
+
+
+
+    // Builds an indexed mesh from triangle corners (three per triangle),
+    // merging corners with identical coordinates.
+    TriangleMesh
+    merge_corners(const std::vector<Point<3>> &corners)
+    {
+      TriangleMesh                                  mesh;
+      std::map<std::array<double, 3>, unsigned int> index_of;
+      std::array<unsigned int, 3>                   triangle;
+      for (std::size_t c = 0; c < corners.size(); ++c)
+        {
+          const std::array<double, 3> key = {
+            {corners[c][0], corners[c][1], corners[c][2]}};
+          const auto inserted =
+            index_of.emplace(key,
+                             static_cast<unsigned int>(mesh.vertices.size()));
+          if (inserted.second)
+            mesh.vertices.push_back(corners[c]);
+          triangle[c % 3] = inserted.first->second;
+          if (c % 3 == 2)
+            mesh.triangles.push_back(triangle);
+        }
+      return mesh;
+    }
+
+
+
+    // Little-endian binary STL fields.
+    std::uint32_t
+    read_uint32(const char *bytes)
+    {
+      std::uint32_t value = 0;
+      for (int b = 3; b >= 0; --b)
+        value = (value << 8) | static_cast<unsigned char>(bytes[b]);
+      return value;
+    }
+
+    float
+    read_float(const char *bytes)
+    {
+      const std::uint32_t bits = read_uint32(bytes);
+      float               value;
+      std::memcpy(&value, &bits, sizeof(value));
+      return value;
+    }
+
+
+
+    // @p file is the "Surface mesh file ..." prefix for error messages.
+    TriangleMesh
+    read_stl(const std::string &file, const std::string &content)
+    {
+      std::vector<Point<3>> corners;
+
+      // A binary file may start with "solid" too: trust the size check first.
+      const std::uint64_t n_binary =
+        content.size() >= 84 ? read_uint32(content.data() + 80) : 0;
+      if (content.size() >= 84 && content.size() == 84 + 50 * n_binary)
+        {
+          for (std::uint64_t t = 0; t < n_binary; ++t)
+            for (unsigned int c = 0; c < 3; ++c)
+              {
+                const char *bytes = content.data() + 84 + 50 * t + 12 * (c + 1);
+                Point<3>    p;
+                for (unsigned int d = 0; d < 3; ++d)
+                  p[d] = read_float(bytes + 4 * d);
+                AssertThrow(std::isfinite(p.norm_square()),
+                            ExcMessage(file + ": triangle " +
+                                       std::to_string(t) +
+                                       " has a non-finite vertex coordinate."));
+                corners.push_back(p);
+              }
+          return merge_corners(corners);
+        }
+
+      const auto first_word = split(std::string_view(content).substr(0, 80));
+      AssertThrow(!first_word.empty() && first_word[0] == "solid",
+                  ExcMessage(file + ": is neither a binary STL (its size " +
+                             std::to_string(content.size()) +
+                             " bytes does not equal 84 + 50 * the triangle "
+                             "count in its header) nor an ASCII STL (it does "
+                             "not start with \"solid\")."));
+
+      std::istringstream in(content);
+      std::string        line;
+      unsigned int       line_no         = 0;
+      bool               in_facet        = false;
+      unsigned int       n_facet_corners = 0;
+      const auto check = [&](const bool ok, const std::string &problem) {
+        AssertThrow(ok,
+                    ExcMessage(file + ", line " + std::to_string(line_no) +
+                               ": " + problem + " in \"" + line + "\"."));
+      };
+      while (std::getline(in, line))
+        {
+          ++line_no;
+          const auto tokens = split(line);
+          if (tokens.empty())
+            continue;
+          const std::string_view keyword = tokens[0];
+          Point<3>               p;
+          if (keyword == "facet")
+            {
+              check(!in_facet, "previous facet not closed by \"endfacet\"");
+              in_facet        = true;
+              n_facet_corners = 0;
+            }
+          else if (keyword == "vertex")
+            {
+              check(in_facet && n_facet_corners < 3,
+                    "vertex outside a facet or beyond its third vertex");
+              check(tokens.size() == 4 && parse_point(tokens, 1, p),
+                    "expected \"vertex x y z\" with finite coordinates");
+              corners.push_back(p);
+              ++n_facet_corners;
+            }
+          else if (keyword == "endfacet")
+            {
+              check(in_facet && n_facet_corners == 3,
+                    "facet without exactly 3 vertices");
+              in_facet = false;
+            }
+          else
+            check(keyword == "solid" || keyword == "outer" ||
+                    keyword == "endloop" || keyword == "endsolid",
+                  "unexpected keyword \"" + std::string(keyword) + "\"");
+        }
+      AssertThrow(!in_facet,
+                  ExcMessage(file +
+                             ": ends inside a facet (missing \"endfacet\")."));
+      return merge_corners(corners);
+    }
+
+
+
+    TriangleMesh
+    read_obj(const std::string &file, const std::string &content)
+    {
+      TriangleMesh       mesh;
+      std::istringstream in(content);
+      std::string        line;
+      unsigned int       line_no = 0;
+      const auto         where   = [&]() {
+        return file + ", line " + std::to_string(line_no) + ": ";
+      };
+      while (std::getline(in, line))
+        {
+          ++line_no;
+          const auto tokens =
+            split(std::string_view(line).substr(0, line.find('#')));
+          if (tokens.empty())
+            continue;
+          if (tokens[0] == "v")
+            {
+              Point<3> p;
+              AssertThrow(parse_point(tokens, 1, p),
+                          ExcMessage(where() + "malformed vertex line \"" +
+                                     line + "\"."));
+              mesh.vertices.push_back(p);
+            }
+          else if (tokens[0] == "f")
+            {
+              AssertThrow(tokens.size() >= 4,
+                          ExcMessage(where() +
+                                     "a face needs at least 3 "
+                                     "vertices: \"" +
+                                     line + "\"."));
+              // Vertex indices are 1-based, negative ones count from the
+              // last vertex read; "a/b/c" forms carry the vertex index first.
+              std::vector<unsigned int> face;
+              for (std::size_t t = 1; t < tokens.size(); ++t)
+                {
+                  const std::string_view token = tokens[t];
+                  long long              index = 0;
+                  AssertThrow(parse(token.substr(0, token.find('/')), index),
+                              ExcMessage(where() + "malformed face vertex \"" +
+                                         std::string(token) + "\"."));
+                  const long long n_vertices = mesh.vertices.size();
+                  const long long v =
+                    index > 0 ? index - 1 : n_vertices + index;
+                  AssertThrow(index != 0 && v >= 0 && v < n_vertices,
+                              ExcMessage(where() + "vertex index " +
+                                         std::to_string(index) +
+                                         " is out of range (" +
+                                         std::to_string(n_vertices) +
+                                         " vertices defined so far)."));
+                  face.push_back(static_cast<unsigned int>(v));
+                }
+              for (std::size_t c = 1; c + 1 < face.size(); ++c)
+                mesh.triangles.push_back({{face[0], face[c], face[c + 1]}});
+            }
+        }
+      return mesh;
+    }
+
+
+
+    // Twice the signed area of (a,b,p) in the xy plane. The edge is always
+    // evaluated in one canonical direction, so the two triangles sharing it
+    // get exactly opposite values and a ray cannot slip through or hit both.
+    // An exact zero is resolved by the symbolic perturbation p + (eps, eps^2)
+    // and returned as the smallest number of that sign.
+    double
+    edge_function(const Point<3> &a,
+                  const Point<3> &b,
+                  const double    x,
+                  const double    y)
+    {
+      const bool flip = std::make_pair(a[0], a[1]) > std::make_pair(b[0], b[1]);
+      const Point<3> &u = flip ? b : a;
+      const Point<3> &v = flip ? a : b;
+      double value = (v[0] - u[0]) * (y - u[1]) - (v[1] - u[1]) * (x - u[0]);
+      if (value == 0)
+        {
+          const double tie = (v[1] != u[1]) ? u[1] - v[1] : v[0] - u[0];
+          if (tie != 0)
+            value =
+              std::copysign(std::numeric_limits<double>::denorm_min(), tie);
+        }
+      return flip ? -value : value;
+    }
+  } // namespace
+
+
+
+  void
+  read_voxel_file(const std::string &filename,
+                  const unsigned int n_materials,
+                  VoxelGrid         &grid)
+  {
+    const std::string file = "Voxel file \"" + filename + "\"";
+    std::ifstream     in(filename);
+    AssertThrow(in, ExcMessage(file + ": cannot be opened for reading."));
+
+    const auto       &n      = grid.size();
+    const std::string header = size_string(n);
+    // Ids are stored as MaterialId, which caps the usable range.
+    const unsigned long id_bound =
+      std::min<unsigned long>(n_materials,
+                              std::numeric_limits<MaterialId>::max() + 1ul);
+
+    std::vector<MaterialId> ids;
+    ids.reserve(grid.n_voxels());
+    std::size_t  n_found     = 0;
+    bool         have_header = false;
+    std::string  line;
+    unsigned int line_no = 0;
+    while (std::getline(in, line))
+      {
+        ++line_no;
+        const auto tokens =
+          split(std::string_view(line).substr(0, line.find('#')));
+        if (tokens.empty())
+          continue;
+        const std::string where =
+          file + ", line " + std::to_string(line_no) + ": ";
+
+        if (!have_header)
+          {
+            std::array<unsigned int, 3> m;
+            AssertThrow(tokens.size() == 3 && parse(tokens[0], m[0]) &&
+                          parse(tokens[1], m[1]) && parse(tokens[2], m[2]),
+                        ExcMessage(where +
+                                   "expected the header \"nx ny nz\", "
+                                   "found \"" +
+                                   line + "\"."));
+            AssertThrow(m == n,
+                        ExcMessage(where + "the header \"" + size_string(m) +
+                                   "\" does not match the grid size \"" +
+                                   header + "\"."));
+            have_header = true;
+            continue;
+          }
+
+        for (const std::string_view token : tokens)
+          {
+            unsigned long id = 0;
+            AssertThrow(parse(token, id),
+                        ExcMessage(where + "\"" + std::string(token) +
+                                   "\" is not a non-negative integer "
+                                   "material id."));
+            if (ids.size() < grid.n_voxels())
+              {
+                const auto ijk = grid.coordinates(ids.size());
+                AssertThrow(id < id_bound,
+                            ExcMessage(where + "material id " +
+                                       std::to_string(id) + " of voxel (" +
+                                       std::to_string(ijk[0]) + "," +
+                                       std::to_string(ijk[1]) + "," +
+                                       std::to_string(ijk[2]) +
+                                       ") is out of range: ids must be less "
+                                       "than " +
+                                       std::to_string(id_bound) + "."));
+                ids.push_back(static_cast<MaterialId>(id));
+              }
+            ++n_found;
+          }
+      }
+
+    AssertThrow(have_header,
+                ExcMessage(file + ": no header \"nx ny nz\" found."));
+    AssertThrow(n_found == grid.n_voxels(),
+                ExcMessage(file + ": expected " +
+                           std::to_string(grid.n_voxels()) +
+                           " material ids after the header \"" + header +
+                           "\", found " + std::to_string(n_found) + "."));
+
+    for (std::size_t v = 0; v < ids.size(); ++v)
+      grid[v] = ids[v];
+  }
+
+
+
+  void
+  write_voxel_file(const std::string &filename, const VoxelGrid &grid)
+  {
+    std::ofstream out(filename);
+    AssertThrow(out,
+                ExcMessage("Voxel file \"" + filename +
+                           "\": cannot be opened for writing."));
+
+    const auto &n = grid.size();
+    out << "# ddfem voxel file: nx ny nz, then material ids (i fastest, "
+           "then j, then k)\n"
+        << n[0] << ' ' << n[1] << ' ' << n[2] << '\n';
+    for (unsigned int k = 0; k < n[2]; ++k)
+      for (unsigned int j = 0; j < n[1]; ++j)
+        {
+          for (unsigned int i = 0; i < n[0]; ++i)
+            out << (i > 0 ? " " : "")
+                << static_cast<unsigned int>(grid(i, j, k));
+          out << '\n';
+        }
+
+    out.close();
+    AssertThrow(!out.fail(),
+                ExcMessage("Voxel file \"" + filename + "\": writing failed."));
+  }
+
+
+
+  TriangleMesh
+  read_surface_mesh(const std::string &filename)
+  {
+    const std::string file = "Surface mesh file \"" + filename + "\"";
+
+    std::string extension =
+      std::filesystem::path(filename).extension().string();
+    std::transform(extension.begin(),
+                   extension.end(),
+                   extension.begin(),
+                   [](const unsigned char c) { return std::tolower(c); });
+    AssertThrow(extension == ".stl" || extension == ".obj",
+                ExcMessage(file + ": unknown extension \"" + extension +
+                           "\"; expected .stl or .obj."));
+
+    std::ifstream in(filename, std::ios::binary);
+    AssertThrow(in, ExcMessage(file + ": cannot be opened for reading."));
+    const std::string content((std::istreambuf_iterator<char>(in)),
+                              std::istreambuf_iterator<char>());
+
+    TriangleMesh mesh =
+      extension == ".stl" ? read_stl(file, content) : read_obj(file, content);
+    AssertThrow(!mesh.triangles.empty(),
+                ExcMessage(file + ": contains no triangles."));
+    return mesh;
+  }
+
+
+
+  void
+  fit_to_box(TriangleMesh &mesh, const Point<3> &lower, const Point<3> &upper)
+  {
+    AssertThrow(!mesh.vertices.empty(),
+                ExcMessage("fit_to_box: the mesh has no vertices."));
+
+    Point<3> min = mesh.vertices[0], max = mesh.vertices[0];
+    for (const Point<3> &p : mesh.vertices)
+      for (unsigned int d = 0; d < 3; ++d)
+        {
+          min[d] = std::min(min[d], p[d]);
+          max[d] = std::max(max[d], p[d]);
+        }
+
+    double   scale = std::numeric_limits<double>::infinity();
+    Point<3> mesh_center, box_center;
+    for (unsigned int d = 0; d < 3; ++d)
+      {
+        AssertThrow(upper[d] > lower[d],
+                    ExcMessage("fit_to_box: the target box is empty along "
+                               "axis " +
+                               std::to_string(d) + "."));
+        if (max[d] > min[d])
+          scale = std::min(scale, (upper[d] - lower[d]) / (max[d] - min[d]));
+        mesh_center[d] = 0.5 * (min[d] + max[d]);
+        box_center[d]  = 0.5 * (lower[d] + upper[d]);
+      }
+    AssertThrow(std::isfinite(scale),
+                ExcMessage("fit_to_box: all mesh vertices coincide."));
+
+    for (Point<3> &p : mesh.vertices)
+      p = box_center + scale * (p - mesh_center);
+  }
+
+
+
+  std::size_t
+  voxelize(const TriangleMesh &mesh, const MaterialId material, VoxelGrid &grid)
+  {
+    const auto  &n = grid.size();
+    const double h = grid.voxel_size();
+    // Ray (i,j) runs parallel to z through ((i+1/2)h + dx, (j+1/2)h + dy).
+    const double dx = 1e-7 * h * (std::sqrt(2.) - 1);
+    const double dy = 1e-7 * h * (std::sqrt(3.) - 1);
+
+    // Half-open range of ray indices whose coordinate may lie in [low, high];
+    // rounded outwards, the exact test below decides.
+    const auto ray_range = [h](const double       low,
+                               const double       high,
+                               const double       offset,
+                               const unsigned int n_rays) {
+      const auto clamp = [n_rays](const double r) {
+        return static_cast<unsigned int>(std::clamp(r, 0., double(n_rays)));
+      };
+      return std::make_pair(clamp(std::floor((low - offset) / h - 0.5)),
+                            clamp(std::ceil((high - offset) / h - 0.5) + 1));
+    };
+
+    // Bin the triangles by the columns their xy bounding box covers.
+    std::vector<std::vector<unsigned int>> column_triangles(
+      static_cast<std::size_t>(n[0]) * n[1]);
+    for (unsigned int t = 0; t < mesh.triangles.size(); ++t)
+      {
+        Point<3> low = mesh.vertices[mesh.triangles[t][0]], high = low;
+        for (const unsigned int v : mesh.triangles[t])
+          for (unsigned int d = 0; d < 2; ++d)
+            {
+              low[d]  = std::min(low[d], mesh.vertices[v][d]);
+              high[d] = std::max(high[d], mesh.vertices[v][d]);
+            }
+        const auto [i_begin, i_end] = ray_range(low[0], high[0], dx, n[0]);
+        const auto [j_begin, j_end] = ray_range(low[1], high[1], dy, n[1]);
+        for (unsigned int j = j_begin; j < j_end; ++j)
+          for (unsigned int i = i_begin; i < i_end; ++i)
+            column_triangles[i + static_cast<std::size_t>(n[0]) * j].push_back(
+              t);
+      }
+
+    std::size_t         n_set = 0;
+    std::vector<double> crossings;
+    for (unsigned int j = 0; j < n[1]; ++j)
+      for (unsigned int i = 0; i < n[0]; ++i)
+        {
+          const double x = (i + 0.5) * h + dx;
+          const double y = (j + 0.5) * h + dy;
+          crossings.clear();
+          for (const unsigned int t :
+               column_triangles[i + static_cast<std::size_t>(n[0]) * j])
+            {
+              const Point<3> &a = mesh.vertices[mesh.triangles[t][0]];
+              const Point<3> &b = mesh.vertices[mesh.triangles[t][1]];
+              const Point<3> &c = mesh.vertices[mesh.triangles[t][2]];
+              // Unnormalized barycentric coordinates of the ray in xy.
+              const double la = edge_function(b, c, x, y);
+              const double lb = edge_function(c, a, x, y);
+              const double lc = edge_function(a, b, x, y);
+              if ((la > 0 && lb > 0 && lc > 0) || (la < 0 && lb < 0 && lc < 0))
+                crossings.push_back((la * a[2] + lb * b[2] + lc * c[2]) /
+                                    (la + lb + lc));
+            }
+          std::sort(crossings.begin(), crossings.end());
+
+          // Voxel centers in [z_{2m}, z_{2m+1}) are inside.
+          for (std::size_t m = 0; m + 1 < crossings.size(); m += 2)
+            {
+              const auto k_index = [&](const double z) {
+                return static_cast<unsigned int>(
+                  std::clamp(std::ceil(z / h - 0.5), 0., double(n[2])));
+              };
+              const unsigned int k_begin = k_index(crossings[m]);
+              const unsigned int k_end   = k_index(crossings[m + 1]);
+              for (unsigned int k = k_begin; k < k_end; ++k)
+                grid(i, j, k) = material;
+              n_set += k_end - k_begin;
+            }
+        }
+    return n_set;
+  }
+} // namespace ddfem::scene

@@ -1,0 +1,151 @@
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/fe/mapping_q1.h>
+#include <deal.II/lac/solver_cg.h>
+#include <deal.II/lac/solver_control.h>
+
+#include <Teuchos_ParameterList.hpp>
+#include <ddfem/solver/linear_solver.h>
+
+namespace ddfem::solver
+{
+  void
+  LinearSolver::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Linear solver");
+    prm.declare_entry(
+      "Type",
+      "auto",
+      Patterns::Selection("auto|direct|cg-amg"),
+      "direct: UMFPACK sparse LU. cg-amg: conjugate gradients with "
+      "Trilinos ML algebraic multigrid (rigid body modes as near null "
+      "space). auto: direct up to 'Direct solver limit' unknowns, "
+      "cg-amg above.");
+    prm.declare_entry(
+      "Tolerance",
+      "1e-6",
+      Patterns::Double(0, 1),
+      "cg-amg: relative residual reduction of each linear solve.");
+    prm.declare_entry("Maximum iterations",
+                      "2000",
+                      Patterns::Integer(1),
+                      "cg-amg: iterations before a solve counts as failed.");
+    prm.declare_entry("Direct solver limit",
+                      "20000",
+                      Patterns::Integer(0),
+                      "auto: largest number of unknowns solved directly.");
+    prm.leave_subsection();
+  }
+
+
+
+  void
+  LinearSolver::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Linear solver");
+    requested      = prm.get("Type");
+    tolerance      = prm.get_double("Tolerance");
+    max_iterations = prm.get_integer("Maximum iterations");
+    direct_limit   = prm.get_integer("Direct solver limit");
+    prm.leave_subsection();
+  }
+
+
+
+  void
+  LinearSolver::initialize(const DoFHandler<3> &dof_handler)
+  {
+    const types::global_dof_index n = dof_handler.n_dofs();
+    chosen                          = requested;
+    if (requested == "auto")
+      chosen = (n <= direct_limit) ? "direct" : "cg-amg";
+    degree = dof_handler.get_fe().degree;
+    if (chosen == "direct")
+      return;
+
+    // Rigid body modes about the centroid of the support points.
+    std::vector<Point<3>> points(n);
+    DoFTools::map_dofs_to_support_points(MappingQ1<3>(), dof_handler, points);
+    Point<3> centroid;
+    for (const Point<3> &p : points)
+      centroid += p / static_cast<double>(n);
+    std::vector<unsigned int>            component(n);
+    std::vector<types::global_dof_index> dofs(
+      dof_handler.get_fe().n_dofs_per_cell());
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      {
+        cell->get_dof_indices(dofs);
+        for (unsigned int i = 0; i < dofs.size(); ++i)
+          component[dofs[i]] =
+            dof_handler.get_fe().system_to_component_index(i).first;
+      }
+    rigid_body_modes.assign(6 * n, 0.);
+    for (types::global_dof_index i = 0; i < n; ++i)
+      {
+        const Tensor<1, 3> r        = points[i] - centroid;
+        const unsigned int c        = component[i];
+        rigid_body_modes[c * n + i] = 1.;
+        for (unsigned int axis = 0; axis < 3; ++axis)
+          {
+            Tensor<1, 3> e;
+            e[axis]                              = 1.;
+            rigid_body_modes[(3 + axis) * n + i] = cross_product_3d(e, r)[c];
+          }
+      }
+  }
+
+
+
+  unsigned int
+  LinearSolver::solve(const SparseMatrix<double> &K,
+                      Vector<double>             &x,
+                      const Vector<double>       &b)
+  {
+    if (chosen == "direct")
+      {
+        try
+          {
+            direct.initialize(K);
+            direct.vmult(x, b);
+          }
+        catch (std::exception &e)
+          {
+            throw Failure("the direct solver failed (singular matrix?)");
+          }
+        for (const double v : x)
+          if (!std::isfinite(v))
+            throw Failure(
+              "the direct solver returned non-finite values (singular matrix)");
+        return 1;
+      }
+
+    trilinos_matrix.reinit(K);
+    TrilinosWrappers::PreconditionAMG::AdditionalData data;
+    data.elliptic              = true;
+    data.higher_order_elements = (degree > 1);
+    data.smoother_sweeps       = 2;
+    data.aggregation_threshold = 1e-2;
+    Teuchos::ParameterList              list;
+    std::unique_ptr<Epetra_MultiVector> unused_modes;
+    data.set_parameters(list, unused_modes, trilinos_matrix);
+    list.set("PDE equations", 3);
+    list.set("null space: type", "pre-computed");
+    list.set("null space: dimension", 6);
+    list.set("null space: vectors", rigid_body_modes.data());
+    amg.initialize(trilinos_matrix, list);
+
+    SolverControl            control(max_iterations, tolerance * b.l2_norm());
+    SolverCG<Vector<double>> cg(control);
+    x = 0;
+    try
+      {
+        cg.solve(K, x, b, amg);
+      }
+    catch (std::exception &e)
+      {
+        throw Failure("CG did not converge in " +
+                      std::to_string(control.last_step()) +
+                      " iterations (indefinite or ill-conditioned tangent?)");
+      }
+    return control.last_step();
+  }
+} // namespace ddfem::solver

@@ -1,0 +1,780 @@
+#include <deal.II/base/work_stream.h>
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/numerics/vector_tools.h>
+
+#include <ddfem/solver/cell_kernel.h>
+#include <ddfem/solver/static_solver.h>
+
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <numeric>
+
+namespace ddfem::solver
+{
+  namespace
+  {
+    constexpr double infinity = std::numeric_limits<double>::infinity();
+
+    /// Per-thread scratch space of the assembly loop.
+    struct ScratchData
+    {
+      ScratchData(const Mapping<3>       &mapping,
+                  const FiniteElement<3> &fe,
+                  const Quadrature<3>    &quadrature)
+        : fe_values(mapping,
+                    fe,
+                    quadrature,
+                    update_gradients | update_JxW_values)
+        , local_u(fe.n_dofs_per_cell())
+      {}
+      ScratchData(const ScratchData &other)
+        : fe_values(other.fe_values.get_mapping(),
+                    other.fe_values.get_fe(),
+                    other.fe_values.get_quadrature(),
+                    other.fe_values.get_update_flags())
+        , local_u(other.local_u.size())
+      {}
+      FEValues<3>    fe_values;
+      Vector<double> local_u;
+    };
+
+    /// What one cell hands to the (serial, ordered) copier.
+    struct CopyData
+    {
+      std::vector<types::global_dof_index> dofs;
+      CellContribution                     contribution;
+      bool                                 admissible;
+    };
+
+    /// Union-find with path halving.
+    struct Components
+    {
+      explicit Components(const std::size_t n)
+        : parent(n)
+      {
+        std::iota(parent.begin(), parent.end(), 0);
+      }
+      std::size_t
+      find(std::size_t i)
+      {
+        while (parent[i] != i)
+          i = parent[i] = parent[parent[i]];
+        return i;
+      }
+      void
+      join(const std::size_t a, const std::size_t b)
+      {
+        parent[find(a)] = find(b);
+      }
+      std::vector<std::size_t> parent;
+    };
+
+    /**
+     * Number of the six rigid body modes that constraints on (point,
+     * component) pairs fix: the rank of the Gram matrix of the modes
+     * restricted to the constrained rows. Points are centered and scaled.
+     */
+    unsigned int
+    fixed_rigid_modes(
+      const std::vector<std::pair<Point<3>, unsigned int>> &rows)
+    {
+      if (rows.empty())
+        return 0;
+      Point<3> centroid;
+      for (const auto &row : rows)
+        centroid += row.first / static_cast<double>(rows.size());
+      double scale = 0;
+      for (const auto &row : rows)
+        scale = std::max(scale, row.first.distance(centroid));
+      scale = (scale > 0 ? scale : 1);
+
+      double gram[6][6] = {};
+      for (const auto &row : rows)
+        {
+          const Tensor<1, 3> r = (row.first - centroid) / scale;
+          double             m[6];
+          for (unsigned int k = 0; k < 3; ++k)
+            {
+              Tensor<1, 3> e;
+              e[k]     = 1;
+              m[k]     = (k == row.second ? 1. : 0.);
+              m[3 + k] = cross_product_3d(e, r)[row.second];
+            }
+          for (unsigned int a = 0; a < 6; ++a)
+            for (unsigned int b = 0; b < 6; ++b)
+              gram[a][b] += m[a] * m[b];
+        }
+      // Gaussian elimination with full pivoting; the rank is the number of
+      // pivots above a relative tolerance.
+      double       max_pivot   = 0;
+      unsigned int rank        = 0;
+      bool         used_row[6] = {}, used_col[6] = {};
+      for (unsigned int step = 0; step < 6; ++step)
+        {
+          double       best = 0;
+          unsigned int pr = 0, pc = 0;
+          for (unsigned int a = 0; a < 6; ++a)
+            for (unsigned int b = 0; b < 6; ++b)
+              if (!used_row[a] && !used_col[b] && std::abs(gram[a][b]) > best)
+                best = std::abs(gram[a][b]), pr = a, pc = b;
+          max_pivot = std::max(max_pivot, best);
+          if (best <= 1e-10 * max_pivot || best == 0)
+            break;
+          ++rank;
+          used_row[pr] = used_col[pc] = true;
+          for (unsigned int a = 0; a < 6; ++a)
+            if (!used_row[a])
+              {
+                const double f = gram[a][pc] / gram[pr][pc];
+                for (unsigned int b = 0; b < 6; ++b)
+                  gram[a][b] -= f * gram[pr][b];
+              }
+        }
+      return rank;
+    }
+
+    /// "(x, y, z)" with 4 significant digits.
+    std::string
+    format_point(const Point<3> &p)
+    {
+      std::ostringstream s;
+      s << std::setprecision(4) << "(" << p[0] << ", " << p[1] << ", " << p[2]
+        << ")";
+      return s.str();
+    }
+  } // namespace
+
+
+
+  void
+  StaticSolver::Parameters::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Nonlinear solver");
+    prm.declare_entry(
+      "Load steps",
+      "10",
+      Patterns::Integer(1),
+      "Number of equal load increments from load factor 0 to 1.");
+    prm.declare_entry(
+      "Minimum load step",
+      "1e-3",
+      Patterns::Double(0, 1),
+      "Failed increments are halved; the solve stops with an error "
+      "once an increment would be smaller than this fraction of the "
+      "nominal one.");
+    prm.declare_entry(
+      "Maximum Newton iterations",
+      "30",
+      Patterns::Integer(1),
+      "Newton iterations per load increment before the increment "
+      "counts as failed (and is cut).");
+    prm.declare_entry(
+      "Newton tolerance",
+      "1e-8",
+      Patterns::Double(0, 1),
+      "Converged when the residual at the free unknowns is this "
+      "fraction of the largest of (the largest residual seen in the "
+      "increment, the external load).");
+    prm.leave_subsection();
+  }
+
+
+
+  void
+  StaticSolver::Parameters::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Nonlinear solver");
+    load_steps     = prm.get_integer("Load steps");
+    minimum_step   = prm.get_double("Minimum load step");
+    max_iterations = prm.get_integer("Maximum Newton iterations");
+    tolerance      = prm.get_double("Newton tolerance");
+    prm.leave_subsection();
+  }
+
+
+
+  StaticSolver::StaticSolver(
+    const Discretization            &discretization,
+    const scene::BoundaryConditions &boundary_conditions,
+    const Parameters                &parameters,
+    LinearSolver                    &linear_solver,
+    TimerOutput                     &timer,
+    ConditionalOStream              &pcout)
+    : discretization(discretization)
+    , boundary_conditions(boundary_conditions)
+    , parameters(parameters)
+    , linear_solver(linear_solver)
+    , timer(timer)
+    , pcout(pcout)
+  {}
+
+
+
+  void
+  StaticSolver::setup()
+  {
+    const DoFHandler<3>          &dof_handler = discretization.dof_handler;
+    const FiniteElement<3>       &fe          = discretization.fe;
+    const types::global_dof_index n           = dof_handler.n_dofs();
+
+    // Dirichlet nodes: every support point a condition covers.
+    std::vector<Point<3>> points(n);
+    DoFTools::map_dofs_to_support_points(discretization.mapping,
+                                         dof_handler,
+                                         points);
+    std::vector<unsigned int> component(n, numbers::invalid_unsigned_int);
+    std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      {
+        cell->get_dof_indices(dofs);
+        for (unsigned int i = 0; i < dofs.size(); ++i)
+          component[dofs[i]] = fe.system_to_component_index(i).first;
+      }
+    dirichlet_dofs.clear();
+    for (types::global_dof_index i = 0; i < n; ++i)
+      {
+        double value;
+        if (boundary_conditions.prescribed_displacement(
+              points[i], component[i], 1., value))
+          dirichlet_dofs.push_back({i, points[i], component[i]});
+      }
+    check_supports();
+
+    DynamicSparsityPattern dsp(n, n);
+    DoFTools::make_sparsity_pattern(dof_handler, dsp);
+    pattern.copy_from(dsp);
+    system_matrix.reinit(pattern);
+    displacement.reinit(n);
+    linear_solver.initialize(dof_handler);
+
+    // Dead external loads: body force and surface tractions at t = 1.
+    external_force.reinit(n);
+    const unsigned int degree = fe.degree;
+    FEValues<3>        fe_values(discretization.mapping,
+                          fe,
+                          discretization.quadrature,
+                          update_values | update_quadrature_points |
+                            update_JxW_values);
+    FEFaceValues<3>    fe_face_values(discretization.mapping,
+                                   fe,
+                                   QGauss<2>(degree + 1),
+                                   update_values | update_quadrature_points |
+                                     update_normal_vectors | update_JxW_values);
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      {
+        cell->get_dof_indices(dofs);
+        if (boundary_conditions.has_body_force())
+          {
+            fe_values.reinit(cell);
+            for (unsigned int q = 0; q < fe_values.n_quadrature_points; ++q)
+              {
+                const Tensor<1, 3> b =
+                  boundary_conditions.body_force(fe_values.quadrature_point(q));
+                for (unsigned int i = 0; i < dofs.size(); ++i)
+                  external_force(dofs[i]) += b[component[dofs[i]]] *
+                                             fe_values.shape_value(i, q) *
+                                             fe_values.JxW(q);
+              }
+          }
+        if (boundary_conditions.has_traction())
+          for (const unsigned int f : cell->face_indices())
+            if (cell->face(f)->at_boundary())
+              {
+                fe_face_values.reinit(cell, f);
+                for (unsigned int q = 0; q < fe_face_values.n_quadrature_points;
+                     ++q)
+                  {
+                    const Tensor<1, 3> traction = boundary_conditions.traction(
+                      cell->face(f)->center(),
+                      fe_face_values.quadrature_point(q),
+                      fe_face_values.normal_vector(q));
+                    for (unsigned int i = 0; i < dofs.size(); ++i)
+                      external_force(dofs[i]) +=
+                        traction[component[dofs[i]]] *
+                        fe_face_values.shape_value(i, q) *
+                        fe_face_values.JxW(q);
+                  }
+              }
+      }
+  }
+
+
+
+  void
+  StaticSolver::check_supports() const
+  {
+    AssertThrow(
+      !dirichlet_dofs.empty(),
+      ExcMessage(
+        "No Dirichlet condition (fixed, sliding, displacement or "
+        "rotation) acts on any node of the solid, so rigid body "
+        "motions are not prevented. Add one in 'Boundary conditions'."));
+
+    // Parts sharing nodes (vertex-connected cells) and parts sharing faces.
+    const Triangulation<3>   &tria    = discretization.triangulation;
+    const unsigned int        n_cells = tria.n_active_cells();
+    Components                by_vertex(n_cells), by_face(n_cells);
+    std::vector<unsigned int> first_cell_at_vertex(
+      tria.n_vertices(), numbers::invalid_unsigned_int);
+    for (const auto &cell : tria.active_cell_iterators())
+      {
+        const unsigned int c = cell->active_cell_index();
+        for (const unsigned int v : cell->vertex_indices())
+          {
+            unsigned int &first = first_cell_at_vertex[cell->vertex_index(v)];
+            if (first == numbers::invalid_unsigned_int)
+              first = c;
+            else
+              by_vertex.join(c, first);
+          }
+        for (const unsigned int f : cell->face_indices())
+          if (!cell->at_boundary(f))
+            by_face.join(c, cell->neighbor(f)->active_cell_index());
+      }
+
+    // Constrained rows per vertex-connected part, keyed by the node's
+    // vertex; and per vertex the face-connected parts touching it.
+    const DoFHandler<3> &dof_handler = discretization.dof_handler;
+    std::map<types::global_dof_index, const DirichletDof *> dirichlet;
+    for (const DirichletDof &d : dirichlet_dofs)
+      dirichlet[d.index] = &d;
+    std::map<std::size_t, std::vector<std::pair<Point<3>, unsigned int>>>
+      vertex_rows, face_rows;
+    std::map<std::size_t, std::pair<unsigned int, Point<3>>>
+                                         part_size; // cells, a cell center
+    std::vector<std::set<std::size_t>>   parts_at_vertex(tria.n_vertices());
+    std::vector<types::global_dof_index> dofs(
+      discretization.fe.n_dofs_per_cell());
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      {
+        const unsigned int c  = cell->active_cell_index();
+        const std::size_t  pv = by_vertex.find(c), pf = by_face.find(c);
+        auto              &size = part_size[pf];
+        if (size.first++ == 0)
+          size.second = cell->center();
+        for (const unsigned int v : cell->vertex_indices())
+          parts_at_vertex[cell->vertex_index(v)].insert(pf);
+        cell->get_dof_indices(dofs);
+        for (const auto dof : dofs)
+          if (const auto d = dirichlet.find(dof); d != dirichlet.end())
+            {
+              vertex_rows[pv].emplace_back(d->second->point,
+                                           d->second->component);
+              face_rows[pf].emplace_back(d->second->point,
+                                         d->second->component);
+            }
+      }
+
+    // Every vertex-connected part needs Dirichlet nodes fixing all six
+    // rigid motions.
+    std::set<std::size_t> vertex_parts;
+    for (unsigned int c = 0; c < n_cells; ++c)
+      vertex_parts.insert(by_vertex.find(c));
+    for (const std::size_t part : vertex_parts)
+      {
+        const unsigned int fixed = fixed_rigid_modes(vertex_rows[part]);
+        if (fixed == 6)
+          continue;
+        unsigned int cells = 0;
+        Point<3>     where;
+        for (const auto &cell : tria.active_cell_iterators())
+          if (by_vertex.find(cell->active_cell_index()) == part && cells++ == 0)
+            where = cell->center();
+        AssertThrow(
+          vertex_parts.size() > 1 || fixed == 6,
+          ExcMessage(
+            "The Dirichlet conditions leave " + std::to_string(6 - fixed) +
+            " of the 6 rigid body motions of the solid free (a lone "
+            "'sliding' floor, for example, allows sliding and spinning "
+            "in its plane). Add conditions in 'Boundary conditions'."));
+        AssertThrow(
+          false,
+          ExcMessage(
+            std::to_string(cells) + " voxel(s) around " + format_point(where) +
+            " m float free of the rest: they share no node with the "
+            "other parts, and Dirichlet conditions fix only " +
+            std::to_string(fixed) +
+            " of their 6 rigid body motions. Remove or connect them."));
+      }
+
+    // A face-connected part that hangs on its neighbors only by nodes on
+    // one edge or corner is a mechanism: count shared nodes as pinned.
+    for (const auto &cell : tria.active_cell_iterators())
+      for (const unsigned int v : cell->vertex_indices())
+        if (parts_at_vertex[cell->vertex_index(v)].size() > 1)
+          for (unsigned int d = 0; d < 3; ++d)
+            face_rows[by_face.find(cell->active_cell_index())].emplace_back(
+              cell->vertex(v), d);
+    for (const auto &[part, size] : part_size)
+      {
+        const unsigned int fixed = fixed_rigid_modes(face_rows[part]);
+        AssertThrow(
+          fixed == 6,
+          ExcMessage(
+            std::to_string(size.first) + " voxel(s) around " +
+            format_point(size.second) +
+            " m are attached to the rest only along an edge or at a "
+            "corner, which leaves " +
+            std::to_string(6 - fixed) +
+            " free mechanism motion(s). Fill or empty the voxels at the "
+            "joint so parts share faces."));
+      }
+  }
+
+
+
+  double
+  StaticSolver::assemble(const Vector<double>            &u,
+                         const double                     t,
+                         Vector<double>                  *residual,
+                         const AffineConstraints<double> *constraints,
+                         SparseMatrix<double>            *tangent,
+                         Vector<double>                  *newton_rhs,
+                         double                          &min_J) const
+  {
+    const auto what = tangent  ? material::KernelOutput::tangent :
+                      residual ? material::KernelOutput::stress :
+                                 material::KernelOutput::energy;
+    if (residual)
+      *residual = 0;
+    if (tangent)
+      {
+        *tangent    = 0;
+        *newton_rhs = 0;
+      }
+    double strain_energy   = 0;
+    bool   admissible      = true;
+    min_J                  = std::numeric_limits<double>::max();
+    const unsigned int n_q = discretization.quadrature.size();
+
+    const auto worker =
+      [&](const typename DoFHandler<3>::active_cell_iterator &cell,
+          ScratchData                                        &scratch,
+          CopyData                                           &copy) {
+        scratch.fe_values.reinit(cell);
+        cell->get_dof_values(u, scratch.local_u);
+        copy.dofs.resize(scratch.local_u.size());
+        cell->get_dof_indices(copy.dofs);
+        copy.admissible = integrate_cell(
+          scratch.fe_values,
+          scratch.local_u,
+          &discretization.material_points[cell->active_cell_index() * n_q],
+          what,
+          copy.contribution);
+      };
+    const auto copier = [&](const CopyData &copy) {
+      strain_energy += copy.contribution.energy;
+      min_J      = std::min(min_J, copy.contribution.min_J);
+      admissible = admissible && copy.admissible;
+      if (!copy.admissible)
+        return;
+      if (residual)
+        for (unsigned int i = 0; i < copy.dofs.size(); ++i)
+          (*residual)(copy.dofs[i]) += copy.contribution.residual(i);
+      if (tangent)
+        {
+          Vector<double> local_rhs(copy.contribution.residual);
+          local_rhs *= -1;
+          constraints->distribute_local_to_global(copy.contribution.tangent,
+                                                  local_rhs,
+                                                  copy.dofs,
+                                                  *tangent,
+                                                  *newton_rhs,
+                                                  true);
+        }
+    };
+    WorkStream::run(discretization.dof_handler.begin_active(),
+                    discretization.dof_handler.end(),
+                    worker,
+                    copier,
+                    ScratchData(discretization.mapping,
+                                discretization.fe,
+                                discretization.quadrature),
+                    CopyData());
+
+    if (!admissible)
+      return infinity;
+    if (residual)
+      residual->add(-t, external_force);
+    if (tangent)
+      for (types::global_dof_index i = 0; i < u.size(); ++i)
+        if (!constraints->is_constrained(i))
+          (*newton_rhs)(i) += t * external_force(i);
+    return strain_energy - t * (external_force * u);
+  }
+
+
+
+  double
+  StaticSolver::energy(const Vector<double> &u, const double t) const
+  {
+    double min_J;
+    return assemble(u, t, nullptr, nullptr, nullptr, nullptr, min_J);
+  }
+
+
+
+  void
+  StaticSolver::residual_and_tangent(const Vector<double> &u,
+                                     const double          t,
+                                     Vector<double>       &residual,
+                                     SparseMatrix<double> &tangent) const
+  {
+    AffineConstraints<double> none;
+    none.close();
+    Vector<double> rhs(u.size());
+    residual.reinit(u.size());
+    tangent.reinit(pattern);
+    double min_J;
+    assemble(u, t, &residual, &none, &tangent, &rhs, min_J);
+  }
+
+
+
+  bool
+  StaticSolver::newton(const double    t,
+                       Vector<double> &u,
+                       Statistics     &statistics)
+  {
+    const types::global_dof_index n = u.size();
+    Vector<double> residual(n), rhs(n), du(n), trial(n), diagonal(n);
+    double         reference      = 0;
+    double         last_step_size = infinity;
+    const double   length         = discretization.extent.norm();
+
+    for (unsigned int iteration = 0; iteration < parameters.max_iterations;
+         ++iteration)
+      {
+        // Dirichlet values at t, as the increment still missing from u.
+        AffineConstraints<double> constraints;
+        double                    gap = 0;
+        for (const DirichletDof &d : dirichlet_dofs)
+          {
+            double value = 0;
+            boundary_conditions.prescribed_displacement(d.point,
+                                                        d.component,
+                                                        t,
+                                                        value);
+            constraints.add_line(d.index);
+            constraints.set_inhomogeneity(d.index, value - u(d.index));
+            gap = std::max(gap, std::abs(value - u(d.index)));
+          }
+        constraints.close();
+        const bool on_boundary_values = (gap <= 1e-12 * length);
+
+        double min_J;
+        double energy_now;
+        {
+          TimerOutput::Scope scope(timer, "assembly");
+          energy_now = assemble(
+            u, t, &residual, &constraints, &system_matrix, &rhs, min_J);
+        }
+        for (const DirichletDof &d : dirichlet_dofs)
+          residual(d.index) = 0;
+        const double residual_norm = residual.l2_norm();
+        reference =
+          std::max({reference, residual_norm, t * external_force.l2_norm()});
+
+        pcout << "    Newton " << std::setw(2) << iteration
+              << ": |R| = " << std::scientific << std::setprecision(3)
+              << residual_norm << ", E = " << std::setprecision(5) << energy_now
+              << std::defaultfloat;
+        if (on_boundary_values &&
+            (residual_norm <= parameters.tolerance * reference ||
+             last_step_size <= 1e-13 * length))
+          {
+            pcout << "  converged" << std::endl;
+            statistics.min_J = min_J;
+            return true;
+          }
+        ++statistics.newton_iterations;
+
+        // Newton direction; shift the tangent by a multiple of its diagonal
+        // while the solve fails or the direction does not descend.
+        for (types::global_dof_index i = 0; i < n; ++i)
+          diagonal(i) = system_matrix.diag_element(i);
+        double shift = 0;
+        while (true)
+          {
+            bool solved = false;
+            try
+              {
+                TimerOutput::Scope scope(timer, "linear solve");
+                statistics.linear_iterations +=
+                  linear_solver.solve(system_matrix, du, rhs);
+                constraints.distribute(du);
+                solved = true;
+              }
+            catch (LinearSolver::Failure &failure)
+              {
+                pcout << (shift == 0 ? "\n      " : "") << failure.what()
+                      << "; ";
+              }
+            if (solved && (!on_boundary_values || residual * du < 0))
+              break;
+            const double new_shift = (shift == 0 ? 1e-4 : 10 * shift);
+            if (new_shift > 1e4)
+              {
+                pcout << "no descent direction found" << std::endl;
+                return false;
+              }
+            for (types::global_dof_index i = 0; i < n; ++i)
+              if (!constraints.is_constrained(i))
+                system_matrix.diag_element(i) +=
+                  (new_shift - shift) * std::abs(diagonal(i));
+            shift = new_shift;
+          }
+        if (shift > 0)
+          {
+            ++statistics.regularized_iterations;
+            pcout << " [tangent shifted by " << shift << " diag]";
+          }
+
+        // Backtracking line search: any admissible state while the
+        // boundary values are being reached, else sufficient decrease.
+        TimerOutput::Scope scope(timer, "line search");
+        const double       slope    = residual * du;
+        double             alpha    = 1;
+        bool               accepted = false;
+        for (unsigned int k = 0; k < 30 && !accepted; ++k, alpha *= 0.5)
+          {
+            trial = u;
+            trial.add(alpha, du);
+            const double energy_trial = energy(trial, t);
+            if (!std::isfinite(energy_trial))
+              continue;
+            accepted = !on_boundary_values ||
+                       energy_trial <= energy_now + 1e-4 * alpha * slope ||
+                       std::abs(energy_trial - energy_now) <=
+                         1e-13 * std::abs(energy_now);
+            if (accepted)
+              break;
+          }
+        if (!accepted)
+          {
+            pcout << ", line search failed" << std::endl;
+            return false;
+          }
+        pcout << ", step " << alpha << std::endl;
+        last_step_size = alpha * du.linfty_norm();
+        u              = trial;
+      }
+    pcout << "    no convergence in " << parameters.max_iterations
+          << " Newton iterations" << std::endl;
+    return false;
+  }
+
+
+
+  StaticSolver::Statistics
+  StaticSolver::solve(const std::function<void(unsigned int, double)> &on_step)
+  {
+    Statistics   statistics;
+    const double nominal             = 1. / parameters.load_steps;
+    double       step                = nominal;
+    double       t                   = 0;
+    unsigned int successes_since_cut = 0;
+    displacement                     = 0;
+    while (t < 1 - 1e-12)
+      {
+        const double t_new = std::min(1., t + step);
+        pcout << "  Load step " << statistics.load_steps + 1 << ": load factor "
+              << t_new << std::endl;
+        Vector<double> u = displacement;
+        if (newton(t_new, u, statistics))
+          {
+            displacement = u;
+            t            = t_new;
+            ++statistics.load_steps;
+            on_step(statistics.load_steps, t);
+            if (++successes_since_cut >= 2 && step < nominal)
+              step = std::min(nominal, 2 * step), successes_since_cut = 0;
+          }
+        else
+          {
+            step /= 2;
+            ++statistics.step_cuts;
+            successes_since_cut = 0;
+            if (step < parameters.minimum_step * nominal)
+              {
+                std::ostringstream message;
+                message
+                  << "the load increment at load factor " << t
+                  << " failed even when cut to " << 2 * step
+                  << " (Nonlinear solver/Minimum load step = "
+                  << parameters.minimum_step
+                  << " of the nominal increment); the last converged state is kept";
+                statistics.failure = message.str();
+                pcout << "  Stopped: " << statistics.failure << std::endl;
+                return statistics;
+              }
+            pcout << "  Cutting the load increment to " << step << std::endl;
+          }
+      }
+    statistics.converged = true;
+    return statistics;
+  }
+
+
+
+  StaticSolver::CellFields
+  StaticSolver::cell_fields(const Vector<double> &u) const
+  {
+    const unsigned int n_cells = discretization.triangulation.n_active_cells();
+    CellFields         fields{Vector<double>(n_cells),
+                      Vector<double>(n_cells),
+                      infinity};
+    FEValues<3>        fe_values(discretization.mapping,
+                          discretization.fe,
+                          discretization.quadrature,
+                          update_gradients);
+    Vector<double>     local_u(discretization.fe.n_dofs_per_cell());
+    std::vector<Tensor<2, 3>> F;
+    material::KernelResult    k;
+    for (const auto &cell : discretization.dof_handler.active_cell_iterators())
+      {
+        fe_values.reinit(cell);
+        cell->get_dof_values(u, local_u);
+        deformation_gradients(fe_values, local_u, F);
+        const unsigned int c = cell->active_cell_index();
+        for (unsigned int q = 0; q < F.size(); ++q)
+          {
+            const double J = determinant(F[q]);
+            fields.min_J   = std::min(fields.min_J, J);
+            fields.J(c) += J / F.size();
+            if (material::evaluate(F[q],
+                                   discretization.material(c, q),
+                                   material::KernelOutput::stress,
+                                   k))
+              fields.von_mises(c) +=
+                material::von_mises(material::cauchy_stress(k.stress, F[q])) /
+                F.size();
+          }
+      }
+    return fields;
+  }
+
+
+
+  Tensor<1, 3>
+  StaticSolver::point_value(const Vector<double> &u, const Point<3> &p) const
+  {
+    Vector<double> value(3);
+    try
+      {
+        VectorTools::point_value(
+          discretization.mapping, discretization.dof_handler, u, p, value);
+      }
+    catch (...)
+      {
+        AssertThrow(false,
+                    ExcMessage("Geometry/Probe points: the point " +
+                               format_point(p) +
+                               " m does not lie in the solid."));
+      }
+    return Tensor<1, 3>({value(0), value(1), value(2)});
+  }
+} // namespace ddfem::solver
