@@ -196,35 +196,39 @@ namespace ddfem::scene
       prm.enter_subsection("Layers");
       layer_axis      = axis_index(prm.get("Axis"));
       layer_thickness = prm.get_double("Thickness");
-      layer_materials = checked_ids(prm.get("Materials"),
-                                    n_materials,
-                                    "Layout/Layers/Materials");
+      if (type == "layers")
+        layer_materials = checked_ids(prm.get("Materials"),
+                                      n_materials,
+                                      "Layout/Layers/Materials");
       prm.leave_subsection();
 
       prm.enter_subsection("Skin");
       skin_thickness = prm.get_double("Thickness");
       skin_faces     = Utilities::split_string_list(prm.get("Faces"));
-      skin_material  = checked_id(prm.get_integer("Skin material"),
-                                 n_materials,
-                                 "Layout/Skin/Skin material");
+      if (type == "skin")
+        skin_material = checked_id(prm.get_integer("Skin material"),
+                                   n_materials,
+                                   "Layout/Skin/Skin material");
       prm.leave_subsection();
 
       prm.enter_subsection("Fibers");
-      fiber_axis     = axis_index(prm.get("Axis"));
-      fiber_count    = prm.get_integer("Count");
-      fiber_radius   = prm.get_double("Fiber radius");
-      helix_radius   = prm.get_double("Helix radius");
-      fiber_pitch    = prm.get_double("Pitch");
-      fiber_material = checked_id(prm.get_integer("Fiber material"),
-                                  n_materials,
-                                  "Layout/Fibers/Fiber material");
+      fiber_axis   = axis_index(prm.get("Axis"));
+      fiber_count  = prm.get_integer("Count");
+      fiber_radius = prm.get_double("Fiber radius");
+      helix_radius = prm.get_double("Helix radius");
+      fiber_pitch  = prm.get_double("Pitch");
+      if (type == "fibers")
+        fiber_material = checked_id(prm.get_integer("Fiber material"),
+                                    n_materials,
+                                    "Layout/Fibers/Fiber material");
       prm.leave_subsection();
 
       prm.enter_subsection("Random");
-      random_seed      = prm.get_integer("Seed");
-      random_materials = checked_ids(prm.get("Materials"),
-                                     n_materials,
-                                     "Layout/Random/Materials");
+      random_seed = prm.get_integer("Seed");
+      if (type == "random")
+        random_materials = checked_ids(prm.get("Materials"),
+                                       n_materials,
+                                       "Layout/Random/Materials");
       prm.leave_subsection();
 
       prm.enter_subsection("Voxel file");

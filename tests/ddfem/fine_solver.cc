@@ -1,0 +1,355 @@
+// Verification of the fine solver against known answers:
+// 1. the assembled tangent against finite differences of the residual, and
+//    the residual against finite differences of the energy, on a random
+//    heterogeneous block; symmetry of the tangent;
+// 2. a homogeneous block in uniaxial stretch with free lateral faces
+//    against the analytic compressible Neo-Hookean solution;
+// 3. the patch test: an affine boundary displacement is reproduced
+//    exactly inside;
+// 4. the small-load limit: the solution divided by the load tends to the
+//    linear elastic one at first order.
+
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/lac/sparse_direct.h>
+#include <deal.II/numerics/matrix_tools.h>
+
+#include <random>
+
+#include "../tests.h"
+
+using namespace ddfem;
+using namespace dealii;
+
+namespace
+{
+  std::vector<Point<3>>
+  support_points(const testing::Problem &problem)
+  {
+    std::vector<Point<3>> points(problem.discretization->dof_handler.n_dofs());
+    DoFTools::map_dofs_to_support_points(problem.discretization->mapping,
+                                         problem.discretization->dof_handler,
+                                         points);
+    return points;
+  }
+
+  void
+  tangent_check()
+  {
+    testing::Problem   problem(R"(
+      subsection Geometry
+        set Grid size = 4, 4, 4
+      end
+      subsection Layout
+        set Type = random
+      end
+      subsection Boundary conditions
+        subsection Condition 1
+          set Type = fixed
+          set Region = y-
+        end
+        subsection Condition 2
+          set Type = traction
+          set Region = y+
+          set Value = 1e3; -2e3; 5e2
+        end
+      end
+      subsection Loads
+        set Body force = 0; 0; -1e4*(1 + x)
+      end)");
+    const unsigned int n = problem.discretization->dof_handler.n_dofs();
+    std::mt19937       random(7);
+    std::uniform_real_distribution<double> uniform(-1, 1);
+    Vector<double>                         u(n);
+    for (auto &v : u)
+      v = 5e-4 * uniform(random); // strains up to ~10 %
+
+    Vector<double>       residual;
+    SparseMatrix<double> tangent;
+    problem.solver->residual_and_tangent(u, 1., residual, tangent);
+
+    double       tangent_error = 0, residual_error = 0, asymmetry = 0;
+    const double eps = 1e-8;
+    for (unsigned int trial = 0; trial < 30; ++trial)
+      {
+        const unsigned int   j = random() % n;
+        Vector<double>       up(u), um(u), rp, rm;
+        SparseMatrix<double> unused;
+        up(j) += eps;
+        um(j) -= eps;
+        problem.solver->residual_and_tangent(up, 1., rp, unused);
+        problem.solver->residual_and_tangent(um, 1., rm, unused);
+        Vector<double> column(n), difference(rp);
+        difference -= rm;
+        difference /= 2 * eps;
+        for (unsigned int i = 0; i < n; ++i)
+          column(i) = tangent.el(i, j);
+        column -= difference;
+        tangent_error =
+          std::max(tangent_error, column.l2_norm() / difference.l2_norm());
+
+        const double dE =
+          (problem.solver->energy(up, 1.) - problem.solver->energy(um, 1.)) /
+          (2 * eps);
+        residual_error =
+          std::max(residual_error,
+                   std::abs(dE - residual(j)) / residual.linfty_norm());
+      }
+    for (unsigned int i = 0; i < n; ++i)
+      for (auto entry = tangent.begin(i); entry != tangent.end(i); ++entry)
+        asymmetry =
+          std::max(asymmetry,
+                   std::abs(entry->value() - tangent.el(entry->column(), i)));
+    std::cout << "Random heterogeneous block, " << n << " DoFs" << std::endl;
+    testing::check_below("  tangent vs finite difference of residual, relative",
+                         tangent_error,
+                         1e-6);
+    testing::check_below("  residual vs finite difference of energy, relative",
+                         residual_error,
+                         1e-6);
+    testing::check_below("  tangent asymmetry, relative",
+                         asymmetry / tangent.linfty_norm(),
+                         1e-14);
+  }
+
+  void
+  uniaxial_stretch()
+  {
+    const double     stretch = 1.5;
+    testing::Problem problem(R"(
+      subsection Geometry
+        set Grid size = 4, 4, 4
+        set Voxel size = 0.25
+      end
+      subsection Materials
+        set Palette = E=1e6 nu=0.3
+      end
+      subsection Boundary conditions
+        subsection Condition 1
+          set Type = sliding
+          set Region = x-
+        end
+        subsection Condition 2
+          set Type = sliding
+          set Region = y-
+        end
+        subsection Condition 3
+          set Type = sliding
+          set Region = z-
+        end
+        subsection Condition 4
+          set Type = displacement
+          set Region = x+
+          set Value = 0.5; free; free
+        end
+      end
+      subsection Nonlinear solver
+        set Load steps = 5
+        set Newton tolerance = 1e-12
+      end)");
+    const auto       statistics = problem.solve();
+
+    // Analytic: lateral stretch s from P_22 = mu s + (lambda ln J - mu)/s = 0
+    // with J = stretch s^2; axial stress P_11 likewise.
+    const auto  &material = problem.scene.palette[1];
+    const double mu = material.mu, lambda = material.lambda;
+    double       s = 1;
+    for (unsigned int i = 0; i < 50; ++i)
+      {
+        const double J  = stretch * s * s;
+        const double g  = mu * s * s + lambda * std::log(J) - mu;
+        const double dg = 2 * mu * s + 2 * lambda / s;
+        s -= g / dg;
+      }
+    const double J   = stretch * s * s;
+    const double P11 = mu * stretch + (lambda * std::log(J) - mu) / stretch;
+
+    const Tensor<1, 3> corner =
+      problem.solver->point_value(problem.solver->solution(),
+                                  Point<3>(1, 1, 1));
+    Vector<double>       residual;
+    SparseMatrix<double> tangent;
+    problem.solver->residual_and_tangent(problem.solver->solution(),
+                                         1.,
+                                         residual,
+                                         tangent);
+    const auto points = support_points(problem);
+    double     force  = 0;
+    for (unsigned int i = 0; i < points.size(); ++i)
+      if (std::abs(points[i][0] - 1) < 1e-12 && i % 3 == 0)
+        force += residual(i);
+
+    std::cout << "Uniaxial stretch 1.5 of a unit cube, converged: "
+              << std::boolalpha << statistics.converged << std::endl
+              << "  analytic lateral stretch " << std::setprecision(10) << s
+              << ", axial stress " << P11 << " Pa" << std::endl;
+    testing::check_below("  lateral displacement error, relative",
+                         std::max(std::abs(corner[1] - (s - 1)),
+                                  std::abs(corner[2] - (s - 1))) /
+                           std::abs(s - 1),
+                         1e-8);
+    testing::check_below("  axial displacement error, relative",
+                         std::abs(corner[0] - 0.5) / 0.5,
+                         1e-8);
+    testing::check_below("  axial force error, relative",
+                         std::abs(force - P11) / P11,
+                         1e-8);
+  }
+
+  void
+  patch_test()
+  {
+    testing::Problem problem(R"(
+      subsection Geometry
+        set Grid size = 4, 3, 5
+        set Voxel size = 0.1
+      end
+      subsection Materials
+        set Palette = E=1e6 nu=0.45
+      end
+      subsection Boundary conditions
+        subsection Condition 1
+          set Type = displacement
+          set Region = x-
+          set Value = 0.1*x + 0.05*y - 0.02*z; -0.03*x + 0.08*y + 0.04*z; 0.02*x - 0.06*y - 0.1*z
+        end
+        subsection Condition 2
+          set Type = displacement
+          set Region = x+
+          set Value = 0.1*x + 0.05*y - 0.02*z; -0.03*x + 0.08*y + 0.04*z; 0.02*x - 0.06*y - 0.1*z
+        end
+        subsection Condition 3
+          set Type = displacement
+          set Region = y-
+          set Value = 0.1*x + 0.05*y - 0.02*z; -0.03*x + 0.08*y + 0.04*z; 0.02*x - 0.06*y - 0.1*z
+        end
+        subsection Condition 4
+          set Type = displacement
+          set Region = y+
+          set Value = 0.1*x + 0.05*y - 0.02*z; -0.03*x + 0.08*y + 0.04*z; 0.02*x - 0.06*y - 0.1*z
+        end
+        subsection Condition 5
+          set Type = displacement
+          set Region = z-
+          set Value = 0.1*x + 0.05*y - 0.02*z; -0.03*x + 0.08*y + 0.04*z; 0.02*x - 0.06*y - 0.1*z
+        end
+        subsection Condition 6
+          set Type = displacement
+          set Region = z+
+          set Value = 0.1*x + 0.05*y - 0.02*z; -0.03*x + 0.08*y + 0.04*z; 0.02*x - 0.06*y - 0.1*z
+        end
+      end
+      subsection Nonlinear solver
+        set Load steps = 2
+        set Newton tolerance = 1e-12
+      end)");
+    const auto       statistics = problem.solve();
+    const auto       points     = support_points(problem);
+    const auto      &u          = problem.solver->solution();
+    double           error = 0, largest = 0;
+    unsigned int     interior = 0;
+    for (unsigned int i = 0; i < points.size(); ++i)
+      {
+        const Point<3> &p = points[i];
+        if (p[0] < 1e-9 || p[0] > 0.4 - 1e-9 || p[1] < 1e-9 ||
+            p[1] > 0.3 - 1e-9 || p[2] < 1e-9 || p[2] > 0.5 - 1e-9)
+          continue;
+        ++interior;
+        const double exact[3] = {0.1 * p[0] + 0.05 * p[1] - 0.02 * p[2],
+                                 -0.03 * p[0] + 0.08 * p[1] + 0.04 * p[2],
+                                 0.02 * p[0] - 0.06 * p[1] - 0.1 * p[2]};
+        error                 = std::max(error, std::abs(u(i) - exact[i % 3]));
+        largest               = std::max(largest, std::abs(exact[i % 3]));
+      }
+    std::cout << "Patch test, converged: " << std::boolalpha
+              << statistics.converged << ", " << interior
+              << " interior unknowns" << std::endl;
+    testing::check_below("  interior error vs affine field, relative",
+                         error / largest,
+                         1e-10);
+  }
+
+  /// Cantilever under a tip traction of @p load Pa: the nonlinear
+  /// solution and the linear elastic one (tangent at u = 0).
+  double
+  nonlinear_vs_linear(const double load)
+  {
+    std::ostringstream prm;
+    prm << R"(
+      subsection Geometry
+        set Grid size = 2, 8, 2
+      end
+      subsection Layout
+        set Type = layers
+        subsection Layers
+          set Thickness = 0.02
+        end
+      end
+      subsection Boundary conditions
+        subsection Condition 1
+          set Type = fixed
+          set Region = y-
+        end
+        subsection Condition 2
+          set Type = traction
+          set Region = y+
+          set Value = 0; 0; )"
+        << -load << R"(
+        end
+      end
+      subsection Nonlinear solver
+        set Load steps = 1
+        set Newton tolerance = 1e-13
+      end)";
+    testing::Problem problem(prm.str());
+    problem.solve();
+
+    const unsigned int   n = problem.discretization->dof_handler.n_dofs();
+    Vector<double>       residual, linear(n), zero(n);
+    SparseMatrix<double> tangent;
+    problem.solver->residual_and_tangent(zero, 1., residual, tangent);
+    residual *= -1; // the external load
+    std::map<types::global_dof_index, double> fixed;
+    const auto                                points = support_points(problem);
+    for (unsigned int i = 0; i < n; ++i)
+      if (points[i][1] < 1e-12)
+        fixed[i] = 0;
+    MatrixTools::apply_boundary_values(fixed, tangent, linear, residual);
+    SparseDirectUMFPACK direct;
+    direct.solve(tangent, residual);
+    linear = residual;
+
+    Vector<double> difference(problem.solver->solution());
+    difference -= linear;
+    return difference.l2_norm() / linear.l2_norm();
+  }
+
+  void
+  small_load_limit()
+  {
+    std::cout
+      << "Small-load limit, |u - u_linear| / |u_linear| for tip tractions:"
+      << std::endl;
+    double previous = 0;
+    for (const double load : {100., 10., 1.})
+      {
+        const double difference = nonlinear_vs_linear(load);
+        std::cout << "  " << load << " Pa: " << std::setprecision(2)
+                  << std::scientific << difference << std::defaultfloat;
+        if (previous > 0)
+          std::cout << ", observed order " << std::fixed << std::setprecision(2)
+                    << std::log10(previous / difference) << std::defaultfloat;
+        std::cout << std::endl;
+        previous = difference;
+      }
+  }
+} // namespace
+
+int
+main(int argc, char **argv)
+{
+  Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  tangent_check();
+  uniaxial_stretch();
+  patch_test();
+  small_load_limit();
+}

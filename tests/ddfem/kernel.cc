@@ -1,0 +1,137 @@
+// The material kernel against finite differences: stress = d(energy)/dF,
+// tangent = d(stress)/dF, for random deformation gradients and materials
+// with and without the anisotropic spring; the tangent's major symmetry;
+// a stress-free, energy-free reference state; det F <= 0 rejected.
+
+#include <ddfem/material/kernel.h>
+
+#include <random>
+
+#include "../tests.h"
+
+using namespace ddfem;
+using namespace dealii;
+
+int
+main()
+{
+  std::mt19937                           random(42);
+  std::uniform_real_distribution<double> uniform(-1, 1);
+
+  double stress_error = 0, tangent_error = 0, asymmetry = 0;
+  for (unsigned int trial = 0; trial < 200; ++trial)
+    {
+      material::MaterialPoint m;
+      m.mu     = std::pow(10., 5 + 2 * (uniform(random) + 1)); // 1e5 ... 1e9
+      m.lambda = m.mu * (1 + 20 * (uniform(random) + 1));
+      if (trial % 2)
+        {
+          m.anisotropy = m.mu * (uniform(random) + 1.5);
+          m.direction =
+            Tensor<1, 3>({uniform(random), uniform(random), uniform(random)});
+          m.direction /= m.direction.norm();
+        }
+      Tensor<2, 3> F = unit_symmetric_tensor<3>();
+      for (unsigned int i = 0; i < 3; ++i)
+        for (unsigned int j = 0; j < 3; ++j)
+          F[i][j] += 0.3 * uniform(random);
+      if (determinant(F) <= 0.2)
+        continue;
+
+      material::KernelResult r;
+      material::evaluate(F, m, material::KernelOutput::tangent, r);
+      const double eps = 1e-6;
+      for (unsigned int k = 0; k < 3; ++k)
+        for (unsigned int L = 0; L < 3; ++L)
+          {
+            material::KernelResult plus, minus;
+            Tensor<2, 3>           Fp = F, Fm = F;
+            Fp[k][L] += eps;
+            Fm[k][L] -= eps;
+            material::evaluate(Fp, m, material::KernelOutput::stress, plus);
+            material::evaluate(Fm, m, material::KernelOutput::stress, minus);
+            const double dpsi = (plus.energy - minus.energy) / (2 * eps);
+            stress_error =
+              std::max(stress_error,
+                       std::abs(dpsi - r.stress[k][L]) / r.stress.norm());
+            for (unsigned int i = 0; i < 3; ++i)
+              for (unsigned int J = 0; J < 3; ++J)
+                {
+                  const double dP =
+                    (plus.stress[i][J] - minus.stress[i][J]) / (2 * eps);
+                  tangent_error =
+                    std::max(tangent_error,
+                             std::abs(dP - r.tangent[i][J][k][L]) /
+                               r.tangent.norm());
+                  asymmetry = std::max(asymmetry,
+                                       std::abs(r.tangent[i][J][k][L] -
+                                                r.tangent[k][L][i][J]) /
+                                         r.tangent.norm());
+                }
+          }
+    }
+  testing::check_below("stress vs finite difference of energy, relative",
+                       stress_error,
+                       1e-7);
+  testing::check_below("tangent vs finite difference of stress, relative",
+                       tangent_error,
+                       1e-7);
+  testing::check_below("tangent major asymmetry, relative", asymmetry, 1e-14);
+
+  // The reference state carries neither energy nor stress, also with the
+  // spring (|F v| = 1 there).
+  material::MaterialPoint m;
+  m.mu         = 1e6;
+  m.lambda     = 9e6;
+  m.anisotropy = 5e5;
+  m.direction  = Tensor<1, 3>({0, 0.6, 0.8});
+  material::KernelResult r;
+  material::evaluate(unit_symmetric_tensor<3>(),
+                     m,
+                     material::KernelOutput::tangent,
+                     r);
+  std::cout << "reference state: energy " << r.energy << ", |P| "
+            << r.stress.norm() << std::endl;
+
+  // Small strain: the tangent is the isotropic elasticity tensor.
+  double deviation = 0;
+  m.anisotropy     = 0;
+  for (unsigned int i = 0; i < 3; ++i)
+    for (unsigned int J = 0; J < 3; ++J)
+      for (unsigned int k = 0; k < 3; ++k)
+        for (unsigned int L = 0; L < 3; ++L)
+          {
+            const double C = m.lambda * (i == J) * (k == L) +
+                             m.mu * ((i == k) * (J == L) + (i == L) * (J == k));
+            material::evaluate(unit_symmetric_tensor<3>(),
+                               m,
+                               material::KernelOutput::tangent,
+                               r);
+            deviation =
+              std::max(deviation,
+                       std::abs(r.tangent[i][J][k][L] - C) / m.lambda);
+          }
+  testing::check_below("tangent at F = I vs linear elasticity, relative",
+                       deviation,
+                       1e-14);
+
+  // Hydrostatic Cauchy stress has no von Mises part; uniaxial has |sigma|.
+  Tensor<2, 3> sigma;
+  sigma[0][0] = sigma[1][1] = sigma[2][2] = -3e4;
+  std::cout << "von Mises of hydrostatic stress: " << material::von_mises(sigma)
+            << std::endl;
+  sigma       = 0;
+  sigma[1][1] = 2e5;
+  std::cout << "von Mises of uniaxial 2e5 Pa: " << material::von_mises(sigma)
+            << std::endl;
+
+  // Inverted or degenerate states are inadmissible.
+  Tensor<2, 3> inverted = unit_symmetric_tensor<3>();
+  inverted[2][2]        = -0.1;
+  std::cout << "det F < 0 admissible: " << std::boolalpha
+            << material::evaluate(inverted,
+                                  m,
+                                  material::KernelOutput::energy,
+                                  r)
+            << std::endl;
+}

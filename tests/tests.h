@@ -1,0 +1,87 @@
+#ifndef ddfem_tests_h
+#define ddfem_tests_h
+
+// Small helpers for ddfem's tests in deal.II's harness. Debian does not
+// ship deal.II's own tests.h; this is the little we need. A test prints to
+// standard output, which the harness compares with its .output file.
+
+#include <deal.II/base/conditional_ostream.h>
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/timer.h>
+
+#include <ddfem/app/application.h>
+#include <ddfem/scene/scene.h>
+#include <ddfem/solver/discretization.h>
+#include <ddfem/solver/linear_solver.h>
+#include <ddfem/solver/static_solver.h>
+
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <string>
+
+namespace ddfem::testing
+{
+  using namespace dealii;
+
+  /**
+   * A scene, its fine discretization and a static solver, set up from the
+   * text of a parameter file exactly as the ddfem program does. Solver
+   * logs go to standard output only if @p verbose.
+   */
+  struct Problem
+  {
+    explicit Problem(const std::string &prm_text, const bool verbose = false)
+      : log(std::cout, verbose)
+      , timer(log, TimerOutput::never, TimerOutput::wall_times)
+    {
+      app::declare_parameters(prm);
+      prm.parse_input_from_string(prm_text);
+      scene.parse_parameters(prm);
+      parameters.parse_parameters(prm);
+      linear_solver.parse_parameters(prm);
+      prm.enter_subsection("Discretization");
+      const unsigned int degree = prm.get_integer("Polynomial degree");
+      prm.leave_subsection();
+      discretization = std::make_unique<solver::Discretization>(scene, degree);
+      solver         = std::make_unique<solver::StaticSolver>(*discretization,
+                                                      scene.boundary_conditions,
+                                                      parameters,
+                                                      linear_solver,
+                                                      timer,
+                                                      log);
+      solver->setup();
+    }
+
+    /// Runs the load steps; returns the solver statistics.
+    solver::StaticSolver::Statistics
+    solve()
+    {
+      return solver->solve([](unsigned int, double) {});
+    }
+
+    ParameterHandler                        prm;
+    ConditionalOStream                      log;
+    TimerOutput                             timer;
+    scene::Scene                            scene;
+    solver::StaticSolver::Parameters        parameters;
+    solver::LinearSolver                    linear_solver;
+    std::unique_ptr<solver::Discretization> discretization;
+    std::unique_ptr<solver::StaticSolver>   solver;
+  };
+
+  /// Prints "name: ok" if @p value < @p bound, else the value and bound.
+  inline void
+  check_below(const std::string &name, const double value, const double bound)
+  {
+    std::cout << name << ": ";
+    if (value < bound)
+      std::cout << "below " << bound << std::endl;
+    else
+      std::cout << "FAILED, " << value << " >= " << bound << std::endl;
+  }
+} // namespace ddfem::testing
+
+#endif
