@@ -1,4 +1,5 @@
 #include <deal.II/base/utilities.h>
+#include <deal.II/lac/vector.h>
 
 #include <ddfem/scene/boundary_conditions.h>
 
@@ -42,7 +43,8 @@ namespace ddfem::scene
       try
         {
           parser->initialize("x,y,z", expressions, {{"pi", numbers::PI}});
-          parser->value(Point<3>()); // muparser reports some errors only here
+          Vector<double> values(n_components);      // muparser parses lazily:
+          parser->vector_value(Point<3>(), values); // check every component
         }
       catch (ExceptionBase &e)
         {
