@@ -76,8 +76,9 @@ namespace ddfem::app
     class Simulation
     {
     public:
-      explicit Simulation(std::ostream &out)
+      Simulation(std::ostream &out, std::ostream &err)
         : pcout(out)
+        , err(err)
         , timer(pcout, TimerOutput::never, TimerOutput::wall_times)
       {}
 
@@ -220,7 +221,8 @@ namespace ddfem::app
           }
         if (!statistics.converged)
           {
-            pcout << "Error: " << statistics.failure << "." << std::endl;
+            err << "Error: the solve did not converge: " << statistics.failure
+                << "." << std::endl;
             return 1;
           }
         return 0;
@@ -228,6 +230,7 @@ namespace ddfem::app
 
     private:
       ConditionalOStream               pcout;
+      std::ostream                    &err;
       TimerOutput                      timer;
       std::string                      scene_name, method, directory;
       unsigned int                     degree;
@@ -328,7 +331,7 @@ namespace ddfem::app
             apply_override(prm, arguments[++i]);
           }
 
-        Simulation simulation(out);
+        Simulation simulation(out, err);
         simulation.parse_parameters(prm, prm_file);
         return simulation.run(prm);
       }

@@ -53,7 +53,7 @@ namespace ddfem::scene
           AssertThrow(false,
                       ExcMessage(where + " = \"" + text +
                                  "\" is not a valid expression of x, y, z: " +
-                                 message.str()));
+                                 Utilities::trim(message.str())));
         }
       return parser;
     }

@@ -3,10 +3,10 @@
 
 #include <ddfem/app/application.h>
 
-#include "../tests.h"
-
 #include <filesystem>
 #include <fstream>
+
+#include "../tests.h"
 
 using namespace ddfem;
 
@@ -36,14 +36,17 @@ end
            const std::vector<std::string> &extra = {})
   {
     const std::string file = name + ".prm";
-    std::ofstream(file) << prm_text << "\nsubsection Output\n  set Output directory = out_" << name
-                        << "\n  set Screen timings = false\nend\n";
+    std::ofstream(file) << prm_text
+                        << "\nsubsection Output\n  set Output directory = out_"
+                        << name << "\n  set Screen timings = false\nend\n";
     std::vector<std::string> arguments = {file};
     arguments.insert(arguments.end(), extra.begin(), extra.end());
     std::ostringstream out, err;
     const int          code = app::run(arguments, out, err);
-    std::cout << "* " << name << ": exit code " << code << ", output written: " << std::boolalpha
-              << std::filesystem::exists("out_" + name) << "\n  " << err.str() << std::endl;
+    std::cout << "* " << name << ": exit code " << code
+              << ", output written: " << std::boolalpha
+              << std::filesystem::exists("out_" + name) << "\n  " << err.str()
+              << std::endl;
   }
 } // namespace
 
@@ -52,43 +55,64 @@ main(int argc, char **argv)
 {
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
 
-  run_case("unknown_parameter", cantilever + "subsection Geometry\n  set Grid sise = 3, 3, 3\nend\n");
-  run_case("negative_E",
-           cantilever + "subsection Materials\n  set Palette = E=1e5 nu=0.3; E=-2 nu=0.3\nend\n");
+  run_case("unknown_parameter",
+           cantilever +
+             "subsection Geometry\n  set Grid sise = 3, 3, 3\nend\n");
+  run_case(
+    "negative_E",
+    cantilever +
+      "subsection Materials\n  set Palette = E=1e5 nu=0.3; E=-2 nu=0.3\nend\n");
   run_case("nu_too_large",
-           cantilever + "subsection Materials\n  set Palette = E=1e5 nu=0.5\nend\n");
+           cantilever +
+             "subsection Materials\n  set Palette = E=1e5 nu=0.5\nend\n");
   run_case("nu_too_small",
-           cantilever + "subsection Materials\n  set Palette = E=1e5 nu=-1.2\nend\n");
-  run_case("missing_voxel_file",
-           cantilever + "subsection Layout\n  set Type = voxel file\n  subsection Voxel file\n"
-                        "    set File name = no_such_file.txt\n  end\nend\n");
-  run_case("missing_mesh_file",
-           cantilever + "subsection Layout\n  set Type = surface mesh\n  subsection Surface mesh\n"
-                        "    set File name = no_such_mesh.stl\n  end\nend\n");
+           cantilever +
+             "subsection Materials\n  set Palette = E=1e5 nu=-1.2\nend\n");
+  run_case(
+    "missing_voxel_file",
+    cantilever +
+      "subsection Layout\n  set Type = voxel file\n  subsection Voxel file\n"
+      "    set File name = no_such_file.txt\n  end\nend\n");
+  run_case(
+    "missing_mesh_file",
+    cantilever +
+      "subsection Layout\n  set Type = surface mesh\n  subsection Surface mesh\n"
+      "    set File name = no_such_mesh.stl\n  end\nend\n");
 
-  std::ofstream("wrong_size.txt") << "3 4 2\n" << std::string(24 * 2, ' ') << "\n";
-  std::ofstream("wrong_size.txt", std::ios::app) << "1 1 1 1 1 1 1 1 1 1 1 1 1 1 1 1 1 1 1 1 1 1 1 1\n";
-  run_case("inconsistent_grid",
-           cantilever + "subsection Layout\n  set Type = voxel file\n  subsection Voxel file\n"
-                        "    set File name = wrong_size.txt\n  end\nend\n");
+  std::ofstream("wrong_size.txt") << "3 4 2\n"
+                                  << std::string(24 * 2, ' ') << "\n";
+  std::ofstream("wrong_size.txt", std::ios::app)
+    << "1 1 1 1 1 1 1 1 1 1 1 1 1 1 1 1 1 1 1 1 1 1 1 1\n";
+  run_case(
+    "inconsistent_grid",
+    cantilever +
+      "subsection Layout\n  set Type = voxel file\n  subsection Voxel file\n"
+      "    set File name = wrong_size.txt\n  end\nend\n");
   run_case("material_not_in_palette",
            cantilever + "subsection Layout\n  set Material = 4\nend\n");
   run_case("bad_expression",
-           cantilever + "subsection Loads\n  set Body force = 0; 0; -9.81*rho\nend\n");
+           cantilever +
+             "subsection Loads\n  set Body force = 0; 0; -9.81*rho\nend\n");
   run_case("bad_region",
-           cantilever + "subsection Boundary conditions\n  subsection Condition 3\n"
-                        "    set Type = fixed\n    set Region = top\n  end\nend\n");
-  run_case("bad_override", cantilever, {"--set", "Nonlinear solver/Load steps=-3"});
+           cantilever +
+             "subsection Boundary conditions\n  subsection Condition 3\n"
+             "    set Type = fixed\n    set Region = top\n  end\nend\n");
+  run_case("bad_override",
+           cantilever,
+           {"--set", "Nonlinear solver/Load steps=-3"});
   run_case("unknown_override", cantilever, {"--set", "Solver/Load steps=3"});
 
   // Scenes that cannot be solved, caught before any solve.
-  run_case("all_void", cantilever + "subsection Layout\n  set Material = 0\nend\n");
+  run_case("all_void",
+           cantilever + "subsection Layout\n  set Material = 0\nend\n");
   run_case("no_dirichlet",
-           cantilever + "subsection Boundary conditions\n  subsection Condition 1\n"
-                        "    set Type = none\n  end\nend\n");
+           cantilever +
+             "subsection Boundary conditions\n  subsection Condition 1\n"
+             "    set Type = none\n  end\nend\n");
   run_case("floor_only",
-           cantilever + "subsection Boundary conditions\n  subsection Condition 1\n"
-                        "    set Type = sliding\n    set Region = z-\n  end\nend\n");
+           cantilever +
+             "subsection Boundary conditions\n  subsection Condition 1\n"
+             "    set Type = sliding\n    set Region = z-\n  end\nend\n");
   run_case("floating_voxels",
            R"(
 subsection Geometry
@@ -102,6 +126,41 @@ subsection Boundary conditions
     set Type = fixed
     set Region = y-
   end
+end
+)");
+  // Not bad input but a solve that fails: rigid blocks on soft hinges
+  // (contrast 1e6) bent far in few, short Newton runs. It must stop with a
+  // message naming what failed; the converged load steps are kept.
+  run_case("unconverged",
+           R"(
+subsection Geometry
+  set Grid size = 2, 12, 2
+end
+subsection Materials
+  set Palette = E=1e5 nu=0.45; E=1e11 nu=0.45
+end
+subsection Layout
+  set Type = layers
+  subsection Layers
+    set Thickness = 0.02
+    set Materials = 1, 2
+  end
+end
+subsection Boundary conditions
+  subsection Condition 1
+    set Type = fixed
+    set Region = y-
+  end
+  subsection Condition 2
+    set Type = traction
+    set Region = y+
+    set Value = 0; 0; -3e3
+  end
+end
+subsection Nonlinear solver
+  set Load steps = 2
+  set Maximum Newton iterations = 8
+  set Minimum load step = 0.1
 end
 )");
   run_case("edge_hinge",
