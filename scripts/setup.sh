@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Sets up ddfem on Debian bookworm and runs it.
+#
+#   scripts/setup.sh          install what is missing, build (Release), run
+#                             the default scene prm/default.prm
+#   scripts/setup.sh --test   install what is missing, build, run the tests
+#
+# Installing needs root (or sudo). Everything comes from Debian's archive.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+packages="libdeal.ii-dev numdiff nlohmann-json3-dev libopenblas0-pthread \
+          cmake g++ make perl ccache"
+missing=""
+for p in $packages; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" \
+    || missing="$missing $p"
+done
+if [ -n "$missing" ]; then
+  echo "Installing:$missing"
+  sudo=""; [ "$(id -u)" -eq 0 ] || sudo="sudo"
+  $sudo apt-get update
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y --no-install-recommends $missing
+fi
+
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
+cmake --build build -j2
+
+if [ "${1:-}" = "--test" ]; then
+  cd build
+  ctest -j2 --output-on-failure
+else
+  build/ddfem prm/default.prm
+fi

@@ -1,0 +1,204 @@
+// Scene layouts against counts known by construction: layers, skin,
+// helical fibers, seeded random layouts, primitive shapes, a voxel file
+// round trip, and a closed surface mesh (an octahedron the test writes as
+// OBJ, ASCII STL and binary STL) voxelized into the grid. Also the voxel
+// mesh: one cell per solid voxel or per non-void 2x2x2 block, in
+// lexicographic order.
+
+#include <deal.II/grid/tria.h>
+
+#include <ddfem/scene/voxel_io.h>
+
+#include <array>
+#include <cstdint>
+#include <fstream>
+
+#include "../tests.h"
+
+using namespace ddfem;
+using namespace dealii;
+
+namespace
+{
+  scene::Scene
+  make_scene(const std::string &layout, const std::string &grid = "8, 8, 8")
+  {
+    ParameterHandler prm;
+    app::declare_parameters(prm);
+    prm.parse_input_from_string(
+      "subsection Geometry\n set Grid size = " + grid +
+      "\nend\nsubsection Layout\n" + layout + "\nend\n");
+    scene::Scene scene;
+    scene.parse_parameters(prm);
+    return scene;
+  }
+
+  /// Number of voxels with each id 0..3.
+  std::array<unsigned int, 4>
+  histogram(const scene::VoxelGrid &grid)
+  {
+    std::array<unsigned int, 4> count = {{0, 0, 0, 0}};
+    for (const auto id : grid.data())
+      ++count[id];
+    return count;
+  }
+
+  void
+  print(const std::string &name, const scene::VoxelGrid &grid)
+  {
+    const auto c = histogram(grid);
+    std::cout << name << ": void " << c[0] << ", id1 " << c[1] << ", id2 "
+              << c[2] << ", id3 " << c[3] << std::endl;
+  }
+
+  /// The octahedron |x - c| + |y - c| + |z - c| <= r as 8 triangles.
+  scene::TriangleMesh
+  octahedron(const double c, const double r)
+  {
+    scene::TriangleMesh mesh;
+    mesh.vertices = {Point<3>(c + r, c, c),
+                     Point<3>(c - r, c, c),
+                     Point<3>(c, c + r, c),
+                     Point<3>(c, c - r, c),
+                     Point<3>(c, c, c + r),
+                     Point<3>(c, c, c - r)};
+    for (const unsigned int x : {0u, 1u})
+      for (const unsigned int y : {2u, 3u})
+        for (const unsigned int z : {4u, 5u})
+          mesh.triangles.push_back({{x, y, z}});
+    return mesh;
+  }
+} // namespace
+
+int
+main()
+{
+  // 8x8x8 voxels of 0.01 m.
+  print(
+    "layers along z, 0.02 m, ids 1 2 3",
+    make_scene(
+      "set Type = layers\nsubsection Layers\n set Axis = z\n set Thickness = 0.02\n"
+      " set Materials = 1, 2, 3\nend")
+      .grid);
+  print("skin 0.01 m on all faces, id 3 around id 1",
+        make_scene(
+          "set Type = skin\nsubsection Skin\n set Thickness = 0.01\nend")
+          .grid);
+  print(
+    "skin 0.02 m on z+ only",
+    make_scene(
+      "set Type = skin\nsubsection Skin\n set Thickness = 0.02\n set Faces = z+\nend")
+      .grid);
+  print("sphere r = 0.03 m of id 2 at the center",
+        make_scene("set Shapes = sphere 0.04 0.04 0.04 0.03 : 2").grid);
+  print("box then cylinder painted in order",
+        make_scene("set Shapes = box 0 0 0 0.08 0.08 0.04 : 3; "
+                   "cylinder 0.04 0.04 0 0.04 0.04 0.08 0.02 : 0")
+          .grid);
+  const auto random_a =
+    make_scene("set Type = random\nsubsection Random\n set Seed = 3\nend").grid;
+  const auto random_b =
+    make_scene("set Type = random\nsubsection Random\n set Seed = 3\nend").grid;
+  print("random, seed 3", random_a);
+  std::cout << "same seed, same layout: " << std::boolalpha
+            << (random_a.data() == random_b.data()) << std::endl;
+
+  // Helical fibers: each of the 4 fibers covers about pi r^2 per voxel
+  // layer of the 40 along y.
+  const auto fibers =
+    make_scene("set Type = fibers\nsubsection Fibers\n set Count = 4\n"
+               " set Fiber radius = 0.03\n set Helix radius = 0.07\n"
+               " set Pitch = 0.4\nend",
+               "20, 40, 20")
+      .grid;
+  print("4 helical fibers in a 20x40x20 bar", fibers);
+  std::cout << "  fiber voxels per layer " << histogram(fibers)[3] / 40.
+            << ", 4 pi r^2 / h^2 = " << 4 * numbers::PI * 9 << std::endl;
+
+  // Voxel file round trip.
+  scene::write_voxel_file("roundtrip.txt", random_a);
+  auto read = make_scene("set Type = voxel file\nsubsection Voxel file\n"
+                         " set File name = roundtrip.txt\nend")
+                .grid;
+  std::cout << "voxel file round trip equal: "
+            << (read.data() == random_a.data()) << std::endl;
+
+  // A closed surface: the octahedron of "radius" 0.0305 m around the
+  // center of a 16^3 grid, written in three formats.
+  const auto mesh = octahedron(0.08, 0.0605);
+  {
+    std::ofstream obj("octahedron.obj");
+    for (const auto &v : mesh.vertices)
+      obj << "v " << v << "\n";
+    for (const auto &t : mesh.triangles)
+      obj << "f " << t[0] + 1 << " " << t[1] + 1 << " " << t[2] + 1 << "\n";
+    std::ofstream ascii("octahedron_ascii.stl");
+    std::ofstream binary("octahedron_binary.stl", std::ios::binary);
+    ascii << "solid octahedron\n";
+    binary << std::string(80, ' ');
+    const std::uint32_t n = mesh.triangles.size();
+    binary.write(reinterpret_cast<const char *>(&n), 4);
+    for (const auto &t : mesh.triangles)
+      {
+        ascii << "facet normal 0 0 0\nouter loop\n";
+        const float zero[3] = {0, 0, 0};
+        binary.write(reinterpret_cast<const char *>(zero), 12);
+        for (const unsigned int i : t)
+          {
+            ascii << "vertex " << mesh.vertices[i] << "\n";
+            const float p[3] = {static_cast<float>(mesh.vertices[i][0]),
+                                static_cast<float>(mesh.vertices[i][1]),
+                                static_cast<float>(mesh.vertices[i][2])};
+            binary.write(reinterpret_cast<const char *>(p), 12);
+          }
+        ascii << "endloop\nendfacet\n";
+        const std::uint16_t attribute = 0;
+        binary.write(reinterpret_cast<const char *>(&attribute), 2);
+      }
+    ascii << "endsolid octahedron\n";
+  }
+  unsigned int inside = 0;
+  for (unsigned int k = 0; k < 16; ++k)
+    for (unsigned int j = 0; j < 16; ++j)
+      for (unsigned int i = 0; i < 16; ++i)
+        inside += (std::abs((i + 0.5) * 0.01 - 0.08) +
+                     std::abs((j + 0.5) * 0.01 - 0.08) +
+                     std::abs((k + 0.5) * 0.01 - 0.08) <=
+                   0.0605);
+  std::cout << "octahedron: voxel centers inside " << inside << std::endl;
+  for (const std::string file :
+       {"octahedron.obj", "octahedron_ascii.stl", "octahedron_binary.stl"})
+    std::cout << "  " << file << ": "
+              << histogram(
+                   make_scene("set Type = surface mesh\nset Material = 2\n"
+                              "subsection Surface mesh\n set File name = " +
+                                file + "\n set Fit to grid = false\nend",
+                              "16, 16, 16")
+                     .grid)[2]
+              << " voxels" << std::endl;
+
+  // Voxel meshes of the sphere scene: fine and one level coarser.
+  const auto sphere =
+    make_scene("set Material = 0\nset Shapes = sphere 0.04 0.04 0.04 0.025 : 1")
+      .grid;
+  for (const unsigned int level : {0u, 1u})
+    {
+      Triangulation<3>   tria;
+      const auto         blocks  = scene::make_voxel_mesh(sphere, level, tria);
+      const double       H       = 0.01 * (1u << level);
+      const unsigned int m       = 8 >> level;
+      bool               ordered = true;
+      for (const auto &cell : tria.active_cell_iterators())
+        {
+          const std::size_t b = blocks[cell->active_cell_index()];
+          const Point<3>    center(((b % m) + 0.5) * H,
+                                (((b / m) % m) + 0.5) * H,
+                                ((b / (m * m)) + 0.5) * H);
+          ordered = ordered && cell->center().distance(center) < 1e-12;
+        }
+      std::cout << "sphere mesh at level " << level << ": "
+                << tria.n_active_cells() << " cells, " << tria.n_vertices()
+                << " vertices, cells match their blocks: " << ordered
+                << std::endl;
+    }
+}
