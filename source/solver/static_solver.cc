@@ -248,7 +248,7 @@ namespace ddfem::solver
     pattern.copy_from(dsp);
     system_matrix.reinit(pattern);
     displacement.reinit(n);
-    linear_solver.initialize(dof_handler);
+    linear_solver.initialize(dof_handler, timer);
 
     // Dead external loads: body force and surface tractions at t = 1.
     external_force.reinit(n);
@@ -596,15 +596,20 @@ namespace ddfem::solver
         // while the solve fails or the direction does not descend.
         for (types::global_dof_index i = 0; i < n; ++i)
           diagonal(i) = system_matrix.diag_element(i);
-        double shift = 0;
+        double       shift             = 0;
+        unsigned int linear_iterations = 0;
         while (true)
           {
             bool solved = false;
             try
               {
-                TimerOutput::Scope scope(timer, "linear solve");
-                statistics.linear_iterations +=
-                  linear_solver.solve(system_matrix, du, rhs);
+                linear_iterations +=
+                  linear_solver.solve(system_matrix,
+                                      du,
+                                      rhs,
+                                      on_boundary_values ?
+                                        0.1 * residual_norm / reference :
+                                        1.);
                 constraints.distribute(du);
                 solved = true;
               }
@@ -658,6 +663,9 @@ namespace ddfem::solver
             pcout << ", line search failed" << std::endl;
             return false;
           }
+        statistics.linear_iterations += linear_iterations;
+        if (linear_solver.method() != "direct")
+          pcout << ", " << linear_iterations << " CG its";
         pcout << ", step " << alpha << std::endl;
         last_step_size = alpha * du.linfty_norm();
         u              = trial;

@@ -2,6 +2,7 @@
 #define ddfem_solver_linear_solver_h
 
 #include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/timer.h>
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/lac/sparse_direct.h>
 #include <deal.II/lac/sparse_matrix.h>
@@ -21,7 +22,9 @@ namespace ddfem::solver
    * a sparse direct factorization (UMFPACK) or with conjugate gradients
    * preconditioned by Trilinos ML algebraic multigrid whose near null space
    * are the six rigid body modes. 'auto' picks the direct solver for small
-   * systems. Declared in the prm subsection "Linear solver".
+   * systems. The multigrid hierarchy is kept across Newton iterations and
+   * rebuilt only when CG needs 1.5 times the iterations it needed right
+   * after the last rebuild. Declared in the prm subsection "Linear solver".
    */
   class LinearSolver
   {
@@ -45,19 +48,24 @@ namespace ddfem::solver
     /**
      * Prepares for systems on @p dof_handler (FE_Q(p)^3 with the default
      * node-wise numbering): chooses the method and computes the rigid body
-     * modes for the multigrid preconditioner.
+     * modes for the multigrid preconditioner. @p timer receives the
+     * sections "factorization / preconditioner" and "linear solve".
      */
     void
-    initialize(const DoFHandler<3> &dof_handler);
+    initialize(const DoFHandler<3> &dof_handler, TimerOutput &timer);
 
     /**
-     * Solves @p K x = @p b. Returns the number of iterations (1 for the
-     * direct solver). Throws Failure if the solver does not succeed.
+     * Solves @p K x = @p b. The iterative solver stops when the residual
+     * is reduced by the factor min(@p forcing, 'Tolerance') (the forcing
+     * term of an inexact Newton method; the direct solver ignores it).
+     * Returns the number of iterations (1 for the direct solver). Throws
+     * Failure if the solver does not succeed.
      */
     unsigned int
     solve(const SparseMatrix<double> &K,
           Vector<double>             &x,
-          const Vector<double>       &b);
+          const Vector<double>       &b,
+          const double                forcing = 1);
 
     /// The method in use: "direct" or "cg-amg".
     const std::string &
@@ -73,6 +81,12 @@ namespace ddfem::solver
     unsigned int max_iterations;
     unsigned int direct_limit;
     unsigned int degree;
+    TimerOutput *timer = nullptr;
+
+    /// CG iterations of the first solve with the current multigrid
+    /// hierarchy (0: build a new one), and of the last solve.
+    unsigned int iterations_after_setup = 0;
+    unsigned int last_iterations        = 0;
 
     /// The six rigid body modes, mode-major (mode k at [k * n_dofs]).
     std::vector<double> rigid_body_modes;

@@ -95,7 +95,7 @@ namespace ddfem::solver
     /**
      * A solver for @p discretization under @p boundary_conditions. The
      * objects passed must outlive the solver. @p timer receives the
-     * sections "assembly", "linear solve" and "line search".
+     * sections "assembly" and "line search" (and the linear solver's).
      */
     StaticSolver(const Discretization            &discretization,
                  const scene::BoundaryConditions &boundary_conditions,
