@@ -1,0 +1,71 @@
+#!/usr/bin/env python3
+"""Runs shipped fine scenes with the Release build and prints a table.
+
+Usage: scripts/benchmark.py [SCENE ...]   (default: every benchmark below)
+
+Each benchmark is a shipped prm file plus --set overrides. VTU output is
+switched off. The table (Markdown) shows grid, DoFs, linear solver, Newton
+iterations, time per Newton iteration, total time and peak memory, all read
+from each run's summary.json. It is a benchmark, not a test: timings depend
+on the machine and its load.
+"""
+import json
+import os
+import subprocess
+import sys
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+BENCHMARKS = {
+    "pushing": ("pushing", []),
+    "bending": ("bending", []),
+    "twisting": ("twisting", []),
+    "buckling": ("buckling", []),
+    "fibers": ("fibers", []),
+    "bar": ("bar", []),
+    "bar-32": ("bar", ["Geometry/Grid size=32, 128, 32",
+                       "Geometry/Voxel size=0.03125",
+                       "Geometry/Probe points=0.5, 4, 0.5"]),
+}
+# Per Newton iteration on the same bar (1x4x1, Q1, layers 1e5/1e7, body
+# force, Newton to 1e-8): a plain deal.II solver with Trilinos ML AMG-CG,
+# measured on this machine class (issue #2).
+REFERENCE = {"bar": 2.0, "bar-32": 17.7}
+
+
+def run(name):
+    prm, overrides = BENCHMARKS[name]
+    out = os.path.join(ROOT, "benchmark-output", name)
+    os.makedirs(out, exist_ok=True)
+    command = [os.path.join(ROOT, "build", "ddfem"),
+               os.path.join(ROOT, "prm", prm + ".prm"),
+               "--set", "Output/Output directory=" + out,
+               "--set", "Output/Write VTU=none"]
+    for o in overrides:
+        command += ["--set", o]
+    with open(out + ".log", "w") as log:
+        code = subprocess.call(command, stdout=log, stderr=subprocess.STDOUT)
+    with open(os.path.join(out, "summary.json")) as f:
+        summary = json.load(f)
+    summary["exit_code"] = code
+    return summary
+
+
+def main():
+    names = sys.argv[1:] or list(BENCHMARKS)
+    rows = []
+    print("| scene | grid | DoFs | solver | load steps | Newton its | s / Newton it "
+          "| total s | peak MB | reference s / it |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for name in names:
+        s = run(name)
+        ref = REFERENCE.get(name)
+        ref_text = "%.1f (ratio %.2f)" % (ref, s["time_per_newton_iteration_s"] / ref) if ref else ""
+        print("| %s%s | %s | %d | %s | %d | %d | %.3f | %.1f | %.0f | %s |" % (
+            name, "" if s["converged"] else " (NOT converged)",
+            "x".join(str(n) for n in s["grid"]), s["dofs"], s["linear_solver"],
+            s["load_steps"], s["newton_iterations"], s["time_per_newton_iteration_s"],
+            s["wall_time_s"], s["peak_memory_mb"], ref_text), flush=True)
+
+
+if __name__ == "__main__":
+    main()
