@@ -22,18 +22,18 @@ namespace ddfem::solver
       "cg-amg above.");
     prm.declare_entry(
       "Tolerance",
-      "1e-6",
+      "1e-2",
       Patterns::Double(0, 1),
-      "cg-amg: largest relative residual reduction of a linear solve. "
-      "Newton's method asks for less where its residual is small "
-      "(forcing term 0.1 |R| / |R_ref|), so early iterations are "
-      "cheap and convergence stays fast.");
+      "cg-amg: the loosest relative residual reduction of a linear solve. "
+      "Newton's method tightens it to 0.1 |R| / |R_ref| as its residual "
+      "|R| falls (inexact Newton), so early iterations are cheap and the "
+      "last ones accurate.");
     prm.declare_entry("Maximum iterations",
                       "2000",
                       Patterns::Integer(1),
                       "cg-amg: iterations before a solve counts as failed.");
     prm.declare_entry("Direct solver limit",
-                      "20000",
+                      "5000",
                       Patterns::Integer(0),
                       "auto: largest number of unknowns solved directly.");
     prm.leave_subsection();

@@ -250,6 +250,17 @@ namespace ddfem::solver
     displacement.reinit(n);
     linear_solver.initialize(dof_handler, timer);
 
+    // The scale of round-off in energy sums: sum of (mu + |lambda| + C) dV.
+    stiffness_volume = 0;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      for (unsigned int q = 0; q < discretization.quadrature.size(); ++q)
+        {
+          const auto &m = discretization.material(cell->active_cell_index(), q);
+          stiffness_volume += (m.mu + std::abs(m.lambda) + m.anisotropy) *
+                              discretization.quadrature.weight(q) *
+                              cell->measure();
+        }
+
     // Dead external loads: body force and surface tractions at t = 1.
     external_force.reinit(n);
     const unsigned int degree = fe.degree;
@@ -541,9 +552,15 @@ namespace ddfem::solver
   {
     const types::global_dof_index n = u.size();
     Vector<double> residual(n), rhs(n), du(n), trial(n), diagonal(n);
-    double         reference      = 0;
-    double         last_step_size = infinity;
-    const double   length         = discretization.extent.norm();
+    double         reference          = 0;
+    double         newton_step        = infinity;
+    unsigned int   regularized        = 0;
+    const double   length             = discretization.extent.norm();
+    const auto     free_residual_norm = [&](Vector<double> &r) {
+      for (const DirichletDof &d : dirichlet_dofs)
+        r(d.index) = 0;
+      return r.l2_norm();
+    };
 
     for (unsigned int iteration = 0; iteration < parameters.max_iterations;
          ++iteration)
@@ -572,9 +589,7 @@ namespace ddfem::solver
           energy_now = assemble(
             u, t, &residual, &constraints, &system_matrix, &rhs, min_J);
         }
-        for (const DirichletDof &d : dirichlet_dofs)
-          residual(d.index) = 0;
-        const double residual_norm = residual.l2_norm();
+        const double residual_norm = free_residual_norm(residual);
         reference =
           std::max({reference, residual_norm, t * external_force.l2_norm()});
 
@@ -582,9 +597,11 @@ namespace ddfem::solver
               << ": |R| = " << std::scientific << std::setprecision(3)
               << residual_norm << ", E = " << std::setprecision(5) << energy_now
               << std::defaultfloat;
+        // Converged: small residual, or a Newton correction at round-off
+        // level (with residuals dominated by round-off in stiff parts).
         if (on_boundary_values &&
             (residual_norm <= parameters.tolerance * reference ||
-             last_step_size <= 1e-13 * length))
+             newton_step <= 1e-13 * length))
           {
             pcout << "  converged" << std::endl;
             statistics.min_J = min_J;
@@ -632,19 +649,37 @@ namespace ddfem::solver
                   (new_shift - shift) * std::abs(diagonal(i));
             shift = new_shift;
           }
+        statistics.linear_iterations += linear_iterations;
+        if (!on_boundary_values)
+          pcout << " [boundary values]";
         if (shift > 0)
           {
             ++statistics.regularized_iterations;
             pcout << " [tangent shifted by " << shift << " diag]";
+            // Shifted steps converge slowly at best; near a bifurcation a
+            // shorter load increment is the better cure.
+            if (++regularized > max_regularized_iterations)
+              {
+                pcout << ", too many shifted iterations" << std::endl;
+                return false;
+              }
           }
+        if (linear_solver.method() != "direct")
+          pcout << ", " << linear_iterations << " CG its";
+        newton_step = du.linfty_norm();
 
-        // Backtracking line search: any admissible state while the
-        // boundary values are being reached, else sufficient decrease.
+        // Backtracking line search. While the boundary values are being
+        // reached, any admissible state is accepted. Then the energy must
+        // decrease sufficiently (Armijo); where the expected decrease is at
+        // round-off level of the energy, a decreasing residual is accepted
+        // instead.
         TimerOutput::Scope scope(timer, "line search");
-        const double       slope    = residual * du;
-        double             alpha    = 1;
-        bool               accepted = false;
-        for (unsigned int k = 0; k < 30 && !accepted; ++k, alpha *= 0.5)
+        const double       slope = residual * du;
+        const double       noise =
+          1e-14 * (stiffness_volume + std::abs(t * (external_force * u)));
+        double alpha    = 1;
+        bool   accepted = false;
+        for (unsigned int k = 0; k < 30; ++k, alpha *= 0.5)
           {
             trial = u;
             trial.add(alpha, du);
@@ -652,9 +687,14 @@ namespace ddfem::solver
             if (!std::isfinite(energy_trial))
               continue;
             accepted = !on_boundary_values ||
-                       energy_trial <= energy_now + 1e-4 * alpha * slope ||
-                       std::abs(energy_trial - energy_now) <=
-                         1e-13 * std::abs(energy_now);
+                       energy_trial <= energy_now + 1e-4 * alpha * slope;
+            if (!accepted && alpha * std::abs(slope) <= 1e3 * noise)
+              {
+                Vector<double> trial_residual(n);
+                assemble(
+                  trial, t, &trial_residual, nullptr, nullptr, nullptr, min_J);
+                accepted = free_residual_norm(trial_residual) < residual_norm;
+              }
             if (accepted)
               break;
           }
@@ -663,12 +703,8 @@ namespace ddfem::solver
             pcout << ", line search failed" << std::endl;
             return false;
           }
-        statistics.linear_iterations += linear_iterations;
-        if (linear_solver.method() != "direct")
-          pcout << ", " << linear_iterations << " CG its";
         pcout << ", step " << alpha << std::endl;
-        last_step_size = alpha * du.linfty_norm();
-        u              = trial;
+        u = trial;
       }
     pcout << "    no convergence in " << parameters.max_iterations
           << " Newton iterations" << std::endl;
@@ -680,20 +716,42 @@ namespace ddfem::solver
   StaticSolver::Statistics
   StaticSolver::solve(const std::function<void(unsigned int, double)> &on_step)
   {
-    Statistics   statistics;
-    const double nominal             = 1. / parameters.load_steps;
-    double       step                = nominal;
-    double       t                   = 0;
-    unsigned int successes_since_cut = 0;
-    displacement                     = 0;
+    Statistics     statistics;
+    const double   nominal             = 1. / parameters.load_steps;
+    double         step                = nominal;
+    double         t                   = 0;
+    unsigned int   successes_since_cut = 0;
+    Vector<double> last_increment(displacement.size());
+    double         last_step = 0;
+    bool           predict   = false;
+    displacement             = 0;
     while (t < 1 - 1e-12)
       {
         const double t_new = std::min(1., t + step);
         pcout << "  Load step " << statistics.load_steps + 1 << ": load factor "
               << t_new << std::endl;
+
+        // Start from the last state extrapolated along the last increment,
+        // with the exact boundary values at t_new, if that state is
+        // admissible.
         Vector<double> u = displacement;
+        if (predict)
+          {
+            u.add((t_new - t) / last_step, last_increment);
+            for (const DirichletDof &d : dirichlet_dofs)
+              boundary_conditions.prescribed_displacement(d.point,
+                                                          d.component,
+                                                          t_new,
+                                                          u(d.index));
+            if (!std::isfinite(energy(u, t_new)))
+              u = displacement;
+          }
         if (newton(t_new, u, statistics))
           {
+            last_increment = u;
+            last_increment -= displacement;
+            last_step    = t_new - t;
+            predict      = true;
             displacement = u;
             t            = t_new;
             ++statistics.load_steps;
@@ -704,6 +762,7 @@ namespace ddfem::solver
         else
           {
             step /= 2;
+            predict = false;
             ++statistics.step_cuts;
             successes_since_cut = 0;
             if (step < parameters.minimum_step * nominal)

@@ -34,7 +34,8 @@ namespace ddfem::solver
    * Non-descent Newton directions (indefinite tangents, e.g. in buckling)
    * and failed linear solves are handled by shifting the tangent by a
    * growing multiple of its diagonal; load increments whose Newton
-   * iteration fails are cut in half.
+   * iteration fails are cut in half. Each increment starts from the last
+   * state extrapolated along the last increment.
    */
   class StaticSolver
   {
@@ -201,6 +202,14 @@ namespace ddfem::solver
       unsigned int            component;
     };
     std::vector<DirichletDof> dirichlet_dofs;
+
+    /// Newton iterations with a shifted tangent a load increment may take
+    /// before it counts as failed.
+    static constexpr unsigned int max_regularized_iterations = 8;
+
+    /// Sum over quadrature points of (mu + |lambda| + C) dV (J): the scale
+    /// of round-off errors in the total energy.
+    double stiffness_volume = 0;
 
     SparsityPattern      pattern;
     SparseMatrix<double> system_matrix;
