@@ -3,6 +3,7 @@
 #include <deal.II/base/utilities.h>
 
 #include <ddfem/app/application.h>
+#include <ddfem/base/exceptions.h>
 #include <ddfem/report/output.h>
 #include <ddfem/scene/scene.h>
 #include <ddfem/solver/discretization.h>
@@ -59,11 +60,8 @@ namespace ddfem::app
         }
       catch (ExceptionBase &e)
         {
-          std::ostringstream message;
-          e.print_info(message);
           AssertThrow(false,
-                      ExcMessage("--set \"" + text +
-                                 "\": " + Utilities::trim(message.str())));
+                      ExcMessage("--set \"" + text + "\": " + message_of(e)));
         }
       for (unsigned int i = 0; i + 1 < path.size(); ++i)
         prm.leave_subsection();
@@ -317,11 +315,9 @@ namespace ddfem::app
           }
         catch (ExceptionBase &e)
           {
-            std::ostringstream message;
-            e.print_info(message);
             AssertThrow(false,
                         ExcMessage("In parameter file \"" + prm_file +
-                                   "\": " + Utilities::trim(message.str())));
+                                   "\": " + message_of(e)));
           }
         for (unsigned int i = 1; i < arguments.size(); ++i)
           {
@@ -337,9 +333,7 @@ namespace ddfem::app
       }
     catch (ExceptionBase &e)
       {
-        std::ostringstream message;
-        e.print_info(message);
-        err << "Error: " << Utilities::trim(message.str()) << std::endl;
+        err << "Error: " << message_of(e) << std::endl;
       }
     catch (std::exception &e)
       {

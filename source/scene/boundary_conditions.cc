@@ -1,6 +1,7 @@
 #include <deal.II/base/utilities.h>
 #include <deal.II/lac/vector.h>
 
+#include <ddfem/base/exceptions.h>
 #include <ddfem/scene/boundary_conditions.h>
 
 #include <cmath>
@@ -48,12 +49,10 @@ namespace ddfem::scene
         }
       catch (ExceptionBase &e)
         {
-          std::ostringstream message;
-          e.print_info(message);
           AssertThrow(false,
                       ExcMessage(where + " = \"" + text +
                                  "\" is not a valid expression of x, y, z: " +
-                                 Utilities::trim(message.str())));
+                                 message_of(e)));
         }
       return parser;
     }
