@@ -29,13 +29,20 @@ namespace ddfem::solver
       "|R| falls (inexact Newton), so early iterations are cheap and the "
       "last ones accurate.");
     prm.declare_entry("Maximum iterations",
-                      "2000",
+                      "500",
                       Patterns::Integer(1),
                       "cg-amg: iterations before a solve counts as failed.");
     prm.declare_entry("Direct solver limit",
                       "5000",
                       Patterns::Integer(0),
                       "auto: largest number of unknowns solved directly.");
+    prm.declare_entry(
+      "Direct fallback limit",
+      "150000",
+      Patterns::Integer(0),
+      "auto: when CG fails (an indefinite tangent near buckling, "
+      "say) on a system of at most this many unknowns, that and "
+      "the next 10 systems are solved directly.");
     prm.leave_subsection();
   }
 
@@ -49,6 +56,7 @@ namespace ddfem::solver
     tolerance      = prm.get_double("Tolerance");
     max_iterations = prm.get_integer("Maximum iterations");
     direct_limit   = prm.get_integer("Direct solver limit");
+    fallback_limit = prm.get_integer("Direct fallback limit");
     prm.leave_subsection();
   }
 
@@ -63,8 +71,8 @@ namespace ddfem::solver
     chosen                          = requested;
     if (requested == "auto")
       chosen = (n <= direct_limit) ? "direct" : "cg-amg";
-    degree                 = dof_handler.get_fe().degree;
     iterations_after_setup = 0;
+    direct_solves_left     = 0;
     if (chosen == "direct")
       return;
 
@@ -102,32 +110,43 @@ namespace ddfem::solver
 
 
   unsigned int
+  LinearSolver::solve_directly(const SparseMatrix<double> &K,
+                               Vector<double>             &x,
+                               const Vector<double>       &b)
+  {
+    try
+      {
+        {
+          TimerOutput::Scope scope(*timer, "factorization / preconditioner");
+          direct.initialize(K);
+        }
+        TimerOutput::Scope scope(*timer, "linear solve");
+        direct.vmult(x, b);
+      }
+    catch (std::exception &e)
+      {
+        throw Failure("the direct solver failed (singular matrix?)");
+      }
+    for (const double v : x)
+      if (!std::isfinite(v))
+        throw Failure(
+          "the direct solver returned non-finite values (singular matrix)");
+    return 1;
+  }
+
+
+
+  unsigned int
   LinearSolver::solve(const SparseMatrix<double> &K,
                       Vector<double>             &x,
                       const Vector<double>       &b,
                       const double                forcing)
   {
-    if (chosen == "direct")
+    if (chosen == "direct" || direct_solves_left > 0)
       {
-        try
-          {
-            {
-              TimerOutput::Scope scope(*timer,
-                                       "factorization / preconditioner");
-              direct.initialize(K);
-            }
-            TimerOutput::Scope scope(*timer, "linear solve");
-            direct.vmult(x, b);
-          }
-        catch (std::exception &e)
-          {
-            throw Failure("the direct solver failed (singular matrix?)");
-          }
-        for (const double v : x)
-          if (!std::isfinite(v))
-            throw Failure(
-              "the direct solver returned non-finite values (singular matrix)");
-        return 1;
+        if (direct_solves_left > 0)
+          --direct_solves_left;
+        return solve_directly(K, x, b);
       }
 
     // The multigrid hierarchy of an earlier tangent stays a good
@@ -168,6 +187,11 @@ namespace ddfem::solver
     catch (std::exception &e)
       {
         iterations_after_setup = 0;
+        if (requested == "auto" && x.size() <= fallback_limit)
+          {
+            direct_solves_left = 10;
+            return control.last_step() + solve_directly(K, x, b);
+          }
         throw Failure("CG did not converge in " +
                       std::to_string(control.last_step()) +
                       " iterations (indefinite or ill-conditioned tangent?)");

@@ -762,7 +762,6 @@ namespace ddfem::solver
         else
           {
             step /= 2;
-            predict = false;
             ++statistics.step_cuts;
             successes_since_cut = 0;
             if (step < parameters.minimum_step * nominal)

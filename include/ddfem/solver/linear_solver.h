@@ -24,7 +24,9 @@ namespace ddfem::solver
    * are the six rigid body modes. 'auto' picks the direct solver for small
    * systems. The multigrid hierarchy is kept across Newton iterations and
    * rebuilt only when CG needs 1.5 times the iterations it needed right
-   * after the last rebuild. Declared in the prm subsection "Linear solver".
+   * after the last rebuild. In 'auto' mode, a CG failure on a system of
+   * moderate size switches to the direct solver for a few systems.
+   * Declared in the prm subsection "Linear solver".
    */
   class LinearSolver
   {
@@ -75,11 +77,20 @@ namespace ddfem::solver
     }
 
   private:
+    /// UMFPACK; throws Failure if the matrix is singular.
+    unsigned int
+    solve_directly(const SparseMatrix<double> &K,
+                   Vector<double>             &x,
+                   const Vector<double>       &b);
+
     std::string  requested;
     std::string  chosen;
     double       tolerance;
     unsigned int max_iterations;
     unsigned int direct_limit;
+    unsigned int fallback_limit;
+    /// Systems still to be solved directly after a CG failure ('auto').
+    unsigned int direct_solves_left = 0;
     unsigned int degree;
     TimerOutput *timer = nullptr;
 
