@@ -4,6 +4,8 @@
 #   scripts/setup.sh          install what is missing, build (Release), run
 #                             the default scene prm/default.prm
 #   scripts/setup.sh --test   install what is missing, build, run the tests
+#                             (Release; then the library and stability tests
+#                             in a Debug build with deal.II's assertions)
 #
 # Installing needs root (or sudo). Everything comes from Debian's archive.
 set -euo pipefail
@@ -27,8 +29,12 @@ cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
 cmake --build build -j2
 
 if [ "${1:-}" = "--test" ]; then
-  cd build
-  ctest -j2 --output-on-failure
+  (cd build && ctest -j2 --output-on-failure)
+  # The library and stability tests once more against deal.II's debug
+  # library, so that its internal assertions are checked too.
+  cmake -S . -B build-debug -DCMAKE_BUILD_TYPE=Debug
+  cmake --build build-debug -j2
+  (cd build-debug && ctest -j2 --output-on-failure -R "^(ddfem|stability)/")
 else
   build/ddfem prm/default.prm
 fi
