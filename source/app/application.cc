@@ -129,11 +129,18 @@ namespace ddfem::app
               << " DoFs (FE_Q(" << degree << ")^3), linear solver "
               << linear_solver.method() << std::endl;
 
+        for (const Point<3> &p : scene.probes)
+          solver->point_value(solver->solution(), p); // throws if outside
+
         // All input is valid: from here on, results are written.
         std::filesystem::create_directories(directory);
         {
           std::ofstream used(directory + "/parameters.prm");
           prm.print_parameters(used, ParameterHandler::ShortPRM);
+          AssertThrow(used,
+                      ExcMessage(
+                        "Cannot write \"" + directory +
+                        "/parameters.prm\" (Output/Output directory)."));
         }
         vtu.initialize(directory, "solution");
         const auto on_step = [&](const unsigned int step, const double t) {
@@ -148,18 +155,26 @@ namespace ddfem::app
         const auto statistics = solver->solve(on_step);
 
         // Results.
-        const Vector<double> &u      = solver->solution();
-        const auto            fields = solver->cell_fields(u);
-        double                max_u  = 0;
+        const Vector<double>                &u      = solver->solution();
+        const auto                           fields = solver->cell_fields(u);
+        double                               max_u  = 0;
+        const FiniteElement<3>              &fe     = discretization->fe;
+        std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
         for (const auto &cell :
              discretization->dof_handler.active_cell_iterators())
-          for (const unsigned int v : cell->vertex_indices())
-            {
-              Tensor<1, 3> d;
-              for (unsigned int c = 0; c < 3; ++c)
-                d[c] = u(cell->vertex_dof_index(v, c));
-              max_u = std::max(max_u, d.norm());
-            }
+          {
+            cell->get_dof_indices(dofs);
+            for (unsigned int i = 0; i < dofs.size(); ++i)
+              if (fe.system_to_component_index(i).first == 0)
+                {
+                  const unsigned int base =
+                    fe.system_to_component_index(i).second;
+                  Tensor<1, 3> d;
+                  for (unsigned int c = 0; c < 3; ++c)
+                    d[c] = u(dofs[fe.component_to_system_index(c, base)]);
+                  max_u = std::max(max_u, d.norm());
+                }
+          }
 
         nlohmann::json summary;
         summary["scene"]        = scene_name;
@@ -206,8 +221,13 @@ namespace ddfem::app
         summary["time_per_newton_iteration_s"] =
           wall / std::max(1u, statistics.newton_iterations);
         summary["peak_memory_mb"] = peak_memory_mb();
-        std::ofstream(directory + "/summary.json")
-          << summary.dump(2) << std::endl;
+        {
+          std::ofstream json(directory + "/summary.json");
+          json << summary.dump(2) << std::endl;
+          AssertThrow(json,
+                      ExcMessage("Cannot write \"" + directory +
+                                 "/summary.json\" (Output/Output directory)."));
+        }
 
         if (screen_timings)
           {
@@ -260,7 +280,7 @@ namespace ddfem::app
     prm.enter_subsection("Discretization");
     prm.declare_entry("Polynomial degree",
                       "1",
-                      Patterns::Integer(1, 3),
+                      Patterns::Integer(1, 2),
                       "Degree p of the FE_Q(p)^3 displacement element.");
     prm.leave_subsection();
     prm.enter_subsection("Output");

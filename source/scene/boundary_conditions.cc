@@ -2,8 +2,10 @@
 #include <deal.II/lac/vector.h>
 
 #include <ddfem/base/exceptions.h>
+#include <ddfem/base/parsing.h>
 #include <ddfem/scene/boundary_conditions.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace ddfem::scene
@@ -69,7 +71,7 @@ namespace ddfem::scene
     , upper(extent)
     , tolerance(1e-6 * h)
   {
-    const auto words = Utilities::split_string_list(text, ' ');
+    const auto words = split_words(text);
     if (words.size() == 1 && words[0].size() == 2 &&
         std::string("xyz").find(words[0][0]) != std::string::npos &&
         (words[0][1] == '-' || words[0][1] == '+'))
@@ -88,20 +90,8 @@ namespace ddfem::scene
                       "\": expected a face (x-, x+, y-, y+, z-, z+) or "
                       "'box x0 y0 z0 x1 y1 z1' (meters)."));
         is_face = false;
-        try
-          {
-            for (unsigned int d = 0; d < 3; ++d)
-              {
-                lower[d] = Utilities::string_to_double(words[1 + d]);
-                upper[d] = Utilities::string_to_double(words[4 + d]);
-              }
-          }
-        catch (...)
-          {
-            AssertThrow(false,
-                        ExcMessage(where + " = \"" + text +
-                                   "\": coordinates must be numbers."));
-          }
+        lower   = parse_point({words[1], words[2], words[3]}, where);
+        upper   = parse_point({words[4], words[5], words[6]}, where);
         for (unsigned int d = 0; d < 3; ++d)
           AssertThrow(lower[d] <= upper[d],
                       ExcMessage(
@@ -226,7 +216,8 @@ namespace ddfem::scene
           "Boundary conditions/Condition " + std::to_string(c);
         prm.enter_subsection("Condition " + std::to_string(c));
         Condition condition;
-        condition.type = prm.get("Type");
+        condition.where = where;
+        condition.type  = prm.get("Type");
         if (condition.type != "none")
           {
             condition.region = std::make_unique<Region>(prm.get("Region"),
@@ -273,14 +264,9 @@ namespace ddfem::scene
                   condition.center = condition.region->center();
                 else
                   {
-                    const auto words = Utilities::split_string_list(center);
-                    AssertThrow(words.size() == 3,
-                                ExcMessage(
-                                  where + "/Center = \"" + center +
-                                  "\": expected 'auto' or 'x, y, z'."));
-                    for (unsigned int d = 0; d < 3; ++d)
-                      condition.center[d] =
-                        Utilities::string_to_double(words[d]);
+                    condition.center =
+                      parse_point(Utilities::split_string_list(center),
+                                  where + "/Center (or 'auto')");
                   }
               }
             conditions.push_back(std::move(condition));
@@ -352,6 +338,30 @@ namespace ddfem::scene
               t[d] += condition.value->value(p, d);
         }
     return t;
+  }
+
+
+
+  void
+  BoundaryConditions::check_regions(
+    const std::vector<Point<3>> &nodes,
+    const std::vector<Point<3>> &boundary_face_centers) const
+  {
+    for (const Condition &condition : conditions)
+      {
+        const bool  load   = condition.constrained.empty();
+        const auto &points = load ? boundary_face_centers : nodes;
+        AssertThrow(std::any_of(points.begin(),
+                                points.end(),
+                                [&](const Point<3> &p) {
+                                  return condition.region->contains(p);
+                                }),
+                    ExcMessage(condition.where + " (" + condition.type +
+                               " on \"" + condition.region->name +
+                               "\") acts on no " +
+                               (load ? "boundary face" : "node") +
+                               " of the solid: its region misses the solid."));
+      }
   }
 
 

@@ -1,5 +1,6 @@
 #include <deal.II/base/utilities.h>
 
+#include <ddfem/base/parsing.h>
 #include <ddfem/scene/layout.h>
 #include <ddfem/scene/voxel_io.h>
 
@@ -269,7 +270,7 @@ namespace ddfem::scene
         AssertThrow(
           parts.size() == 2,
           ExcMessage(where + ": expected '<kind> <numbers> : <material id>'."));
-        auto words = Utilities::split_string_list(parts[0], ' ');
+        auto words = split_words(parts[0]);
         AssertThrow(!words.empty(),
                     ExcMessage(where + ": missing shape kind."));
 
@@ -289,28 +290,26 @@ namespace ddfem::scene
         AssertThrow(words.size() == expected,
                     ExcMessage(where + ": '" + parts[0] + "' needs " +
                                std::to_string(expected) + " numbers."));
-        try
-          {
-            shape.values = Utilities::string_to_double(words);
-          }
-        catch (...)
-          {
-            AssertThrow(false,
-                        ExcMessage(where +
-                                   ": not all coordinates are numbers."));
-          }
-        int id = -1;
-        try
-          {
-            id = Utilities::string_to_int(parts[1]);
-          }
-        catch (...)
-          {
-            AssertThrow(false,
-                        ExcMessage(where +
-                                   ": the material id is not an integer."));
-          }
-        shape.material = checked_id(id, n_materials, where);
+        for (const std::string &word : words)
+          shape.values.push_back(parse_number(word, where));
+        const auto &v   = shape.values;
+        const bool  box = (shape.kind == Shape::Kind::box);
+        AssertThrow(!box || (v[0] <= v[3] && v[1] <= v[4] && v[2] <= v[5]),
+                    ExcMessage(
+                      where +
+                      ": the lower corner must not exceed the upper one."));
+        AssertThrow(box || v.back() > 0,
+                    ExcMessage(where + ": the radius must be > 0."));
+        AssertThrow(shape.kind != Shape::Kind::cylinder ||
+                      (v[0] != v[3] || v[1] != v[4] || v[2] != v[5]),
+                    ExcMessage(where + ": the axis end points must differ."));
+        const double id = parse_number(parts[1], where);
+        AssertThrow(id == std::round(id),
+                    ExcMessage(where + ": the material id is not an integer."));
+        shape.material =
+          checked_id(static_cast<long>(std::max(-1., std::min(id, 1e6))),
+                     n_materials,
+                     where);
         result.push_back(shape);
       }
     return result;

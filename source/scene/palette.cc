@@ -1,5 +1,6 @@
 #include <deal.II/base/utilities.h>
 
+#include <ddfem/base/parsing.h>
 #include <ddfem/scene/palette.h>
 
 #include <sstream>
@@ -56,23 +57,14 @@ namespace ddfem::scene
                                   std::to_string(result.size() + 1) + " (\"" +
                                   entry + "\")";
         std::map<std::string, double> values;
-        for (const std::string &pair : Utilities::split_string_list(entry, ' '))
+        for (const std::string &pair : split_words(entry))
           {
             const auto tokens = Utilities::split_string_list(pair, '=');
             AssertThrow(tokens.size() == 2,
                         ExcMessage(where +
                                    ": expected 'name=value' pairs, got \"" +
                                    pair + "\"."));
-            try
-              {
-                values[tokens[0]] = Utilities::string_to_double(tokens[1]);
-              }
-            catch (...)
-              {
-                AssertThrow(false,
-                            ExcMessage(where + ": \"" + tokens[1] +
-                                       "\" is not a number."));
-              }
+            values[tokens[0]] = parse_number(tokens[1], where);
           }
 
         PaletteMaterial m;

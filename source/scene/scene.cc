@@ -1,6 +1,7 @@
 #include <deal.II/base/utilities.h>
 #include <deal.II/grid/tria_description.h>
 
+#include <ddfem/base/parsing.h>
 #include <ddfem/scene/scene.h>
 
 namespace ddfem::scene
@@ -51,14 +52,8 @@ namespace ddfem::scene
     for (const std::string &p :
          Utilities::split_string_list(prm.get("Probe points"), ';'))
       {
-        const auto words = Utilities::split_string_list(p);
-        AssertThrow(words.size() == 3,
-                    ExcMessage("Geometry/Probe points: \"" + p +
-                               "\" is not 'x, y, z'."));
-        Point<3> point;
-        for (unsigned int d = 0; d < 3; ++d)
-          point[d] = Utilities::string_to_double(words[d]);
-        probes.push_back(point);
+        probes.push_back(parse_point(Utilities::split_string_list(p),
+                                     "Geometry/Probe points, \"" + p + "\""));
       }
     prm.leave_subsection();
 

@@ -71,6 +71,7 @@ namespace ddfem::solver
     chosen                          = requested;
     if (requested == "auto")
       chosen = (n <= direct_limit) ? "direct" : "cg-amg";
+    degree                 = dof_handler.get_fe().degree;
     iterations_after_setup = 0;
     direct_solves_left     = 0;
     if (chosen == "direct")

@@ -161,7 +161,7 @@ namespace ddfem::solver
     prm.declare_entry(
       "Minimum load step",
       "1e-3",
-      Patterns::Double(0, 1),
+      Patterns::Double(1e-12, 1),
       "Failed increments are halved; the solve stops with an error "
       "once an increment would be smaller than this fraction of the "
       "nominal one.");
@@ -219,6 +219,18 @@ namespace ddfem::solver
     const DoFHandler<3>          &dof_handler = discretization.dof_handler;
     const FiniteElement<3>       &fe          = discretization.fe;
     const types::global_dof_index n           = dof_handler.n_dofs();
+
+    // Every condition must act somewhere.
+    {
+      std::vector<Point<3>> face_centers;
+      for (const auto &cell :
+           discretization.triangulation.active_cell_iterators())
+        for (const unsigned int f : cell->face_indices())
+          if (cell->face(f)->at_boundary())
+            face_centers.push_back(cell->face(f)->center());
+      boundary_conditions.check_regions(
+        discretization.triangulation.get_vertices(), face_centers);
+    }
 
     // Dirichlet nodes: every support point a condition covers.
     std::vector<Point<3>> points(n);
@@ -666,7 +678,8 @@ namespace ddfem::solver
           }
         if (linear_solver.method() != "direct")
           pcout << ", " << linear_iterations << " CG its";
-        newton_step = du.linfty_norm();
+        // A shifted step is shorter than Newton's: no convergence measure.
+        newton_step = (shift == 0 ? du.linfty_norm() : infinity);
 
         // Backtracking line search. While the boundary values are being
         // reached, any admissible state is accepted. Then the energy must

@@ -102,6 +102,36 @@ main(int argc, char **argv)
            {"--set", "Nonlinear solver/Load steps=-3"});
   run_case("unknown_override", cantilever, {"--set", "Solver/Load steps=3"});
 
+  run_case(
+    "probe_outside",
+    cantilever +
+      "subsection Geometry\n  set Probe points = 0.01, 0.02, 0.5\nend\n");
+  run_case(
+    "zero_radius",
+    cantilever +
+      "subsection Layout\n  set Shapes = sphere 0.01 0.01 0.01 0 : 2\nend\n");
+  run_case("infinite_modulus",
+           cantilever +
+             "subsection Materials\n  set Palette = E=inf nu=0.3\nend\n");
+  run_case(
+    "bad_rotation_center",
+    cantilever +
+      "subsection Boundary conditions\n  subsection Condition 2\n"
+      "    set Type = rotation\n    set Center = 0.01, middle\n  end\nend\n");
+  run_case("minimum_step_zero",
+           cantilever +
+             "subsection Nonlinear solver\n  set Minimum load step = 0\nend\n");
+  run_case("load_misses_solid",
+           cantilever +
+             "subsection Boundary conditions\n  subsection Condition 2\n"
+             "    set Region = box 1 1 1 2 2 2\n  end\nend\n");
+  // Not an error: white space between words is free.
+  run_case(
+    "extra_spaces_are_fine",
+    cantilever +
+      "subsection Materials\n  set Palette = E=1e5   nu=0.3\nend\n"
+      "subsection Layout\n  set Shapes = box  0 0 0   0.02 0.02 0.02 : 1\nend\n");
+
   // Scenes that cannot be solved, caught before any solve.
   run_case("all_void",
            cantilever + "subsection Layout\n  set Material = 0\nend\n");

@@ -105,6 +105,16 @@ namespace ddfem::scene
              const Point<3>     &p,
              const Tensor<1, 3> &normal) const;
 
+    /**
+     * Throws ExcMessage naming the condition if the region of a Dirichlet
+     * condition contains none of @p nodes, or the region of a traction or
+     * pressure condition none of @p boundary_face_centers: such a
+     * condition would silently do nothing.
+     */
+    void
+    check_regions(const std::vector<Point<3>> &nodes,
+                  const std::vector<Point<3>> &boundary_face_centers) const;
+
     /// Whether any traction or pressure condition is given.
     bool
     has_traction() const;
@@ -124,18 +134,28 @@ namespace ddfem::scene
     /// One parsed condition.
     struct Condition
     {
-      std::string                        type;
-      std::unique_ptr<Region>            region;
+      /// The prm subsection, for messages.
+      std::string where;
+      /// fixed, sliding, displacement, rotation, traction or pressure.
+      std::string type;
+      /// Where it applies.
+      std::unique_ptr<Region> region;
+      /// Displacement, traction or pressure expressions.
       std::unique_ptr<FunctionParser<3>> value;
-      std::vector<bool>                  constrained;
-      Tensor<1, 3>                       axis;
-      Point<3>                           center;
-      double                             angle;
+      /// Dirichlet conditions: which components they prescribe.
+      std::vector<bool> constrained;
+      /// rotation: unit axis, a point on it, angle at t = 1 (radians).
+      Tensor<1, 3> axis;
+      Point<3>     center;
+      double       angle = 0;
     };
 
-    std::vector<Condition>             conditions;
+    /// The conditions in prm order (later ones override earlier ones).
+    std::vector<Condition> conditions;
+    /// Body force expressions (N/m^3).
     std::unique_ptr<FunctionParser<3>> body;
-    bool                               body_force_given = false;
+    /// Whether the body force is given as anything but "0; 0; 0".
+    bool body_force_given = false;
   };
 } // namespace ddfem::scene
 

@@ -91,8 +91,8 @@ namespace ddfem::solver
     unsigned int fallback_limit;
     /// Systems still to be solved directly after a CG failure ('auto').
     unsigned int direct_solves_left = 0;
-    unsigned int degree;
-    TimerOutput *timer = nullptr;
+    unsigned int degree             = 1;
+    TimerOutput *timer              = nullptr;
 
     /// CG iterations of the first solve with the current multigrid
     /// hierarchy (0: build a new one), and of the last solve.

@@ -1,0 +1,59 @@
+#ifndef ddfem_base_parsing_h
+#define ddfem_base_parsing_h
+
+#include <deal.II/base/exceptions.h>
+#include <deal.II/base/point.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace ddfem
+{
+  /**
+   * The words of @p text separated by any amount of white space.
+   */
+  inline std::vector<std::string>
+  split_words(const std::string &text)
+  {
+    std::istringstream       in(text);
+    std::vector<std::string> words;
+    for (std::string word; in >> word;)
+      words.push_back(word);
+    return words;
+  }
+
+  /**
+   * @p text as a finite number. Throws ExcMessage naming @p where (the
+   * parameter) otherwise.
+   */
+  inline double
+  parse_number(const std::string &text, const std::string &where)
+  {
+    char        *end   = nullptr;
+    const double value = std::strtod(text.c_str(), &end);
+    AssertThrow(
+      !text.empty() && end != nullptr && *end == '\0' && std::isfinite(value),
+      dealii::ExcMessage(where + ": \"" + text + "\" is not a finite number."));
+    return value;
+  }
+
+  /**
+   * A point from exactly three numbers in @p words. Throws ExcMessage naming
+   * @p where otherwise.
+   */
+  inline dealii::Point<3>
+  parse_point(const std::vector<std::string> &words, const std::string &where)
+  {
+    AssertThrow(words.size() == 3,
+                dealii::ExcMessage(where +
+                                   ": expected three coordinates 'x, y, z'."));
+    return dealii::Point<3>(parse_number(words[0], where),
+                            parse_number(words[1], where),
+                            parse_number(words[2], where));
+  }
+} // namespace ddfem
+
+#endif
