@@ -48,8 +48,8 @@ namespace ddfem::solver
     parse_parameters(ParameterHandler &prm);
 
     /**
-     * Prepares for systems on @p dof_handler (FE_Q(p)^3 with the default
-     * node-wise numbering): chooses the method and computes the rigid body
+     * Prepares for systems on @p dof_handler (FE_Q(p)^3, p <= 2, whose
+     * default numbering keeps the three components of a node together): chooses the method and computes the rigid body
      * modes for the multigrid preconditioner. @p timer receives the
      * sections "factorization / preconditioner" and "linear solve".
      */
