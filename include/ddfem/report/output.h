@@ -53,9 +53,11 @@ namespace ddfem::report
           const bool                              last);
 
   private:
-    std::string                                 when;
-    std::string                                 directory;
-    std::string                                 basename;
+    /// 'Write VTU': every step, last step or none.
+    std::string when;
+    /// Where and under which name files are written.
+    std::string directory, basename;
+    /// (load factor, file name) of every file written, for the .pvd record.
     std::vector<std::pair<double, std::string>> records;
   };
 } // namespace ddfem::report

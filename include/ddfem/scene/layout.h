@@ -62,9 +62,13 @@ namespace ddfem::scene
     static std::vector<Shape>
     parse_shapes(const std::string &text, const unsigned int n_materials);
 
+    /// 'Type' and 'Material' (also core, matrix and inside material).
     std::string type;
     MaterialId  material;
 
+    /// Settings of the layers, skin, fibers, random, voxel file and
+    /// surface mesh layouts, in the units of their parameters; ids are
+    /// checked only for the active layout.
     unsigned int            layer_axis;
     double                  layer_thickness;
     std::vector<MaterialId> layer_materials;
@@ -89,6 +93,7 @@ namespace ddfem::scene
     std::string surface_file;
     bool        fit_surface;
 
+    /// 'Shapes', painted in this order.
     std::vector<Shape> shapes;
   };
 } // namespace ddfem::scene

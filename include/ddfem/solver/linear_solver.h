@@ -49,9 +49,10 @@ namespace ddfem::solver
 
     /**
      * Prepares for systems on @p dof_handler (FE_Q(p)^3, p <= 2, whose
-     * default numbering keeps the three components of a node together): chooses the method and computes the rigid body
-     * modes for the multigrid preconditioner. @p timer receives the
-     * sections "factorization / preconditioner" and "linear solve".
+     * default numbering keeps the three components of a node together): chooses
+     * the method and computes the rigid body modes for the multigrid
+     * preconditioner. @p timer receives the sections "factorization /
+     * preconditioner" and "linear solve".
      */
     void
     initialize(const DoFHandler<3> &dof_handler, TimerOutput &timer);
@@ -83,16 +84,18 @@ namespace ddfem::solver
                    Vector<double>             &x,
                    const Vector<double>       &b);
 
-    std::string  requested;
-    std::string  chosen;
+    /// 'Type' as given, and the method it resolved to for this system.
+    std::string requested, chosen;
+    /// 'Tolerance', 'Maximum iterations', 'Direct solver limit' and
+    /// 'Direct fallback limit'.
     double       tolerance;
-    unsigned int max_iterations;
-    unsigned int direct_limit;
-    unsigned int fallback_limit;
+    unsigned int max_iterations, direct_limit, fallback_limit;
     /// Systems still to be solved directly after a CG failure ('auto').
     unsigned int direct_solves_left = 0;
-    unsigned int degree             = 1;
-    TimerOutput *timer              = nullptr;
+    /// Polynomial degree of the element (for the AMG settings).
+    unsigned int degree = 1;
+    /// Receives the solver's timing sections.
+    TimerOutput *timer = nullptr;
 
     /// CG iterations of the first solve with the current multigrid
     /// hierarchy (0: build a new one), and of the last solve.
@@ -102,6 +105,8 @@ namespace ddfem::solver
     /// The six rigid body modes, mode-major (mode k at [k * n_dofs]).
     std::vector<double> rigid_body_modes;
 
+    /// The direct solver, the Trilinos copy of the matrix the multigrid
+    /// hierarchy was built from, and that hierarchy.
     SparseDirectUMFPACK               direct;
     TrilinosWrappers::SparseMatrix    trilinos_matrix;
     TrilinosWrappers::PreconditionAMG amg;

@@ -211,10 +211,14 @@ namespace ddfem::solver
     /// of round-off errors in the total energy.
     double stiffness_volume = 0;
 
-    SparsityPattern      pattern;
+    /// Sparsity of the tangent, without constraints.
+    SparsityPattern pattern;
+    /// The condensed Newton matrix (tangent with Dirichlet rows).
     SparseMatrix<double> system_matrix;
-    Vector<double>       external_force;
-    Vector<double>       displacement;
+    /// Dead external loads at t = 1 (body force and tractions, N).
+    Vector<double> external_force;
+    /// The last accepted state (m).
+    Vector<double> displacement;
   };
 } // namespace ddfem::solver
 
