@@ -198,50 +198,23 @@ namespace
   void
   patch_test()
   {
-    testing::Problem problem(R"(
-      subsection Geometry
-        set Grid size = 4, 3, 5
-        set Voxel size = 0.1
-      end
-      subsection Materials
-        set Palette = E=1e6 nu=0.45
-      end
-      subsection Boundary conditions
-        subsection Condition 1
-          set Type = displacement
-          set Region = x-
-          set Value = 0.1*x + 0.05*y - 0.02*z; -0.03*x + 0.08*y + 0.04*z; 0.02*x - 0.06*y - 0.1*z
-        end
-        subsection Condition 2
-          set Type = displacement
-          set Region = x+
-          set Value = 0.1*x + 0.05*y - 0.02*z; -0.03*x + 0.08*y + 0.04*z; 0.02*x - 0.06*y - 0.1*z
-        end
-        subsection Condition 3
-          set Type = displacement
-          set Region = y-
-          set Value = 0.1*x + 0.05*y - 0.02*z; -0.03*x + 0.08*y + 0.04*z; 0.02*x - 0.06*y - 0.1*z
-        end
-        subsection Condition 4
-          set Type = displacement
-          set Region = y+
-          set Value = 0.1*x + 0.05*y - 0.02*z; -0.03*x + 0.08*y + 0.04*z; 0.02*x - 0.06*y - 0.1*z
-        end
-        subsection Condition 5
-          set Type = displacement
-          set Region = z-
-          set Value = 0.1*x + 0.05*y - 0.02*z; -0.03*x + 0.08*y + 0.04*z; 0.02*x - 0.06*y - 0.1*z
-        end
-        subsection Condition 6
-          set Type = displacement
-          set Region = z+
-          set Value = 0.1*x + 0.05*y - 0.02*z; -0.03*x + 0.08*y + 0.04*z; 0.02*x - 0.06*y - 0.1*z
-        end
-      end
-      subsection Nonlinear solver
-        set Load steps = 2
-        set Newton tolerance = 1e-12
-      end)");
+    // The affine field u = A X prescribed on all six faces.
+    std::ostringstream prm;
+    prm
+      << "subsection Geometry\n set Grid size = 4, 3, 5\n set Voxel size = 0.1\nend\n"
+      << "subsection Materials\n set Palette = E=1e6 nu=0.45\nend\n"
+      << "subsection Nonlinear solver\n set Load steps = 2\n"
+      << " set Newton tolerance = 1e-12\nend\n"
+      << "subsection Boundary conditions\n";
+    const char *faces[] = {"x-", "x+", "y-", "y+", "z-", "z+"};
+    for (unsigned int f = 0; f < 6; ++f)
+      prm
+        << " subsection Condition " << f + 1 << "\n  set Type = displacement\n"
+        << "  set Region = " << faces[f] << "\n"
+        << "  set Value = 0.1*x + 0.05*y - 0.02*z; -0.03*x + 0.08*y + 0.04*z; "
+           "0.02*x - 0.06*y - 0.1*z\n end\n";
+    prm << "end\n";
+    testing::Problem problem(prm.str());
     const auto       statistics = problem.solve();
     const auto       points     = support_points(problem);
     const auto      &u          = problem.solver->solution();
