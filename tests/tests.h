@@ -72,6 +72,28 @@ namespace ddfem::testing
     std::unique_ptr<solver::StaticSolver>   solver;
   };
 
+  /**
+   * Parameter text of a cantilever: a @p grid ("nx, ny, nz") of voxels,
+   * clamped on its y- face, with the traction @p traction ("tx; ty; tz",
+   * Pa) on its y+ face. Append further subsections to change it.
+   */
+  inline std::string
+  cantilever(const std::string &grid, const std::string &traction)
+  {
+    return "subsection Geometry\n  set Grid size = " + grid +
+           "\nend\n"
+           "subsection Boundary conditions\n"
+           "  subsection Condition 1\n"
+           "    set Type = fixed\n"
+           "    set Region = y-\n"
+           "  end\n"
+           "  subsection Condition 2\n"
+           "    set Type = traction\n"
+           "    set Region = y+\n"
+           "    set Value = " +
+           traction + "\n  end\nend\n";
+  }
+
   /// Prints "name: ok" if @p value < @p bound, else the value and bound.
   inline void
   check_below(const std::string &name, const double value, const double bound)

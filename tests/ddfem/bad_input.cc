@@ -12,22 +12,7 @@ using namespace ddfem;
 
 namespace
 {
-  const std::string cantilever = R"(
-subsection Geometry
-  set Grid size = 2, 4, 2
-end
-subsection Boundary conditions
-  subsection Condition 1
-    set Type = fixed
-    set Region = y-
-  end
-  subsection Condition 2
-    set Type = traction
-    set Region = y+
-    set Value = 0; 0; -100
-  end
-end
-)";
+  const std::string cantilever = testing::cantilever("2, 4, 2", "0; 0; -100");
 
   /// Runs ddfem on @p prm_text (plus @p extra arguments) and reports.
   void

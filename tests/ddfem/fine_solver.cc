@@ -35,23 +35,10 @@ namespace
   void
   tangent_check()
   {
-    testing::Problem   problem(R"(
-      subsection Geometry
-        set Grid size = 4, 4, 4
-      end
+    testing::Problem problem(testing::cantilever("4, 4, 4", "1e3; -2e3; 5e2") +
+                             R"(
       subsection Layout
         set Type = random
-      end
-      subsection Boundary conditions
-        subsection Condition 1
-          set Type = fixed
-          set Region = y-
-        end
-        subsection Condition 2
-          set Type = traction
-          set Region = y+
-          set Value = 1e3; -2e3; 5e2
-        end
       end
       subsection Loads
         set Body force = 0; 0; -1e4*(1 + x)
@@ -247,26 +234,12 @@ namespace
   nonlinear_vs_linear(const double load)
   {
     std::ostringstream prm;
-    prm << R"(
-      subsection Geometry
-        set Grid size = 2, 8, 2
-      end
+    prm << testing::cantilever("2, 8, 2", "0; 0; " + std::to_string(-load))
+        << R"(
       subsection Layout
         set Type = layers
         subsection Layers
           set Thickness = 0.02
-        end
-      end
-      subsection Boundary conditions
-        subsection Condition 1
-          set Type = fixed
-          set Region = y-
-        end
-        subsection Condition 2
-          set Type = traction
-          set Region = y+
-          set Value = 0; 0; )"
-        << -load << R"(
         end
       end
       subsection Nonlinear solver
