@@ -4,6 +4,7 @@
 
 #include <ddfem/app/application.h>
 #include <ddfem/base/exceptions.h>
+#include <ddfem/coarsening/builder.h>
 #include <ddfem/report/output.h>
 #include <ddfem/scene/scene.h>
 #include <ddfem/solver/discretization.h>
@@ -262,6 +263,35 @@ namespace ddfem::app
 
 
 
+  namespace
+  {
+    /**
+     * Run type "database": fits the metamaterials of the scene's palette
+     * (all combinations, or only the scene's) into the database file.
+     */
+    int
+    build_database(ParameterHandler &prm, std::ostream &out)
+    {
+      scene::Scene scene;
+      scene.parse_parameters(prm);
+      coarsening::DatabaseBuilder builder;
+      builder.parse_parameters(prm);
+      prm.enter_subsection("Output");
+      const bool show_timings = prm.get_bool("Screen timings");
+      prm.leave_subsection();
+
+      coarsening::Database database = builder.open(scene.palette, out);
+      const std::vector<coarsening::Combination> combinations =
+        builder.scope() == coarsening::DatabaseBuilder::Scope::all ?
+          coarsening::DatabaseBuilder::all_combinations(database) :
+          coarsening::DatabaseBuilder::scene_combinations(scene.grid);
+      builder.build(scene.palette, database, combinations, out, show_timings);
+      return 0;
+    }
+  } // namespace
+
+
+
   void
   declare_parameters(ParameterHandler &prm)
   {
@@ -271,6 +301,13 @@ namespace ddfem::app
       Patterns::Anything(),
       "Name of the scene in reports; empty means the parameter file's "
       "name without extension.");
+    prm.declare_entry(
+      "Run type",
+      "simulation",
+      Patterns::Selection("simulation|database"),
+      "'simulation' solves the scene. 'database' builds (or extends, or "
+      "resumes) the metamaterial database of the scene's palette described "
+      "in the subsection Database, and solves nothing.");
     prm.declare_entry(
       "Method",
       "fine",
@@ -301,6 +338,7 @@ namespace ddfem::app
     scene::Scene::declare_parameters(prm);
     solver::StaticSolver::Parameters::declare_parameters(prm);
     solver::LinearSolver::declare_parameters(prm);
+    coarsening::DatabaseBuilder::declare_parameters(prm);
   }
 
 
@@ -347,6 +385,8 @@ namespace ddfem::app
             apply_override(prm, arguments[++i]);
           }
 
+        if (prm.get("Run type") == "database")
+          return build_database(prm, out);
         Simulation simulation(out, err);
         simulation.parse_parameters(prm, prm_file);
         return simulation.run(prm);

@@ -1,0 +1,225 @@
+#ifndef ddfem_coarsening_block_sampler_h
+#define ddfem_coarsening_block_sampler_h
+
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/grid/tria.h>
+#include <deal.II/lac/full_matrix.h>
+#include <deal.II/lac/lapack_full_matrix.h>
+#include <deal.II/lac/vector.h>
+
+#include <ddfem/coarsening/metamaterial.h>
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <vector>
+
+namespace ddfem::coarsening
+{
+  using namespace dealii;
+
+  /**
+   * How a block's energy is sampled (paper section 4.2) and how its
+   * anisotropy directions are estimated (section 4.3). Declared in the prm
+   * subsection "Sampling".
+   */
+  struct SamplingSettings
+  {
+    /// Number of random force patterns.
+    unsigned int n_directions = 500;
+    /// Number of magnitudes per force pattern.
+    unsigned int n_magnitudes = 5;
+    /// Linearized strain of the smallest and the largest magnitude.
+    double min_strain = 0.02;
+    /// See min_strain.
+    double max_strain = 0.25;
+    /// Relative size of the linear part of the random surface stress.
+    double traction_gradient = 0.25;
+    /// Number of stretching directions over the sphere (anisotropy).
+    unsigned int n_stretch_directions = 500;
+
+    /// Declares the subsection "Sampling".
+    static void
+    declare_parameters(ParameterHandler &prm);
+    /// Reads and validates the subsection "Sampling".
+    void
+    parse_parameters(ParameterHandler &prm);
+  };
+
+  /**
+   * One energy sample of a block: the displacements of the block's corners
+   * (what the coarse element sees) and the block's fine strain energy per
+   * unit block volume.
+   */
+  struct Sample
+  {
+    /// Corner displacements, unit-cube block.
+    CornerDisplacements corners;
+    /// Fine strain energy (per unit volume of the block).
+    double energy = 0;
+    /// Largest principal stretch deviation max |lambda_i - 1| in the block.
+    double strain = 0;
+    /// The force pattern the sample came from (for held-out splits).
+    unsigned int pattern = 0;
+  };
+
+  /**
+   * A 2x2x2 block of children on the unit cube, solved with the fine
+   * discretization (trilinear hexes, 2-point Gauss rule, the solvers' cell
+   * kernel): the sampler of paper section 4.2. A child is either void (no
+   * cell) or carries one material record per Gauss point, so fine voxels
+   * (8 equal records) and level-1 metamaterials (8 fitted records) are
+   * sampled by the same code.
+   *
+   * Rigid motion is removed by six linear constraints per face-connected
+   * group of children (Lagrange multipliers): children that touch only at
+   * an edge or a corner form a mechanism, and constraining each group
+   * keeps the hinge motion out of the samples instead of letting it
+   * become singular.
+   *
+   * All sampling functions are const and thread safe.
+   */
+  class BlockSampler
+  {
+  public:
+    /**
+     * Sets up the block. @p children[k] is empty for a void child, or has
+     * 8 records (child Gauss point j in the child's octant j). At least
+     * one child must be solid.
+     */
+    explicit BlockSampler(
+      const std::array<std::vector<material::MaterialPoint>, 8> &children);
+
+    /// Number of nodal degrees of freedom.
+    unsigned int
+    n_dofs() const
+    {
+      return dof_handler.n_dofs();
+    }
+
+    /// Number of face-connected groups of children (1 if no mechanism).
+    unsigned int
+    n_groups() const
+    {
+      return n_components;
+    }
+
+    /**
+     * Force-space sampling: n_directions random force patterns, each the
+     * traction of a random, linearly varying stress on the block's surface
+     * (boundary_forces()) with its resultant force and moment removed,
+     * drawn from a generator seeded with @p seed, each scaled to
+     * n_magnitudes magnitudes whose linearized strain is spread evenly
+     * over [min_strain, max_strain] (so soft and stiff blocks cover the
+     * same strains), each solved with Newton's method. A magnitude whose
+     * solve fails ends its pattern: it and the larger ones are dropped
+     * and counted in @p n_dropped.
+     */
+    std::vector<Sample>
+    sample(const SamplingSettings &settings,
+           const std::uint64_t     seed,
+           unsigned int           &n_dropped) const;
+
+    /**
+     * Anisotropy directions (paper section 4.3): stretch the block in
+     * n_stretch_directions directions d spread over the sphere, measure
+     * the stretch l = |F d| at every point of @p element, and return per
+     * point the principal axis of sum_d (l - 1)^2 d d^T with the least
+     * stretch: the block's stiffest direction there.
+     */
+    std::vector<Tensor<1, 3>>
+    anisotropy_directions(const SamplingSettings &settings,
+                          const CoarseElement    &element) const;
+
+    /**
+     * Solves the block under nodal forces @p f; @p u is the initial guess
+     * on input. Returns false if Newton's method fails.
+     */
+    bool
+    solve(const Vector<double> &f, Vector<double> &u) const;
+
+    /// The fine strain energy of the block for nodal displacements @p u;
+    /// false if inadmissible (det F <= 0).
+    bool
+    energy(const Vector<double> &u, double &energy) const;
+
+    /**
+     * The corner displacements the coarse element sees (the restriction r
+     * of paper eq. 3): the nodal value at corners that exist; at corners
+     * of void children, the least-squares trilinear fit of all nodes.
+     */
+    CornerDisplacements
+    corners(const Vector<double> &u) const;
+
+    /**
+     * Nodal forces of the traction sigma(x) n on the block's outer
+     * boundary (lumped to the vertices of the solid children's faces that
+     * lie on the unit cube's surface).
+     */
+    Vector<double>
+    boundary_forces(
+      const std::function<Tensor<2, 3>(const Point<3> &)> &stress) const;
+
+    /// The nodal vector of a displacement field given at every node.
+    Vector<double>
+    interpolate(const std::function<Tensor<1, 3>(const Point<3> &)> &u) const;
+
+  private:
+    /// Energy, internal forces and, if @p tangent, stiffness at @p u.
+    bool
+    assemble(const Vector<double> &u,
+             const bool            tangent,
+             double               &energy,
+             Vector<double>       &residual,
+             FullMatrix<double>   &stiffness) const;
+
+    /// The saddle-point matrix [K G^T; G 0], LU-factorized.
+    void
+    factorize(const FullMatrix<double> &K, LAPACKFullMatrix<double> &A) const;
+
+    /// Solves the factorized saddle point for right-hand side @p b.
+    Vector<double>
+    constrained_solve(const LAPACKFullMatrix<double> &A,
+                      const Vector<double>           &b) const;
+
+    /// @p f minus its component along the constraint rows.
+    void
+    project_out_rigid(Vector<double> &f) const;
+
+    /// Largest |eigenvalue| of the small strain over the block.
+    double
+    linearized_strain(const Vector<double> &u) const;
+
+    /// Largest principal stretch deviation max |lambda_i - 1|.
+    double
+    finite_strain(const Vector<double> &u) const;
+
+    std::array<std::vector<material::MaterialPoint>, 8> materials;
+    Triangulation<3>                                    triangulation;
+    FESystem<3>                                         fe;
+    DoFHandler<3>                                       dof_handler;
+    std::unique_ptr<FEValues<3>>                        fe_values;
+    std::vector<std::vector<types::global_dof_index>>   cell_dofs;
+    std::vector<unsigned int>                           cell_child;
+    std::vector<Point<3>>                               support_points;
+    /// The vector component of every degree of freedom.
+    std::vector<unsigned int> dof_component;
+    /// The x/y/z degrees of freedom of every node.
+    std::vector<std::array<types::global_dof_index, 3>> node_dofs;
+    unsigned int                                        n_components = 0;
+    /// Constraint rows G (6 per group), orthonormalized.
+    FullMatrix<double> constraints;
+    /// Per corner, its x/y/z dofs or none (void corner).
+    std::array<std::array<int, 3>, 8> corner_dofs;
+    /// Least-squares trilinear fit: corner value = sum_n weights(v, n) u_n.
+    FullMatrix<double> corner_weights;
+    /// The stiffness at zero displacement, factorized with constraints.
+    LAPACKFullMatrix<double> initial_saddle;
+  };
+} // namespace ddfem::coarsening
+
+#endif

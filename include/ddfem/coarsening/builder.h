@@ -1,0 +1,122 @@
+#ifndef ddfem_coarsening_builder_h
+#define ddfem_coarsening_builder_h
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <ddfem/coarsening/database.h>
+#include <ddfem/scene/palette.h>
+#include <ddfem/scene/voxel_grid.h>
+
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace ddfem::coarsening
+{
+  using namespace dealii;
+
+  /**
+   * Builds, extends and resumes first-level metamaterial databases (the
+   * offline half of DDFEM, paper section 4). Declared in the prm
+   * subsection "Database" (with "Sampling" and "Fitting" inside it).
+   *
+   * Every combination is fitted from its own seeded generator, so entries
+   * do not depend on the number of threads or on the order they finish
+   * in. Finished entries go to a journal at once; a killed build resumes
+   * from the file plus its journal and loses none of them.
+   */
+  class DatabaseBuilder
+  {
+  public:
+    /// Which combinations a run fits.
+    enum class Scope
+    {
+      /// Every combination of the palette (one fit per symmetry orbit).
+      all,
+      /// Only the combinations of the scene's 2x2x2 blocks (lazy mode).
+      scene
+    };
+
+    /// Declares the subsection "Database".
+    static void
+    declare_parameters(ParameterHandler &prm);
+    /// Reads and validates the subsection "Database".
+    void
+    parse_parameters(ParameterHandler &prm);
+
+    /// The database file.
+    const std::string &
+    file() const
+    {
+      return database_file;
+    }
+
+    /// What a run fits.
+    Scope
+    scope() const
+    {
+      return run_scope;
+    }
+
+    /// The settings a build for @p palette uses.
+    DatabaseSettings
+    settings(const scene::Palette &palette) const;
+
+    /**
+     * Loads the database for @p palette from file(), or starts an empty one
+     * if there is none, and adds what the file's journal holds. Throws
+     * ExcMessage if the file was built for another palette or with other
+     * settings.
+     */
+    Database
+    open(const scene::Palette &palette, std::ostream &out) const;
+
+    /**
+     * Fits the missing orbit representatives of @p combinations into
+     * @p database (in parallel, journaled), compresses if asked and the
+     * database is complete, and saves it to file(). Prints a report to
+     * @p out; with @p show_progress a progress bar with the estimated time
+     * left, and timings.
+     */
+    void
+    build(const scene::Palette           &palette,
+          Database                       &database,
+          const std::vector<Combination> &combinations,
+          std::ostream                   &out,
+          const bool                      show_progress) const;
+
+    /// Every combination of the palette (Scope = all).
+    static std::vector<Combination>
+    all_combinations(const Database &database);
+
+    /// The combinations of the 2x2x2 blocks of @p grid (Scope = scene).
+    static std::vector<Combination>
+    scene_combinations(const scene::VoxelGrid &grid);
+
+    /**
+     * Samples and fits the metamaterial of one combination: the 2x2x2
+     * block of the palette's materials, force-space samples from a
+     * generator seeded with @p seed, anisotropy directions,
+     * and the regularized, bounded fit toward the children's materials.
+     */
+    static Entry
+    fit_entry(const scene::Palette   &palette,
+              const Database         &database,
+              const Combination      &combination,
+              const SamplingSettings &sampling,
+              const FitSettings      &fitting,
+              const CoarseElement    &element,
+              const std::uint64_t     seed);
+
+  private:
+    std::string      database_file;
+    bool             with_void         = true;
+    Scope            run_scope         = Scope::all;
+    unsigned int     n_representatives = 0;
+    unsigned int     n_threads         = 0;
+    SamplingSettings sampling;
+    FitSettings      fitting;
+  };
+} // namespace ddfem::coarsening
+
+#endif

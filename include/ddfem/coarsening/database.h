@@ -1,0 +1,242 @@
+#ifndef ddfem_coarsening_database_h
+#define ddfem_coarsening_database_h
+
+#include <ddfem/coarsening/fitting.h>
+#include <ddfem/coarsening/metamaterial.h>
+#include <ddfem/coarsening/symmetry.h>
+#include <ddfem/scene/palette.h>
+
+#include <cstdint>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+namespace ddfem::coarsening
+{
+  /// Version of the database file layout; a file with another is rejected.
+  constexpr int database_format_version = 1;
+
+  /**
+   * One fitted first-level metamaterial: the metamaterial of an orbit
+   * representative combination, with how it was sampled and how well it
+   * fits.
+   */
+  struct Entry
+  {
+    /// The key (CombinationIndex) of the orbit representative fitted.
+    std::size_t key = 0;
+    /// Its metamaterial (8 points).
+    Metamaterial material;
+    /// Median and largest relative energy error on held-out samples.
+    double median_error = 0, max_error = 0;
+    /// Range of the samples' largest principal stretch deviation.
+    double min_strain = 0, max_strain = 0;
+    /// Samples kept and dropped (failed solves).
+    unsigned int n_samples = 0, n_dropped = 0;
+  };
+
+  /**
+   * The settings a database was built with. Two builds with equal
+   * settings give equal entries, so a build resumes or extends a file
+   * only if its settings match.
+   */
+  struct DatabaseSettings
+  {
+    /// The palette's description, canonical (mu and lambda per material).
+    std::string palette;
+    /// Whether combinations may contain void children.
+    bool with_void = true;
+    /// Sampling settings.
+    SamplingSettings sampling;
+    /// Fitting settings.
+    FitSettings fitting;
+
+    /// The canonical description of @p palette.
+    static std::string
+    describe(const scene::Palette &palette);
+    /// One line naming every setting (what files store and compare).
+    std::string
+    fingerprint() const;
+  };
+
+  /**
+   * The first-level metamaterial database (paper sections 4 and 5): for a
+   * palette, the fitted metamaterial of each symmetry orbit of 2x2x2
+   * combinations, and a lookup table from every combination to an entry
+   * and the cube symmetry that maps the entry onto it. Compression
+   * (compress()) redirects every combination to its nearest
+   * representative and drops the other entries.
+   *
+   * Stored as HDF5 (save(), load()). Loading validates the format
+   * version, the palette, the dataset shapes and every value; a corrupt,
+   * truncated or mismatched file is an ExcMessage naming the file.
+   */
+  class Database
+  {
+  public:
+    /// An empty database for @p settings.
+    Database(const DatabaseSettings &settings, const unsigned int n_materials);
+
+    /**
+     * Reads a database file. Throws ExcMessage naming @p file and what is
+     * wrong if it cannot be read, is not a ddfem database, or holds
+     * inconsistent data.
+     */
+    static Database
+    load(const std::string &file);
+
+    /**
+     * Writes the database to @p file atomically (a temporary file renamed
+     * over it), so a reader never sees a partial file.
+     */
+    void
+    save(const std::string &file) const;
+
+    /// The canonical description of the palette it was built for.
+    const std::string &
+    palette() const
+    {
+      return palette_description;
+    }
+
+    /// DatabaseSettings::fingerprint() of the build that made it.
+    const std::string &
+    fingerprint() const
+    {
+      return settings_fingerprint;
+    }
+
+    /// The combination numbering.
+    const CombinationIndex &
+    combinations() const
+    {
+      return index;
+    }
+
+    /// The symmetry group.
+    const CubeSymmetries &
+    symmetries() const
+    {
+      return group;
+    }
+
+    /// The fitted entries, sorted by key.
+    const std::vector<Entry> &
+    entries() const
+    {
+      return fitted;
+    }
+
+    /// Whether the metamaterial of @p c is available.
+    bool
+    contains(const Combination &c) const;
+
+    /**
+     * The metamaterial of combination @p c (its entry mapped by the
+     * symmetry). Throws ExcMessage if @p c is not in the database.
+     */
+    Metamaterial
+    lookup(const Combination &c) const;
+
+    /// The orbit representatives of @p combinations that have no entry yet,
+    /// sorted and without repetitions (all-void blocks excluded).
+    std::vector<Combination>
+    missing(const std::vector<Combination> &combinations) const;
+
+    /// Adds the entry of an orbit representative and maps its orbit.
+    void
+    add(const Entry &entry);
+
+    /// Number of representatives compress() kept (0: not compressed).
+    unsigned int
+    n_representatives() const
+    {
+      return representatives;
+    }
+
+    /**
+     * Compression (paper section 4.4): every combination's feature is the
+     * vector of log-energies of its metamaterial under @p deformations
+     * (eq. 5); farthest point sampling from a seeded random start picks
+     * @p k representatives, each combination is redirected to its nearest
+     * representative, and entries no combination uses are dropped. The
+     * database must be complete.
+     */
+    void
+    compress(const unsigned int                      k,
+             const CoarseElement                    &element,
+             const std::vector<CornerDisplacements> &deformations);
+
+  private:
+    std::string        palette_description;
+    std::string        settings_fingerprint;
+    CombinationIndex   index;
+    CubeSymmetries     group;
+    std::vector<Entry> fitted;
+    /// Per combination key: entry index (-1: none) and symmetry.
+    std::vector<std::int32_t> entry_of;
+    std::vector<std::uint8_t> symmetry_of;
+    unsigned int              representatives = 0;
+  };
+
+  /**
+   * Farthest point sampling: starting from @p first, repeatedly picks the
+   * point farthest (Euclidean) from all picked ones, until @p k are
+   * picked (or all). Returns the picked indices in order.
+   */
+  std::vector<unsigned int>
+  farthest_point_sampling(const std::vector<std::vector<double>> &points,
+                          const unsigned int                      k,
+                          const unsigned int                      first);
+
+  /**
+   * Random corner displacements, rigid motion removed, scaled to a
+   * largest principal strain of @p strain on the coarse element: the
+   * common deformations of compression features.
+   */
+  std::vector<CornerDisplacements>
+  feature_deformations(const CoarseElement &element,
+                       const unsigned int   n,
+                       const double         strain,
+                       const std::uint64_t  seed);
+
+  /**
+   * An append-only journal of finished entries next to a database file
+   * (its name plus ".journal"): each record carries a checksum, so a
+   * build killed at any moment resumes with every entry that was
+   * completely written.
+   */
+  class Journal
+  {
+  public:
+    /**
+     * Opens the journal of @p database_file for appending; a new journal
+     * starts with @p fingerprint (DatabaseSettings::fingerprint()).
+     */
+    Journal(const std::string &database_file, const std::string &fingerprint);
+    /// Closes the file.
+    ~Journal();
+
+    /// Appends @p entry and flushes it to the operating system.
+    void
+    append(const Entry &entry);
+
+    /**
+     * Reads the complete records of the journal of @p database_file
+     * (none if it does not exist); a torn last record is ignored. Throws
+     * ExcMessage if the journal was written with settings other than
+     * @p fingerprint.
+     */
+    static std::vector<Entry>
+    read(const std::string &database_file, const std::string &fingerprint);
+
+    /// Deletes the journal of @p database_file.
+    static void
+    remove(const std::string &database_file);
+
+  private:
+    std::FILE *file;
+  };
+} // namespace ddfem::coarsening
+
+#endif

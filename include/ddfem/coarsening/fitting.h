@@ -1,0 +1,98 @@
+#ifndef ddfem_coarsening_fitting_h
+#define ddfem_coarsening_fitting_h
+
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/lac/full_matrix.h>
+#include <deal.II/lac/vector.h>
+
+#include <ddfem/coarsening/block_sampler.h>
+#include <ddfem/coarsening/metamaterial.h>
+
+#include <vector>
+
+namespace ddfem::coarsening
+{
+  using namespace dealii;
+
+  /**
+   * Settings of the metamaterial fit (paper eq. 4). Declared in the prm
+   * subsection "Fitting".
+   */
+  struct FitSettings
+  {
+    /// Weight lambda of the regularization toward the fine parameters.
+    double regularization = 0.01;
+    /// Lower bound of every point's shear modulus, as a fraction of the
+    /// block's largest fine shear modulus.
+    double stiffness_floor = 1e-3;
+    /// Every n-th force pattern is held out of the fit to measure its
+    /// error (0: none held out; the error is then measured on the fit's
+    /// own samples).
+    unsigned int held_out_every = 5;
+
+    /// Declares the subsection "Fitting".
+    static void
+    declare_parameters(ParameterHandler &prm);
+    /// Reads the subsection "Fitting".
+    void
+    parse_parameters(ParameterHandler &prm);
+  };
+
+  /// A fitted metamaterial and how well it fits.
+  struct FitResult
+  {
+    /// The fitted parameters and directions.
+    Metamaterial material;
+    /// Median relative energy error |E_fit - E_fine| / E_fine over the
+    /// held-out samples.
+    double median_error = 0;
+    /// Largest relative energy error over the held-out samples.
+    double max_error = 0;
+    /// Samples used for the fit, held out, and rejected because the
+    /// coarse element inverts (det F <= 0) under their corner motion.
+    unsigned int n_fit = 0, n_held_out = 0, n_rejected = 0;
+  };
+
+  /**
+   * Fits a metamaterial to energy samples (paper eq. 3-4): the parameters
+   * (mu, lambda, C) of every point of @p element minimize
+   *
+   *   1/n sum_s ((E_s - E(p; u_s)) / E_s)^2
+   *     + regularization * sum_j ((p_j - p0_j) / s_j)^2
+   *
+   * subject to mu >= stiffness_floor * s_mu, lambda >= 0 and C >= 0, with
+   * p0 the fine parameters in @p prior (C0 = 0), s_j the block's largest
+   * fine value of p_j's kind (largest mu for mu and C, largest lambda for
+   * lambda), and the directions taken from @p prior. The energy is linear
+   * in p, so this is a bound-constrained linear least-squares problem,
+   * solved exactly by an active-set method (nonnegative_least_squares()):
+   * the bounds make non-physical parameters impossible. Residuals are
+   * relative so soft and stiff samples weigh alike; the scaling makes the
+   * regularization weigh a relative change of every parameter alike.
+   */
+  FitResult
+  fit_metamaterial(const CoarseElement       &element,
+                   const std::vector<Sample> &samples,
+                   const Metamaterial        &prior,
+                   const FitSettings         &settings);
+
+  /**
+   * Minimizes 1/2 x^T H x - g^T x over x >= 0 for a symmetric positive
+   * definite @p H (Lawson and Hanson's active-set method on the normal
+   * equations). Exact up to round-off after finitely many steps.
+   */
+  Vector<double>
+  nonnegative_least_squares(const FullMatrix<double> &H,
+                            const Vector<double>     &g);
+
+  /**
+   * Relative energy errors |E(m; u_s) - E_s| / E_s of metamaterial @p m on
+   * @p samples (samples that invert the coarse element are skipped).
+   */
+  std::vector<double>
+  relative_energy_errors(const CoarseElement       &element,
+                         const Metamaterial        &m,
+                         const std::vector<Sample> &samples);
+} // namespace ddfem::coarsening
+
+#endif

@@ -1,0 +1,152 @@
+#ifndef ddfem_coarsening_metamaterial_h
+#define ddfem_coarsening_metamaterial_h
+
+#include <deal.II/base/quadrature.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/grid/tria.h>
+
+#include <ddfem/coarsening/symmetry.h>
+#include <ddfem/material/kernel.h>
+
+#include <array>
+#include <memory>
+#include <vector>
+
+namespace ddfem::coarsening
+{
+  using namespace dealii;
+
+  /**
+   * The displacements of the eight corners of a block (or of one coarse
+   * hex), in deal.II's lexicographic vertex order: corner v sits at
+   * (v & 1, (v >> 1) & 1, (v >> 2) & 1) of the unit cube.
+   */
+  using CornerDisplacements = std::array<Tensor<1, 3>, 8>;
+
+  /**
+   * A metamaterial: the material record of every quadrature point of one
+   * coarse element (paper eq. 2). Level 1 has 8 points, point k in octant
+   * k; level 2 has 64, the points of the iterated 2-point Gauss rule.
+   */
+  struct Metamaterial
+  {
+    /// One material record per quadrature point of the coarse element.
+    std::vector<material::MaterialPoint> points;
+  };
+
+  /**
+   * The image of a level-1 metamaterial under cube symmetry @p g: the
+   * record of point k moves to point image(g, k) and its direction turns
+   * with the symmetry's matrix.
+   */
+  Metamaterial
+  transform(const Metamaterial   &m,
+            const CubeSymmetries &symmetries,
+            const unsigned int    g);
+
+  /**
+   * The average of a level-1 metamaterial over the symmetries that leave
+   * its @p combination unchanged: parameters are averaged, each point's
+   * direction becomes the principal axis of the averaged v v^T. A
+   * symmetric block then gets an exactly symmetric metamaterial, so the
+   * lookup does not depend on which symmetry maps the orbit's entry.
+   */
+  Metamaterial
+  symmetrize(const Metamaterial   &m,
+             const Combination    &combination,
+             const CubeSymmetries &symmetries);
+
+  /**
+   * One coarse element on the unit cube, trilinear (FE_Q(1)^3), with the
+   * quadrature of a coarsening level: the 2-point Gauss rule (8 points,
+   * one per child octant) at level 1, the same rule iterated twice (64
+   * points, the points of the children's own rules) at level 2. It
+   * evaluates metamaterial energies through the cell kernel the solvers
+   * use, and the per-point energy terms the fitter needs. Energies are per
+   * unit volume of the coarse element: metamaterial parameters do not
+   * depend on the voxel size.
+   *
+   * All evaluation functions are const and thread safe.
+   */
+  class CoarseElement
+  {
+  public:
+    /// Sets up the element for coarsening level 1 or 2.
+    explicit CoarseElement(const unsigned int level);
+
+    /// Number of quadrature points (8 or 64).
+    unsigned int
+    n_points() const
+    {
+      return quadrature.size();
+    }
+
+    /// The child octant (0..7) quadrature point @p q lies in.
+    unsigned int
+    child_of_point(const unsigned int q) const
+    {
+      return point_child[q];
+    }
+
+    /**
+     * The octant of the child that point @p q lies in, within that child
+     * (0..7): the index of the child's own 2-point Gauss point at level 2;
+     * 0 at level 1 (one point per child).
+     */
+    unsigned int
+    subpoint_of_point(const unsigned int q) const
+    {
+      return point_subindex[q];
+    }
+
+    /// The quadrature point @p q in unit-cube coordinates.
+    const Point<3> &
+    point(const unsigned int q) const
+    {
+      return quadrature.point(q);
+    }
+
+    /// The deformation gradient at every quadrature point.
+    void
+    deformation_gradients(const CornerDisplacements &u,
+                          std::vector<Tensor<2, 3>> &F) const;
+
+    /**
+     * The energy of the element with metamaterial @p m under corner
+     * displacements @p u. Returns false if det F <= 0 at a point.
+     */
+    bool
+    energy(const CornerDisplacements &u,
+           const Metamaterial        &m,
+           double                    &energy) const;
+
+    /**
+     * The energy of the element is linear in the parameters (mu, lambda,
+     * C) of its points: E = sum_q mu_q a_q + lambda_q b_q + C_q c_q. This
+     * fills @p terms with (a_q, b_q, c_q), quadrature weight included, for
+     * the directions of @p m (its parameters are ignored). Returns false
+     * if det F <= 0 at a point.
+     */
+    bool
+    energy_terms(const CornerDisplacements          &u,
+                 const Metamaterial                 &m,
+                 std::vector<std::array<double, 3>> &terms) const;
+
+  private:
+    /// Corner displacements as the element's local coefficient vector.
+    Vector<double>
+    local_vector(const CornerDisplacements &u) const;
+
+    Triangulation<3>             triangulation;
+    FESystem<3>                  fe;
+    DoFHandler<3>                dof_handler;
+    Quadrature<3>                quadrature;
+    std::unique_ptr<FEValues<3>> fe_values;
+    std::vector<unsigned int>    point_child;
+    std::vector<unsigned int>    point_subindex;
+  };
+} // namespace ddfem::coarsening
+
+#endif

@@ -1,0 +1,633 @@
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/base/symmetric_tensor.h>
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/mapping_q1.h>
+
+#include <ddfem/coarsening/block_sampler.h>
+#include <ddfem/scene/scene.h>
+#include <ddfem/solver/cell_kernel.h>
+
+#include <cmath>
+#include <map>
+#include <numeric>
+#include <random>
+
+namespace ddfem::coarsening
+{
+  void
+  SamplingSettings::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Sampling");
+    prm.declare_entry("Force patterns",
+                      "500",
+                      Patterns::Integer(1),
+                      "Number of random, self-equilibrated nodal force "
+                      "patterns applied to each 2x2x2 block (the paper "
+                      "uses 500).");
+    prm.declare_entry("Magnitudes",
+                      "5",
+                      Patterns::Integer(1),
+                      "Number of magnitudes per force pattern (the paper "
+                      "uses 5). Each pattern gives this many samples.");
+    prm.declare_entry("Minimum strain",
+                      "0.02",
+                      Patterns::Double(1e-6, 1),
+                      "Linearized strain (largest principal strain of the "
+                      "block's linear response) of the smallest magnitude. "
+                      "Magnitudes are scaled per block, so soft and stiff "
+                      "blocks are sampled over the same strains.");
+    prm.declare_entry("Maximum strain",
+                      "0.25",
+                      Patterns::Double(1e-6, 1),
+                      "Linearized strain of the largest magnitude; the "
+                      "magnitudes in between are spread evenly.");
+    prm.declare_entry("Traction gradient",
+                      "0.25",
+                      Patterns::Double(0, 10),
+                      "Force patterns are tractions sigma(x) n on the block's "
+                      "surface from a random stress sigma0 + sum_d (2 x_d - 1) "
+                      "sigma_d, all entries standard normal; this scales the "
+                      "linear part. 0.25 lets the stress vary by a quarter "
+                      "across a block, as in smooth fields two voxels wide.");
+    prm.declare_entry("Stretch directions",
+                      "500",
+                      Patterns::Integer(3),
+                      "Number of stretching directions over the sphere used "
+                      "to estimate the anisotropy directions (paper: 500).");
+    prm.leave_subsection();
+  }
+
+
+
+  void
+  SamplingSettings::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Sampling");
+    n_directions         = prm.get_integer("Force patterns");
+    n_magnitudes         = prm.get_integer("Magnitudes");
+    min_strain           = prm.get_double("Minimum strain");
+    max_strain           = prm.get_double("Maximum strain");
+    traction_gradient    = prm.get_double("Traction gradient");
+    n_stretch_directions = prm.get_integer("Stretch directions");
+    prm.leave_subsection();
+    AssertThrow(min_strain <= max_strain,
+                ExcMessage("Sampling/Minimum strain (" +
+                           std::to_string(min_strain) +
+                           ") must not exceed Sampling/Maximum strain (" +
+                           std::to_string(max_strain) + ")."));
+  }
+
+
+
+  BlockSampler::BlockSampler(
+    const std::array<std::vector<material::MaterialPoint>, 8> &children)
+    : materials(children)
+    , fe(FE_Q<3>(1), 3)
+  {
+    scene::VoxelGrid grid({{2, 2, 2}}, 0.5);
+    for (unsigned int k = 0; k < 8; ++k)
+      {
+        Assert(children[k].empty() || children[k].size() == 8,
+               ExcInternalError());
+        grid[k] = children[k].empty() ? scene::void_id : 1;
+      }
+    AssertThrow(grid.n_solid_voxels() > 0,
+                ExcMessage("A block needs at least one solid child."));
+    const std::vector<std::size_t> blocks =
+      scene::make_voxel_mesh(grid, 0, triangulation);
+    dof_handler.reinit(triangulation);
+    dof_handler.distribute_dofs(fe);
+
+    // All children are translates of one cube: one FEValues serves them.
+    fe_values =
+      std::make_unique<FEValues<3>>(fe,
+                                    QGauss<3>(2),
+                                    update_gradients | update_JxW_values);
+    fe_values->reinit(dof_handler.begin_active());
+    dof_component.resize(dof_handler.n_dofs());
+    std::map<unsigned int, std::array<types::global_dof_index, 3>> vertices;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      {
+        cell_dofs.emplace_back(fe.n_dofs_per_cell());
+        cell->get_dof_indices(cell_dofs.back());
+        cell_child.push_back(blocks[cell->active_cell_index()]);
+        for (unsigned int i = 0; i < fe.n_dofs_per_cell(); ++i)
+          dof_component[cell_dofs.back()[i]] =
+            fe.system_to_component_index(i).first;
+        for (const unsigned int v : cell->vertex_indices())
+          for (unsigned int c = 0; c < 3; ++c)
+            vertices[cell->vertex_index(v)][c] = cell->vertex_dof_index(v, c);
+      }
+    for (const auto &vertex : vertices)
+      node_dofs.push_back(vertex.second);
+
+    support_points.resize(dof_handler.n_dofs());
+    DoFTools::map_dofs_to_support_points(MappingQ1<3>(),
+                                         dof_handler,
+                                         support_points);
+
+    // Face-connected groups of children (union-find over octants).
+    std::array<unsigned int, 8> group;
+    std::iota(group.begin(), group.end(), 0);
+    const auto root = [&group](unsigned int k) {
+      while (group[k] != k)
+        k = group[k];
+      return k;
+    };
+    for (unsigned int a = 0; a < 8; ++a)
+      for (unsigned int d = 0; d < 3; ++d)
+        {
+          const unsigned int b = a ^ (1u << d);
+          if (!children[a].empty() && !children[b].empty())
+            group[root(a)] = root(b);
+        }
+    std::vector<std::vector<bool>>       group_dofs;
+    std::map<unsigned int, unsigned int> group_number;
+    for (unsigned int c = 0; c < cell_child.size(); ++c)
+      {
+        const unsigned int r = root(cell_child[c]);
+        if (group_number.count(r) == 0)
+          {
+            group_number[r] = group_dofs.size();
+            group_dofs.emplace_back(dof_handler.n_dofs(), false);
+          }
+        for (const auto i : cell_dofs[c])
+          group_dofs[group_number[r]][i] = true;
+      }
+    n_components = group_dofs.size();
+
+    // Six rigid modes per group, orthonormalized (Gram-Schmidt).
+    const Point<3> center(0.5, 0.5, 0.5);
+    constraints.reinit(6 * n_components, dof_handler.n_dofs());
+    for (unsigned int g = 0; g < n_components; ++g)
+      for (unsigned int i = 0; i < dof_handler.n_dofs(); ++i)
+        if (group_dofs[g][i])
+          {
+            const unsigned int c      = dof_component[i];
+            const Tensor<1, 3> x      = support_points[i] - center;
+            constraints(6 * g + c, i) = 1;
+            for (unsigned int r = 0; r < 3; ++r)
+              {
+                Tensor<1, 3> axis;
+                axis[r]                       = 1;
+                constraints(6 * g + 3 + r, i) = cross_product_3d(axis, x)[c];
+              }
+          }
+    for (unsigned int r = 0; r < constraints.m(); ++r)
+      {
+        for (unsigned int s = 0; s < r; ++s)
+          {
+            double dot = 0;
+            for (unsigned int i = 0; i < constraints.n(); ++i)
+              dot += constraints(r, i) * constraints(s, i);
+            for (unsigned int i = 0; i < constraints.n(); ++i)
+              constraints(r, i) -= dot * constraints(s, i);
+          }
+        double norm = 0;
+        for (unsigned int i = 0; i < constraints.n(); ++i)
+          norm += constraints(r, i) * constraints(r, i);
+        Assert(norm > 1e-20, ExcInternalError());
+        for (unsigned int i = 0; i < constraints.n(); ++i)
+          constraints(r, i) /= std::sqrt(norm);
+      }
+
+    // Corners and the trilinear least-squares fit for void corners.
+    std::vector<Point<3>> node_points;
+    for (const auto &dofs : node_dofs)
+      node_points.push_back(support_points[dofs[0]]);
+    const auto trilinear = [](const unsigned int v, const Point<3> &x) {
+      double value = 1;
+      for (unsigned int d = 0; d < 3; ++d)
+        value *= (v & (1u << d)) ? x[d] : 1. - x[d];
+      return value;
+    };
+    FullMatrix<double> B(node_points.size(), 8), BtB(8, 8);
+    for (unsigned int n = 0; n < node_points.size(); ++n)
+      for (unsigned int v = 0; v < 8; ++v)
+        B(n, v) = trilinear(v, node_points[n]);
+    B.Tmmult(BtB, B);
+    BtB.gauss_jordan();
+    corner_weights.reinit(8, node_points.size());
+    BtB.mTmult(corner_weights, B);
+    for (unsigned int v = 0; v < 8; ++v)
+      {
+        const Point<3> corner(v & 1, (v >> 1) & 1, (v >> 2) & 1);
+        corner_dofs[v] = {{-1, -1, -1}};
+        for (unsigned int i = 0; i < dof_handler.n_dofs(); ++i)
+          if (support_points[i].distance(corner) < 1e-12)
+            corner_dofs[v][dof_component[i]] = i;
+      }
+
+    double             E;
+    Vector<double>     r;
+    FullMatrix<double> K;
+    assemble(Vector<double>(dof_handler.n_dofs()), true, E, r, K);
+    factorize(K, initial_saddle);
+  }
+
+
+
+  bool
+  BlockSampler::assemble(const Vector<double> &u,
+                         const bool            tangent,
+                         double               &energy,
+                         Vector<double>       &residual,
+                         FullMatrix<double>   &stiffness) const
+  {
+    const unsigned int n = dof_handler.n_dofs();
+    energy               = 0;
+    residual.reinit(n);
+    if (tangent)
+      stiffness.reinit(n, n);
+    solver::CellContribution c;
+    Vector<double>           local(fe.n_dofs_per_cell());
+    for (unsigned int cell = 0; cell < cell_dofs.size(); ++cell)
+      {
+        const auto &dofs = cell_dofs[cell];
+        for (unsigned int i = 0; i < dofs.size(); ++i)
+          local(i) = u(dofs[i]);
+        if (!solver::integrate_cell(*fe_values,
+                                    local,
+                                    materials[cell_child[cell]].data(),
+                                    tangent ? material::KernelOutput::tangent :
+                                              material::KernelOutput::stress,
+                                    c))
+          return false;
+        energy += c.energy;
+        for (unsigned int i = 0; i < dofs.size(); ++i)
+          {
+            residual(dofs[i]) += c.residual(i);
+            if (tangent)
+              for (unsigned int j = 0; j < dofs.size(); ++j)
+                stiffness(dofs[i], dofs[j]) += c.tangent(i, j);
+          }
+      }
+    return true;
+  }
+
+
+
+  bool
+  BlockSampler::energy(const Vector<double> &u, double &energy) const
+  {
+    energy = 0;
+    solver::CellContribution c;
+    Vector<double>           local(fe.n_dofs_per_cell());
+    for (unsigned int cell = 0; cell < cell_dofs.size(); ++cell)
+      {
+        for (unsigned int i = 0; i < local.size(); ++i)
+          local(i) = u(cell_dofs[cell][i]);
+        if (!solver::integrate_cell(*fe_values,
+                                    local,
+                                    materials[cell_child[cell]].data(),
+                                    material::KernelOutput::energy,
+                                    c))
+          return false;
+        energy += c.energy;
+      }
+    return true;
+  }
+
+
+
+  void
+  BlockSampler::factorize(const FullMatrix<double> &K,
+                          LAPACKFullMatrix<double> &A) const
+  {
+    const unsigned int n = K.m(), m = constraints.m();
+    // Scale the constraint rows like the stiffness so LU pivots sensibly.
+    double scale = 0;
+    for (unsigned int i = 0; i < n; ++i)
+      scale = std::max(scale, std::abs(K(i, i)));
+    A.reinit(n + m);
+    for (unsigned int i = 0; i < n; ++i)
+      for (unsigned int j = 0; j < n; ++j)
+        A(i, j) = K(i, j);
+    for (unsigned int r = 0; r < m; ++r)
+      for (unsigned int i = 0; i < n; ++i)
+        {
+          A(n + r, i) = scale * constraints(r, i);
+          A(i, n + r) = scale * constraints(r, i);
+        }
+    A.compute_lu_factorization();
+  }
+
+
+
+  Vector<double>
+  BlockSampler::constrained_solve(const LAPACKFullMatrix<double> &A,
+                                  const Vector<double>           &b) const
+  {
+    Vector<double> x(A.m());
+    for (unsigned int i = 0; i < b.size(); ++i)
+      x(i) = b(i);
+    A.solve(x);
+    Vector<double> u(b.size());
+    for (unsigned int i = 0; i < b.size(); ++i)
+      u(i) = x(i);
+    return u;
+  }
+
+
+
+  void
+  BlockSampler::project_out_rigid(Vector<double> &f) const
+  {
+    for (unsigned int r = 0; r < constraints.m(); ++r)
+      {
+        double dot = 0;
+        for (unsigned int i = 0; i < f.size(); ++i)
+          dot += constraints(r, i) * f(i);
+        for (unsigned int i = 0; i < f.size(); ++i)
+          f(i) -= dot * constraints(r, i);
+      }
+  }
+
+
+
+  bool
+  BlockSampler::solve(const Vector<double> &f, Vector<double> &u) const
+  {
+    const double             f_norm = f.l2_norm();
+    double                   E;
+    Vector<double>           r;
+    FullMatrix<double>       K;
+    LAPACKFullMatrix<double> A;
+    for (unsigned int it = 0; it < 40; ++it)
+      {
+        if (!assemble(u, true, E, r, K))
+          return false;
+        Vector<double> g = f;
+        g -= r;
+        Vector<double> projected = g;
+        project_out_rigid(projected);
+        const double residual = projected.l2_norm() / f_norm;
+        if (residual <= 1e-9)
+          return true;
+
+        factorize(K, A);
+        const Vector<double> du    = constrained_solve(A, g);
+        const double         slope = -(g * du);
+        // A step at round-off level: converged if the residual is small.
+        if (du.l2_norm() <= 1e-12 * u.l2_norm() || !(slope < 0))
+          return residual <= 1e-6;
+        // At round-off level the energy cannot resolve the decrease (the
+        // Neo-Hookean energy cancels to second order in the strain): take
+        // the full step if it reduces the residual.
+        if (-slope < 1e-10 * std::abs(E))
+          {
+            Vector<double> trial = u;
+            trial += du;
+            double             trial_energy;
+            Vector<double>     trial_residual;
+            FullMatrix<double> unused;
+            if (assemble(trial, false, trial_energy, trial_residual, unused))
+              {
+                trial_residual.sadd(-1., 1., f);
+                project_out_rigid(trial_residual);
+                if (trial_residual.l2_norm() < projected.l2_norm())
+                  {
+                    u = trial;
+                    continue;
+                  }
+              }
+            return residual <= 1e-6;
+          }
+
+        const double potential = E - f * u;
+        double       alpha     = 1;
+        for (unsigned int ls = 0;; ++ls, alpha *= 0.5)
+          {
+            if (ls == 30)
+              return residual <= 1e-6;
+            Vector<double> trial = u;
+            trial.add(alpha, du);
+            double trial_energy;
+            if (energy(trial, trial_energy) &&
+                trial_energy - f * trial <= potential + 1e-4 * alpha * slope)
+              {
+                u = trial;
+                break;
+              }
+          }
+      }
+    return false;
+  }
+
+
+
+  double
+  BlockSampler::linearized_strain(const Vector<double> &u) const
+  {
+    double                    strain = 0;
+    Vector<double>            local(fe.n_dofs_per_cell());
+    std::vector<Tensor<2, 3>> F;
+    for (unsigned int cell = 0; cell < cell_dofs.size(); ++cell)
+      {
+        for (unsigned int i = 0; i < local.size(); ++i)
+          local(i) = u(cell_dofs[cell][i]);
+        solver::deformation_gradients(*fe_values, local, F);
+        for (const auto &Fq : F)
+          for (const double e :
+               eigenvalues(symmetrize(Fq - unit_symmetric_tensor<3>())))
+            strain = std::max(strain, std::abs(e));
+      }
+    return strain;
+  }
+
+
+
+  double
+  BlockSampler::finite_strain(const Vector<double> &u) const
+  {
+    double                    strain = 0;
+    Vector<double>            local(fe.n_dofs_per_cell());
+    std::vector<Tensor<2, 3>> F;
+    for (unsigned int cell = 0; cell < cell_dofs.size(); ++cell)
+      {
+        for (unsigned int i = 0; i < local.size(); ++i)
+          local(i) = u(cell_dofs[cell][i]);
+        solver::deformation_gradients(*fe_values, local, F);
+        for (const auto &Fq : F)
+          for (const double c : eigenvalues(symmetrize(transpose(Fq) * Fq)))
+            strain = std::max(strain, std::abs(std::sqrt(c) - 1.));
+      }
+    return strain;
+  }
+
+
+
+  CornerDisplacements
+  BlockSampler::corners(const Vector<double> &u) const
+  {
+    CornerDisplacements result;
+    for (unsigned int v = 0; v < 8; ++v)
+      for (unsigned int c = 0; c < 3; ++c)
+        {
+          if (corner_dofs[v][c] >= 0)
+            result[v][c] = u(corner_dofs[v][c]);
+          else
+            {
+              for (unsigned int n = 0; n < node_dofs.size(); ++n)
+                result[v][c] += corner_weights(v, n) * u(node_dofs[n][c]);
+            }
+        }
+    return result;
+  }
+
+
+
+  Vector<double>
+  BlockSampler::boundary_forces(
+    const std::function<Tensor<2, 3>(const Point<3> &)> &stress) const
+  {
+    Vector<double> f(dof_handler.n_dofs());
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      for (const unsigned int face : cell->face_indices())
+        {
+          const unsigned int d    = face / 2;
+          const double       side = (face % 2 == 0) ? 0. : 1.;
+          if (std::abs(cell->face(face)->center()[d] - side) > 1e-12)
+            continue;
+          Tensor<1, 3> normal;
+          normal[d] = (face % 2 == 0) ? -1. : 1.;
+          for (const unsigned int v : cell->face(face)->vertex_indices())
+            {
+              const Point<3> &x = cell->face(face)->vertex(v);
+              // Lumped: a quarter of the child face's area per vertex.
+              const Tensor<1, 3> t = stress(x) * normal * (0.25 / 4);
+              for (unsigned int i = 0; i < 3; ++i)
+                f(cell->face(face)->vertex_dof_index(v, i)) += t[i];
+            }
+        }
+    return f;
+  }
+
+
+
+  Vector<double>
+  BlockSampler::interpolate(
+    const std::function<Tensor<1, 3>(const Point<3> &)> &u) const
+  {
+    Vector<double> result(dof_handler.n_dofs());
+    for (unsigned int i = 0; i < result.size(); ++i)
+      result(i) = u(support_points[i])[dof_component[i]];
+    return result;
+  }
+
+
+
+  std::vector<Sample>
+  BlockSampler::sample(const SamplingSettings &settings,
+                       const std::uint64_t     seed,
+                       unsigned int           &n_dropped) const
+  {
+    const unsigned int               n = dof_handler.n_dofs();
+    std::mt19937_64                  generator(seed);
+    std::normal_distribution<double> normal;
+    std::vector<Sample>              samples;
+    n_dropped = 0;
+    for (unsigned int p = 0; p < settings.n_directions; ++p)
+      {
+        Tensor<2, 3>                constant;
+        std::array<Tensor<2, 3>, 3> gradient;
+        for (unsigned int i = 0; i < 3; ++i)
+          for (unsigned int j = i; j < 3; ++j)
+            {
+              constant[i][j] = constant[j][i] = normal(generator);
+              for (unsigned int d = 0; d < 3; ++d)
+                gradient[d][i][j] = gradient[d][j][i] = normal(generator);
+            }
+        Vector<double> f = boundary_forces([&](const Point<3> &x) {
+          Tensor<2, 3> sigma = constant;
+          for (unsigned int d = 0; d < 3; ++d)
+            sigma += settings.traction_gradient * (2 * x[d] - 1) * gradient[d];
+          return sigma;
+        });
+        project_out_rigid(f);
+        f /= f.l2_norm();
+        const Vector<double> linear   = constrained_solve(initial_saddle, f);
+        const double         strain_1 = linearized_strain(linear);
+
+        Vector<double> u(n);
+        double         previous = 0;
+        for (unsigned int j = 0; j < settings.n_magnitudes; ++j)
+          {
+            const double target =
+              settings.n_magnitudes == 1 ?
+                settings.max_strain :
+                settings.min_strain +
+                  (settings.max_strain - settings.min_strain) * j /
+                    (settings.n_magnitudes - 1);
+            const double magnitude = target / strain_1;
+            // Predictor: the linear response for the first magnitude, the
+            // previous solution scaled for the others.
+            Vector<double> guess = u;
+            if (previous == 0)
+              guess.add(magnitude, linear);
+            else
+              guess *= magnitude / previous;
+            double e;
+            if (!energy(guess, e))
+              guess = u;
+            Vector<double> force = f;
+            force *= magnitude;
+            if (!solve(force, guess))
+              {
+                n_dropped += settings.n_magnitudes - j;
+                break;
+              }
+            u        = guess;
+            previous = magnitude;
+            Sample s;
+            s.corners = corners(u);
+            energy(u, s.energy);
+            s.strain  = finite_strain(u);
+            s.pattern = p;
+            samples.push_back(s);
+          }
+      }
+    return samples;
+  }
+
+
+
+  std::vector<Tensor<1, 3>>
+  BlockSampler::anisotropy_directions(const SamplingSettings &settings,
+                                      const CoarseElement    &element) const
+  {
+    const unsigned int                 n_points = element.n_points();
+    std::vector<SymmetricTensor<2, 3>> M(n_points);
+    const Point<3>                     center(0.5, 0.5, 0.5);
+    const unsigned int                 n_d = settings.n_stretch_directions;
+    std::vector<Tensor<2, 3>>          F;
+    for (unsigned int s = 0; s < n_d; ++s)
+      {
+        // Fibonacci points on the sphere.
+        const double z   = 1. - (2. * s + 1.) / n_d;
+        const double rho = std::sqrt(std::max(0., 1. - z * z));
+        const double phi = s * numbers::PI * (3. - std::sqrt(5.));
+        Tensor<1, 3> d;
+        d[0] = rho * std::cos(phi);
+        d[1] = rho * std::sin(phi);
+        d[2] = z;
+
+        Vector<double> f = boundary_forces(
+          [&d](const Point<3> &) { return outer_product(d, d); });
+        project_out_rigid(f);
+        Vector<double> u = constrained_solve(initial_saddle, f);
+        u *= 0.01 / linearized_strain(u);
+        element.deformation_gradients(corners(u), F);
+        for (unsigned int q = 0; q < n_points; ++q)
+          {
+            const double l = (F[q] * d).norm() - 1.;
+            M[q] += l * l * symmetrize(outer_product(d, d));
+          }
+      }
+    std::vector<Tensor<1, 3>> directions(n_points);
+    for (unsigned int q = 0; q < n_points; ++q)
+      directions[q] = eigenvectors(M[q])[2].second; // least stretch
+    return directions;
+  }
+} // namespace ddfem::coarsening

@@ -1,0 +1,348 @@
+#include <deal.II/base/multithread_info.h>
+#include <deal.II/base/timer.h>
+
+#include <ddfem/coarsening/builder.h>
+
+#include <algorithm>
+#include <atomic>
+#include <filesystem>
+#include <iomanip>
+#include <mutex>
+#include <thread>
+
+namespace ddfem::coarsening
+{
+  void
+  DatabaseBuilder::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Database");
+    prm.declare_entry("File",
+                      "metamaterials.h5",
+                      Patterns::FileName(Patterns::FileName::output),
+                      "The metamaterial database (HDF5). A build extends or "
+                      "resumes it if it exists (same palette and settings "
+                      "required); its journal FILE.journal holds the entries "
+                      "finished since the last save.");
+    prm.declare_entry("Include void",
+                      "true",
+                      Patterns::Bool(),
+                      "Whether blocks may have void children (void is then a "
+                      "palette entry: (n+1)^8 combinations instead of n^8).");
+    prm.declare_entry("Scope",
+                      "all",
+                      Patterns::Selection("all|scene"),
+                      "'all' fits every combination of the palette (one fit "
+                      "per symmetry orbit). 'scene' fits only the "
+                      "combinations of this scene's 2x2x2 blocks that the "
+                      "file lacks and appends them (lazy mode).");
+    prm.declare_entry("Representatives",
+                      "0",
+                      Patterns::Integer(0),
+                      "Compression: keep this many representative "
+                      "metamaterials, chosen by farthest point sampling of "
+                      "log-energy features, and map every combination to its "
+                      "nearest one. 0 keeps every entry. Only with Scope = "
+                      "all.");
+    prm.declare_entry("Threads",
+                      "0",
+                      Patterns::Integer(0),
+                      "Worker threads fitting combinations; 0 uses all "
+                      "cores. Results do not depend on it.");
+    SamplingSettings::declare_parameters(prm);
+    FitSettings::declare_parameters(prm);
+    prm.leave_subsection();
+  }
+
+
+
+  void
+  DatabaseBuilder::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Database");
+    database_file     = prm.get("File");
+    with_void         = prm.get_bool("Include void");
+    run_scope         = prm.get("Scope") == "all" ? Scope::all : Scope::scene;
+    n_representatives = prm.get_integer("Representatives");
+    n_threads         = prm.get_integer("Threads");
+    sampling.parse_parameters(prm);
+    fitting.parse_parameters(prm);
+    prm.leave_subsection();
+    AssertThrow(!database_file.empty(),
+                ExcMessage("Database/File must name a file."));
+    AssertThrow(n_representatives == 0 || run_scope == Scope::all,
+                ExcMessage("Database/Representatives (compression) needs "
+                           "Database/Scope = all: only a complete database "
+                           "can be compressed."));
+  }
+
+
+
+  DatabaseSettings
+  DatabaseBuilder::settings(const scene::Palette &palette) const
+  {
+    DatabaseSettings settings;
+    settings.palette   = DatabaseSettings::describe(palette);
+    settings.with_void = with_void;
+    settings.sampling  = sampling;
+    settings.fitting   = fitting;
+    return settings;
+  }
+
+
+
+  Database
+  DatabaseBuilder::open(const scene::Palette &palette, std::ostream &out) const
+  {
+    const unsigned int n_ids = palette.size() + (with_void ? 1 : 0);
+    AssertThrow(n_ids <= 9,
+                ExcMessage("Metamaterial databases support palettes of at "
+                           "most 8 materials plus void (9^8 combinations); "
+                           "Materials has " +
+                           std::to_string(palette.size()) + "."));
+    const DatabaseSettings settings = this->settings(palette);
+
+    Database database(settings, palette.size());
+    if (std::filesystem::exists(database_file))
+      {
+        database = Database::load(database_file);
+        AssertThrow(database.palette() == settings.palette,
+                    ExcMessage("The metamaterial database '" + database_file +
+                               "' was built for the palette [" +
+                               database.palette() +
+                               "], not for this scene's [" + settings.palette +
+                               "]. Use another Database/File."));
+        AssertThrow(database.fingerprint() == settings.fingerprint(),
+                    ExcMessage("The metamaterial database '" + database_file +
+                               "' was built with other settings (" +
+                               database.fingerprint() + ") than these (" +
+                               settings.fingerprint() +
+                               "). Use another Database/File or its "
+                               "settings."));
+      }
+    const std::vector<Entry> journaled =
+      Journal::read(database_file, settings.fingerprint());
+    unsigned int recovered = 0;
+    for (const Entry &e : journaled)
+      if (!database.contains(database.combinations().combination(e.key)))
+        {
+          database.add(e);
+          ++recovered;
+        }
+    if (recovered > 0)
+      out << "Resumed: " << recovered
+          << " entries recovered from the build journal" << std::endl;
+    return database;
+  }
+
+
+
+  std::vector<Combination>
+  DatabaseBuilder::all_combinations(const Database &database)
+  {
+    std::vector<Combination> result;
+    for (std::size_t key = 0; key < database.combinations().size(); ++key)
+      result.push_back(database.combinations().combination(key));
+    return result;
+  }
+
+
+
+  std::vector<Combination>
+  DatabaseBuilder::scene_combinations(const scene::VoxelGrid &grid)
+  {
+    const auto &n = grid.size();
+    AssertThrow(n[0] % 2 == 0 && n[1] % 2 == 0 && n[2] % 2 == 0,
+                ExcMessage("Coarsening needs even grid sizes; Geometry/Grid "
+                           "size is " +
+                           std::to_string(n[0]) + " " + std::to_string(n[1]) +
+                           " " + std::to_string(n[2]) + "."));
+    std::vector<Combination> result;
+    for (unsigned int k = 0; k < n[2]; k += 2)
+      for (unsigned int j = 0; j < n[1]; j += 2)
+        for (unsigned int i = 0; i < n[0]; i += 2)
+          {
+            Combination c;
+            for (unsigned int child = 0; child < 8; ++child)
+              c[child] = grid(i + (child & 1),
+                              j + ((child >> 1) & 1),
+                              k + ((child >> 2) & 1));
+            result.push_back(c);
+          }
+    return result;
+  }
+
+
+
+  Entry
+  DatabaseBuilder::fit_entry(const scene::Palette   &palette,
+                             const Database         &database,
+                             const Combination      &combination,
+                             const SamplingSettings &sampling,
+                             const FitSettings      &fitting,
+                             const CoarseElement    &element,
+                             const std::uint64_t     seed)
+  {
+    std::array<std::vector<material::MaterialPoint>, 8> children;
+    Metamaterial                                        prior;
+    for (unsigned int k = 0; k < 8; ++k)
+      {
+        material::MaterialPoint p; // void: all zero
+        if (combination[k] != scene::void_id)
+          {
+            p = palette[combination[k]].material_point();
+            children[k].assign(8, p);
+          }
+        prior.points.push_back(p);
+      }
+    const BlockSampler sampler(children);
+    Entry              entry;
+    entry.key = database.combinations().key(combination);
+    const std::vector<Sample> samples =
+      sampler.sample(sampling, seed, entry.n_dropped);
+    const std::vector<Tensor<1, 3>> directions =
+      sampler.anisotropy_directions(sampling, element);
+    for (unsigned int q = 0; q < 8; ++q)
+      prior.points[q].direction = directions[q];
+    const FitResult fit = fit_metamaterial(element, samples, prior, fitting);
+    entry.material =
+      symmetrize(fit.material, combination, database.symmetries());
+    entry.median_error = fit.median_error;
+    entry.max_error    = fit.max_error;
+    entry.n_samples    = samples.size();
+    entry.min_strain   = samples.empty() ? 0 : samples[0].strain;
+    entry.max_strain   = entry.min_strain;
+    for (const Sample &s : samples)
+      {
+        entry.min_strain = std::min(entry.min_strain, s.strain);
+        entry.max_strain = std::max(entry.max_strain, s.strain);
+      }
+    return entry;
+  }
+
+
+
+  void
+  DatabaseBuilder::build(const scene::Palette           &palette,
+                         Database                       &database,
+                         const std::vector<Combination> &combinations,
+                         std::ostream                   &out,
+                         const bool                      show_progress) const
+  {
+    const std::vector<Combination> todo = database.missing(combinations);
+    out << "Metamaterial database '" << database_file
+        << "': " << database.combinations().size() << " combinations, "
+        << database.entries().size() << " entries present, " << todo.size()
+        << " orbit representatives to fit" << std::endl;
+    AssertThrow(todo.empty() || database.n_representatives() == 0,
+                ExcMessage("The metamaterial database '" + database_file +
+                           "' is compressed and cannot take new entries."));
+
+    Timer               timer;
+    const CoarseElement element(1);
+    if (!todo.empty())
+      {
+        Journal                  journal(database_file, database.fingerprint());
+        std::mutex               mutex;
+        std::atomic<std::size_t> next(0);
+        std::size_t              done      = 0;
+        double                   last_draw = -1;
+        const unsigned int       workers =
+          std::max(1u,
+                   std::min<unsigned int>(n_threads > 0 ?
+                                            n_threads :
+                                            MultithreadInfo::n_cores(),
+                                          todo.size()));
+        const auto work = [&]() {
+          for (std::size_t i = next++; i < todo.size(); i = next++)
+            {
+              // A seed per combination: entries do not depend on threads.
+              const std::size_t key   = database.combinations().key(todo[i]);
+              const Entry       entry = fit_entry(palette,
+                                            database,
+                                            todo[i],
+                                            sampling,
+                                            fitting,
+                                            element,
+                                            0x9E3779B97F4A7C15ULL * (key + 1));
+              std::lock_guard<std::mutex> lock(mutex);
+              journal.append(entry);
+              database.add(entry);
+              ++done;
+              // The progress bar, redrawn at most every half second.
+              if (show_progress &&
+                  (timer.wall_time() > last_draw + 0.5 || done == todo.size()))
+                {
+                  last_draw            = timer.wall_time();
+                  const double elapsed = timer.wall_time();
+                  const double left    = elapsed / done * (todo.size() - done);
+                  const unsigned int width = 30;
+                  const unsigned int bar   = width * done / todo.size();
+                  out << "\r  [" << std::string(bar, '#')
+                      << std::string(width - bar, ' ') << "] " << done << "/"
+                      << todo.size() << ", " << std::fixed
+                      << std::setprecision(0) << elapsed << " s, about " << left
+                      << " s left   " << std::defaultfloat << std::flush;
+                }
+            }
+        };
+        std::vector<std::thread> threads;
+        for (unsigned int t = 1; t < workers; ++t)
+          threads.emplace_back(work);
+        work();
+        for (auto &t : threads)
+          t.join();
+        if (show_progress)
+          out << std::endl;
+      }
+    const double fit_time = timer.wall_time();
+
+    if (n_representatives > 0 && database.n_representatives() == 0)
+      {
+        database.compress(n_representatives,
+                          element,
+                          feature_deformations(element, 32, 0.1, 4711));
+        out << "Compressed to " << database.n_representatives()
+            << " representatives (" << database.entries().size()
+            << " entries kept)" << std::endl;
+      }
+
+    std::filesystem::create_directories(
+      std::filesystem::absolute(database_file).parent_path());
+    database.save(database_file);
+    Journal::remove(database_file);
+
+    // Report.
+    const auto         &entries = database.entries();
+    std::vector<double> errors;
+    double              min_strain = 1e300, max_strain = 0;
+    std::size_t         samples = 0, dropped = 0;
+    for (const Entry &e : entries)
+      {
+        errors.push_back(e.median_error);
+        min_strain = std::min(min_strain, e.min_strain);
+        max_strain = std::max(max_strain, e.max_strain);
+        samples += e.n_samples;
+        dropped += e.n_dropped;
+      }
+    std::sort(errors.begin(), errors.end());
+    const auto percentile = [&errors](const double p) {
+      return errors[std::min<std::size_t>(errors.size() - 1,
+                                          p * errors.size())];
+    };
+    out << "  entries: " << entries.size() << ", samples kept: " << samples
+        << ", dropped (failed solves): " << dropped << std::endl;
+    if (!errors.empty())
+      out << std::setprecision(3) << "  strain range sampled: " << min_strain
+          << " to " << max_strain << " (largest principal stretch deviation)\n"
+          << "  held-out relative energy error per entry (median of each): "
+          << "10% " << percentile(0.1) << ", 50% " << percentile(0.5)
+          << ", 90% " << percentile(0.9) << ", max " << errors.back()
+          << std::defaultfloat << std::setprecision(6) << std::endl;
+    if (show_progress)
+      out << "  fitting time: " << fit_time << " s ("
+          << (todo.empty() ? 0. : fit_time / todo.size())
+          << " s per combination), file size: "
+          << std::filesystem::file_size(database_file) / 1024. << " KiB"
+          << std::endl;
+  }
+} // namespace ddfem::coarsening

@@ -1,0 +1,251 @@
+#include <ddfem/coarsening/fitting.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace ddfem::coarsening
+{
+  void
+  FitSettings::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Fitting");
+    prm.declare_entry("Regularization",
+                      "0.01",
+                      Patterns::Double(0),
+                      "Weight lambda of the regularization toward the fine "
+                      "parameters (paper eq. 4; the paper uses 0.01). The "
+                      "energy residuals are relative and the parameters are "
+                      "measured in units of the block's largest fine shear "
+                      "modulus, so the weight is dimensionless.");
+    prm.declare_entry("Stiffness floor",
+                      "1e-3",
+                      Patterns::Double(0, 1),
+                      "Lower bound of every quadrature point's fitted shear "
+                      "modulus, as a fraction of the block's largest fine "
+                      "shear modulus. Keeps points over void children "
+                      "slightly stiff so a coarse element never has "
+                      "zero-energy modes. Lambda and C are bounded below "
+                      "by 0.");
+    prm.declare_entry("Held-out every",
+                      "5",
+                      Patterns::Integer(0),
+                      "Every n-th force pattern (all its magnitudes) is held "
+                      "out of the fit and used to measure the fit's relative "
+                      "energy error. 0 holds none out and measures the error "
+                      "on the fitted samples.");
+    prm.leave_subsection();
+  }
+
+
+
+  void
+  FitSettings::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Fitting");
+    regularization  = prm.get_double("Regularization");
+    stiffness_floor = prm.get_double("Stiffness floor");
+    held_out_every  = prm.get_integer("Held-out every");
+    prm.leave_subsection();
+  }
+
+
+
+  Vector<double>
+  nonnegative_least_squares(const FullMatrix<double> &H,
+                            const Vector<double>     &g)
+  {
+    const unsigned int n = g.size();
+    Vector<double>     x(n);
+    std::vector<bool>  passive(n, false);
+    const double       tolerance = 1e-13 * std::max(g.linfty_norm(), 1e-300);
+
+    // Solves H_PP z_P = g_P on the passive set, z = 0 elsewhere.
+    const auto solve_passive = [&]() {
+      std::vector<unsigned int> P;
+      for (unsigned int j = 0; j < n; ++j)
+        if (passive[j])
+          P.push_back(j);
+      FullMatrix<double> H_PP(P.size(), P.size());
+      Vector<double>     g_P(P.size()), z_P(P.size()), z(n);
+      for (unsigned int a = 0; a < P.size(); ++a)
+        {
+          g_P(a) = g(P[a]);
+          for (unsigned int b = 0; b < P.size(); ++b)
+            H_PP(a, b) = H(P[a], P[b]);
+        }
+      H_PP.gauss_jordan();
+      H_PP.vmult(z_P, g_P);
+      for (unsigned int a = 0; a < P.size(); ++a)
+        z(P[a]) = z_P(a);
+      return z;
+    };
+
+    for (unsigned int outer = 0; outer < 3 * n + 10; ++outer)
+      {
+        // Gradient of the objective's negative: w = g - H x.
+        Vector<double> w(n);
+        H.vmult(w, x);
+        w.sadd(-1., 1., g);
+        unsigned int best   = n;
+        double       best_w = tolerance;
+        for (unsigned int j = 0; j < n; ++j)
+          if (!passive[j] && w(j) > best_w)
+            {
+              best   = j;
+              best_w = w(j);
+            }
+        if (best == n)
+          break;
+        passive[best] = true;
+
+        for (unsigned int inner = 0; inner < 3 * n + 10; ++inner)
+          {
+            const Vector<double> z        = solve_passive();
+            bool                 feasible = true;
+            double               alpha    = 1;
+            for (unsigned int j = 0; j < n; ++j)
+              if (passive[j] && z(j) <= 0)
+                {
+                  feasible = false;
+                  alpha    = std::min(alpha, x(j) / (x(j) - z(j)));
+                }
+            if (feasible)
+              {
+                x = z;
+                break;
+              }
+            for (unsigned int j = 0; j < n; ++j)
+              x(j) += alpha * (z(j) - x(j));
+            for (unsigned int j = 0; j < n; ++j)
+              if (passive[j] && x(j) <= 1e-300)
+                {
+                  passive[j] = false;
+                  x(j)       = 0;
+                }
+          }
+      }
+    return x;
+  }
+
+
+
+  std::vector<double>
+  relative_energy_errors(const CoarseElement       &element,
+                         const Metamaterial        &m,
+                         const std::vector<Sample> &samples)
+  {
+    std::vector<double> errors;
+    for (const Sample &s : samples)
+      {
+        double e;
+        if (element.energy(s.corners, m, e))
+          errors.push_back(std::abs(e - s.energy) / s.energy);
+      }
+    return errors;
+  }
+
+
+
+  FitResult
+  fit_metamaterial(const CoarseElement       &element,
+                   const std::vector<Sample> &samples,
+                   const Metamaterial        &prior,
+                   const FitSettings         &settings)
+  {
+    const unsigned int n_points = element.n_points();
+    const unsigned int n        = 3 * n_points;
+    Assert(prior.points.size() == n_points, ExcInternalError());
+
+    // Each parameter is measured in units of the block's largest fine
+    // value of its kind (C in units of mu), so the regularization weighs a
+    // relative change of every parameter alike.
+    std::array<double, 3> scale = {{0, 0, 0}};
+    for (const auto &p : prior.points)
+      {
+        scale[0] = std::max(scale[0], p.mu);
+        scale[1] = std::max(scale[1], p.lambda);
+      }
+    AssertThrow(scale[0] > 0,
+                ExcMessage("A block to fit needs a solid child."));
+    scale[2] = scale[0];
+    if (scale[1] == 0)
+      scale[1] = scale[0];
+    const double floor = settings.stiffness_floor * scale[0];
+
+    FitResult           result;
+    std::vector<Sample> held_out, fitted;
+    for (const Sample &s : samples)
+      if (settings.held_out_every > 0 &&
+          s.pattern % settings.held_out_every == settings.held_out_every - 1)
+        held_out.push_back(s);
+      else
+        fitted.push_back(s);
+
+    // Normal equations of the scaled unknowns x = (p - lower) / scale.
+    FullMatrix<double>                 H(n, n);
+    Vector<double>                     g(n), row(n);
+    std::vector<std::array<double, 3>> terms;
+    std::vector<Vector<double>>        rows;
+    std::vector<double>                rhs;
+    for (const Sample &s : fitted)
+      {
+        if (!(s.energy > 0 && element.energy_terms(s.corners, prior, terms)))
+          {
+            ++result.n_rejected;
+            continue;
+          }
+        double lower_energy = 0;
+        for (unsigned int q = 0; q < n_points; ++q)
+          {
+            lower_energy += floor * terms[q][0];
+            for (unsigned int t = 0; t < 3; ++t)
+              row(3 * q + t) = terms[q][t] * scale[t] / s.energy;
+          }
+        rows.push_back(row);
+        rhs.push_back((s.energy - lower_energy) / s.energy);
+      }
+    result.n_fit = rows.size();
+    for (unsigned int s = 0; s < rows.size(); ++s)
+      for (unsigned int i = 0; i < n; ++i)
+        {
+          g(i) += rows[s](i) * rhs[s] / rows.size();
+          for (unsigned int j = 0; j < n; ++j)
+            H(i, j) += rows[s](i) * rows[s](j) / rows.size();
+        }
+    for (unsigned int q = 0; q < n_points; ++q)
+      {
+        const auto  &p0        = prior.points[q];
+        const double target[3] = {(p0.mu - floor) / scale[0],
+                                  p0.lambda / scale[1],
+                                  p0.anisotropy / scale[2]};
+        for (unsigned int t = 0; t < 3; ++t)
+          {
+            H(3 * q + t, 3 * q + t) += settings.regularization;
+            g(3 * q + t) += settings.regularization * target[t];
+          }
+      }
+
+    const Vector<double> x = nonnegative_least_squares(H, g);
+    result.material        = prior;
+    for (unsigned int q = 0; q < n_points; ++q)
+      {
+        auto &p      = result.material.points[q];
+        p.mu         = floor + scale[0] * x(3 * q);
+        p.lambda     = scale[1] * x(3 * q + 1);
+        p.anisotropy = scale[2] * x(3 * q + 2);
+      }
+
+    std::vector<double> errors =
+      relative_energy_errors(element,
+                             result.material,
+                             held_out.empty() ? fitted : held_out);
+    result.n_held_out = held_out.size();
+    if (!errors.empty())
+      {
+        std::sort(errors.begin(), errors.end());
+        result.median_error = errors[errors.size() / 2];
+        result.max_error    = errors.back();
+      }
+    return result;
+  }
+} // namespace ddfem::coarsening

@@ -1,0 +1,179 @@
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/base/symmetric_tensor.h>
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/grid/grid_generator.h>
+
+#include <ddfem/coarsening/metamaterial.h>
+#include <ddfem/solver/cell_kernel.h>
+
+namespace ddfem::coarsening
+{
+  Metamaterial
+  transform(const Metamaterial   &m,
+            const CubeSymmetries &symmetries,
+            const unsigned int    g)
+  {
+    Assert(m.points.size() == 8, ExcInternalError());
+    Metamaterial image;
+    image.points.resize(8);
+    for (unsigned int k = 0; k < 8; ++k)
+      {
+        material::MaterialPoint p = m.points[k];
+        p.direction               = symmetries.matrix(g) * p.direction;
+        image.points[symmetries.image(g, k)] = p;
+      }
+    return image;
+  }
+
+
+
+  Metamaterial
+  symmetrize(const Metamaterial   &m,
+             const Combination    &combination,
+             const CubeSymmetries &symmetries)
+  {
+    std::vector<unsigned int> stabilizer;
+    for (unsigned int g = 0; g < CubeSymmetries::size; ++g)
+      if (symmetries.apply(g, combination) == combination)
+        stabilizer.push_back(g);
+    Metamaterial                       result = m;
+    std::vector<SymmetricTensor<2, 3>> orientation(8);
+    for (auto &p : result.points)
+      p.mu = p.lambda = p.anisotropy = 0;
+    for (const unsigned int g : stabilizer)
+      {
+        const Metamaterial image = transform(m, symmetries, g);
+        for (unsigned int k = 0; k < 8; ++k)
+          {
+            const auto &p = image.points[k];
+            result.points[k].mu += p.mu / stabilizer.size();
+            result.points[k].lambda += p.lambda / stabilizer.size();
+            result.points[k].anisotropy += p.anisotropy / stabilizer.size();
+            orientation[k] +=
+              symmetrize(outer_product(p.direction, p.direction));
+          }
+      }
+    for (unsigned int k = 0; k < 8; ++k)
+      result.points[k].direction = eigenvectors(orientation[k])[0].second;
+    return result;
+  }
+
+
+
+  namespace
+  {
+    /// The octant (0..7) of @p x relative to @p center.
+    unsigned int
+    octant(const Point<3> &x, const Point<3> &center)
+    {
+      unsigned int o = 0;
+      for (unsigned int d = 0; d < 3; ++d)
+        if (x[d] > center[d])
+          o |= (1u << d);
+      return o;
+    }
+  } // namespace
+
+
+
+  CoarseElement::CoarseElement(const unsigned int level)
+    : fe(FE_Q<3>(1), 3)
+    , quadrature(level == 1 ? Quadrature<3>(QGauss<3>(2)) :
+                              Quadrature<3>(QIterated<3>(QGauss<1>(2), 2)))
+  {
+    AssertThrow(level == 1 || level == 2,
+                ExcMessage("Coarsening levels must be 1 or 2, not " +
+                           std::to_string(level) + "."));
+    GridGenerator::hyper_cube(triangulation, 0., 1.);
+    dof_handler.reinit(triangulation);
+    dof_handler.distribute_dofs(fe);
+    fe_values =
+      std::make_unique<FEValues<3>>(fe,
+                                    quadrature,
+                                    update_gradients | update_JxW_values);
+    fe_values->reinit(dof_handler.begin_active());
+
+    const Point<3> center(0.5, 0.5, 0.5);
+    for (unsigned int q = 0; q < quadrature.size(); ++q)
+      {
+        const Point<3>    &x     = quadrature.point(q);
+        const unsigned int child = octant(x, center);
+        Point<3>           child_center;
+        for (unsigned int d = 0; d < 3; ++d)
+          child_center[d] = (child & (1u << d)) ? 0.75 : 0.25;
+        point_child.push_back(child);
+        point_subindex.push_back(level == 1 ? 0 : octant(x, child_center));
+      }
+  }
+
+
+
+  Vector<double>
+  CoarseElement::local_vector(const CornerDisplacements &u) const
+  {
+    Vector<double> local(fe.n_dofs_per_cell());
+    for (unsigned int v = 0; v < 8; ++v)
+      for (unsigned int c = 0; c < 3; ++c)
+        local(fe.component_to_system_index(c, v)) = u[v][c];
+    return local;
+  }
+
+
+
+  void
+  CoarseElement::deformation_gradients(const CornerDisplacements &u,
+                                       std::vector<Tensor<2, 3>> &F) const
+  {
+    solver::deformation_gradients(*fe_values, local_vector(u), F);
+  }
+
+
+
+  bool
+  CoarseElement::energy(const CornerDisplacements &u,
+                        const Metamaterial        &m,
+                        double                    &energy) const
+  {
+    Assert(m.points.size() == n_points(), ExcInternalError());
+    solver::CellContribution result;
+    const bool               admissible =
+      solver::integrate_cell(*fe_values,
+                             local_vector(u),
+                             m.points.data(),
+                             material::KernelOutput::energy,
+                             result);
+    energy = result.energy;
+    return admissible;
+  }
+
+
+
+  bool
+  CoarseElement::energy_terms(const CornerDisplacements          &u,
+                              const Metamaterial                 &m,
+                              std::vector<std::array<double, 3>> &terms) const
+  {
+    std::vector<Tensor<2, 3>> F;
+    deformation_gradients(u, F);
+    terms.resize(n_points());
+    material::KernelResult k;
+    for (unsigned int q = 0; q < n_points(); ++q)
+      {
+        // The energy density is linear in (mu, lambda, C): evaluate the
+        // kernel with one unit parameter at a time.
+        std::array<material::MaterialPoint, 3> unit;
+        unit[0].mu         = 1;
+        unit[1].lambda     = 1;
+        unit[2].anisotropy = 1;
+        for (unsigned int t = 0; t < 3; ++t)
+          {
+            unit[t].direction = m.points[q].direction;
+            if (!material::evaluate(
+                  F[q], unit[t], material::KernelOutput::energy, k))
+              return false;
+            terms[q][t] = k.energy * fe_values->JxW(q);
+          }
+      }
+    return true;
+  }
+} // namespace ddfem::coarsening

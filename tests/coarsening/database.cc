@@ -1,0 +1,321 @@
+// The metamaterial database: symmetry orbits and the mapping of fitted
+// entries, farthest point sampling, HDF5 round trip, clear errors for
+// missing, corrupt, truncated and mismatched files, a killed and resumed
+// build equal to an uninterrupted one, results independent of the thread
+// count, lazy (scene) builds, and compression.
+
+#include <ddfem/base/exceptions.h>
+#include <ddfem/coarsening/builder.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+#include "../tests.h"
+
+using namespace ddfem;
+using namespace ddfem::coarsening;
+
+namespace
+{
+  /// A small palette and cheap sampling: every test build takes a second.
+  DatabaseBuilder
+  builder(const std::string &file,
+          const bool         with_void,
+          const std::string &scope   = "all",
+          const unsigned int threads = 1,
+          const unsigned int k       = 0)
+  {
+    ParameterHandler prm;
+    DatabaseBuilder::declare_parameters(prm);
+    prm.enter_subsection("Database");
+    prm.set("File", file);
+    prm.set("Include void", with_void);
+    prm.set("Scope", scope);
+    prm.set("Threads", std::to_string(threads));
+    prm.set("Representatives", std::to_string(k));
+    prm.enter_subsection("Sampling");
+    prm.set("Force patterns", "10");
+    prm.set("Magnitudes", "2");
+    prm.set("Stretch directions", "20");
+    prm.leave_subsection();
+    prm.leave_subsection();
+    DatabaseBuilder b;
+    b.parse_parameters(prm);
+    return b;
+  }
+
+  scene::Palette
+  palette(const std::string &text = "E=1e5 nu=0.45; E=1e6 nu=0.45")
+  {
+    scene::Palette p;
+    p.parse(text);
+    return p;
+  }
+
+  Database
+  build(const DatabaseBuilder &b, const scene::Palette &p)
+  {
+    std::ostringstream log;
+    Database           db = b.open(p, log);
+    b.build(p,
+            db,
+            b.scope() == DatabaseBuilder::Scope::all ?
+              DatabaseBuilder::all_combinations(db) :
+              std::vector<Combination>(),
+            log,
+            false);
+    return db;
+  }
+
+  bool
+  same_entries(const Database &a, const Database &b)
+  {
+    if (a.entries().size() != b.entries().size())
+      return false;
+    for (unsigned int e = 0; e < a.entries().size(); ++e)
+      for (unsigned int q = 0; q < 8; ++q)
+        {
+          const auto &p = a.entries()[e].material.points[q];
+          const auto &r = b.entries()[e].material.points[q];
+          if (a.entries()[e].key != b.entries()[e].key || p.mu != r.mu ||
+              p.lambda != r.lambda || p.anisotropy != r.anisotropy ||
+              p.direction != r.direction)
+            return false;
+        }
+    return true;
+  }
+
+  void
+  expect_error(const std::string &what, const std::function<void()> &f)
+  {
+    try
+      {
+        f();
+        std::cout << what << ": NO ERROR" << std::endl;
+      }
+    catch (ExceptionBase &e)
+      {
+        std::cout << what << ": " << message_of(e) << std::endl;
+      }
+  }
+} // namespace
+
+int
+main()
+{
+  {
+    std::cout << "Killed and resumed build" << std::endl;
+    std::filesystem::remove("killed.h5");
+    std::filesystem::remove("killed.h5.journal");
+    const pid_t child = fork();
+    if (child == 0)
+      {
+        build(builder("killed.h5", true), palette());
+        _exit(0);
+      }
+    // Kill the build once a few entries are in its journal.
+    const std::string fingerprint =
+      builder("killed.h5", true).settings(palette()).fingerprint();
+    while (Journal::read("killed.h5", fingerprint).size() < 20 &&
+           !std::filesystem::exists("killed.h5"))
+      usleep(1000);
+    kill(child, SIGKILL);
+    waitpid(child, nullptr, 0);
+    const std::size_t journaled =
+      Journal::read("killed.h5", fingerprint).size();
+    std::cout << "killed before the end: " << std::boolalpha
+              << !std::filesystem::exists("killed.h5")
+              << ", at least 20 entries journaled: " << (journaled >= 20)
+              << std::endl;
+
+    std::ostringstream    log;
+    const DatabaseBuilder b       = builder("killed.h5", true);
+    Database              resumed = b.open(palette(), log);
+    std::cout << "entries recovered = journaled: "
+              << (resumed.entries().size() == journaled) << std::endl;
+    b.build(palette(),
+            resumed,
+            DatabaseBuilder::all_combinations(resumed),
+            log,
+            false);
+    const Database full = build(builder("full.h5", true), palette());
+    std::cout << "orbits of 2 materials + void: " << full.entries().size() + 1
+              << std::endl;
+    std::cout << "resumed build equals uninterrupted build: "
+              << same_entries(Database::load("killed.h5"), full)
+              << ", journal removed: "
+              << !std::filesystem::exists("killed.h5.journal") << std::endl;
+    const Database two_threads =
+      build(builder("threads.h5", true, "all", 2), palette());
+    std::cout << "two threads give the same entries: "
+              << same_entries(two_threads, full) << std::endl;
+  }
+
+  {
+    std::cout << "Symmetry" << std::endl;
+    const CubeSymmetries  group;
+    std::set<Combination> orbits3, orbits4;
+    for (std::size_t key = 0; key < 6561; ++key)
+      orbits3.insert(
+        group.canonical(CombinationIndex(3, false).combination(key)).first);
+    for (std::size_t key = 0; key < 65536; ++key)
+      orbits4.insert(
+        group.canonical(CombinationIndex(3, true).combination(key)).first);
+    std::cout << "orbits of 3 materials: " << orbits3.size()
+              << ", of 3 materials + void: " << orbits4.size() << std::endl;
+    bool group_ok = true;
+    for (unsigned int g = 0; g < CubeSymmetries::size; ++g)
+      {
+        const Tensor<2, 3> &R = group.matrix(g);
+        group_ok &=
+          ((R * transpose(R) - unit_symmetric_tensor<3>()).norm() < 1e-14);
+        const Combination c = {{1, 2, 3, 4, 5, 6, 7, 8}};
+        group_ok &= (group.apply(group.inverse(g), group.apply(g, c)) == c);
+        const auto canonical = group.canonical(group.apply(g, c));
+        group_ok &=
+          (group.apply(canonical.second, canonical.first) == group.apply(g, c));
+      }
+    std::cout << "48 orthogonal maps with inverses: " << group_ok << std::endl;
+
+    // A rotated copy fitted directly agrees with the mapped fit.
+    const scene::Palette p3 =
+      palette("E=1e5 nu=0.45; E=1e6 nu=0.45; E=1e7 nu=0.45");
+    const Database      db(builder("unused.h5", true).settings(p3), 3);
+    const CoarseElement element(1);
+    SamplingSettings    sampling;
+    sampling.n_directions    = 100;
+    const Combination  c     = {{1, 3, 0, 2, 3, 1, 1, 2}};
+    const unsigned int g     = 13;
+    const Combination  image = group.apply(g, c);
+    const auto         fit   = [&](const Combination  &combination,
+                         const std::uint64_t seed) {
+      return DatabaseBuilder::fit_entry(
+               p3, db, combination, sampling, FitSettings(), element, seed)
+        .material;
+    };
+    const Metamaterial mapped   = transform(fit(c, 1), group, g);
+    const Metamaterial direct   = fit(image, 2);
+    const Metamaterial reseeded = fit(image, 3);
+    const Metamaterial other    = fit({{3, 1, 2, 0, 1, 3, 3, 2}}, 2);
+    // Mean |log| energy ratios over common deformations (paper eq. 5).
+    const auto distance = [&](const Metamaterial &a, const Metamaterial &b) {
+      double     d            = 0;
+      const auto deformations = feature_deformations(element, 64, 0.1, 3);
+      for (const auto &u : deformations)
+        {
+          double e_a, e_b;
+          element.energy(u, a, e_a);
+          element.energy(u, b, e_b);
+          d += std::abs(std::log(e_a / e_b)) / deformations.size();
+        }
+      return d;
+    };
+    const double noise = distance(direct, reseeded);
+    std::cout << "mapped vs direct fit within twice the sampling noise "
+                 "(direct fits with two seeds): "
+              << (distance(mapped, direct) < 2 * noise) << std::endl;
+    std::cout << "another combination differs by more than the noise: "
+              << (distance(other, direct) > noise) << std::endl;
+  }
+
+  {
+    std::cout << "Farthest point sampling" << std::endl;
+    const std::vector<std::vector<double>> points = {
+      {0}, {1}, {2}, {10}, {11}, {5}};
+    for (const unsigned int i : farthest_point_sampling(points, 4, 0))
+      std::cout << i << " ";
+    std::cout << std::endl;
+  }
+
+  {
+    std::cout << "Round trip, lookups, compression" << std::endl;
+    const Database db     = build(builder("small.h5", false), palette());
+    const Database loaded = Database::load("small.h5");
+    std::cout << "entries: " << db.entries().size()
+              << ", loaded equal: " << same_entries(db, loaded) << std::endl;
+    // The lookup of a combination's image is the image of its lookup.
+    bool                  lookups_ok = true;
+    const CubeSymmetries &group      = loaded.symmetries();
+    for (const auto &c : DatabaseBuilder::all_combinations(db))
+      for (unsigned int g = 0; g < CubeSymmetries::size; ++g)
+        {
+          const Metamaterial a = loaded.lookup(group.apply(g, c));
+          const Metamaterial b = transform(loaded.lookup(c), group, g);
+          for (unsigned int k = 0; k < 8; ++k)
+            lookups_ok &=
+              (std::abs(a.points[k].mu - b.points[k].mu) <=
+                 1e-12 * b.points[k].mu &&
+               std::abs(a.points[k].lambda - b.points[k].lambda) <=
+                 1e-12 * b.points[k].lambda &&
+               std::abs(a.points[k].anisotropy - b.points[k].anisotropy) <=
+                 1e-12 * b.points[k].mu);
+        }
+    std::cout << "lookups commute with the 48 symmetries (mu, lambda, C): "
+              << lookups_ok << std::endl;
+
+    Database            compressed = loaded;
+    const CoarseElement element(1);
+    compressed.compress(5,
+                        element,
+                        feature_deformations(element, 32, 0.1, 4711));
+    std::set<std::pair<double, double>> distinct;
+    for (const auto &c : DatabaseBuilder::all_combinations(compressed))
+      distinct.insert(
+        {compressed.lookup(c).points[0].mu, compressed.lookup(c).points[7].mu});
+    std::cout << "compressed to " << compressed.n_representatives()
+              << " representatives, " << compressed.entries().size()
+              << " entries kept, every combination mapped: "
+              << (distinct.size() <= 5) << std::endl;
+    compressed.save("compressed.h5");
+    std::cout << "compressed round trip: "
+              << same_entries(compressed, Database::load("compressed.h5"))
+              << std::endl;
+
+    // Lazy mode: only the scene's blocks.
+    scene::VoxelGrid grid({{4, 2, 2}}, 0.01, 1);
+    grid(0, 0, 0) = 2;
+    grid(3, 1, 1) = 2;
+    std::filesystem::remove("lazy.h5");
+    std::ostringstream    log;
+    const DatabaseBuilder lazy = builder("lazy.h5", false, "scene");
+    Database              ldb  = lazy.open(palette(), log);
+    lazy.build(
+      palette(), ldb, DatabaseBuilder::scene_combinations(grid), log, false);
+    Database again = lazy.open(palette(), log);
+    std::cout << "lazy build fitted "
+              << Database::load("lazy.h5").entries().size()
+              << " entries, a second run has "
+              << again.missing(DatabaseBuilder::scene_combinations(grid)).size()
+              << " to fit" << std::endl;
+  }
+
+  {
+    std::cout << "Bad files" << std::endl;
+    std::ostringstream log;
+    expect_error("missing", [] { Database::load("no_such.h5"); });
+    std::ofstream("garbage.h5") << "not a database";
+    expect_error("garbage", [] { Database::load("garbage.h5"); });
+    {
+      std::filesystem::copy_file(
+        "small.h5",
+        "truncated.h5",
+        std::filesystem::copy_options::overwrite_existing);
+      std::filesystem::resize_file("truncated.h5",
+                                   std::filesystem::file_size("small.h5") / 2);
+    }
+    expect_error("truncated", [] { Database::load("truncated.h5"); });
+    expect_error("other palette", [&log] {
+      builder("small.h5", false)
+        .open(palette("E=1e5 nu=0.45; E=2e6 nu=0.45"), log);
+    });
+    expect_error("other settings",
+                 [&log] { builder("small.h5", true).open(palette(), log); });
+    expect_error("missing combination", [] {
+      Database::load("lazy.h5").lookup({{1, 2, 2, 1, 2, 1, 1, 2}});
+    });
+  }
+}
