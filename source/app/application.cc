@@ -281,11 +281,13 @@ namespace ddfem::app
       prm.leave_subsection();
 
       coarsening::Database database = builder.open(scene.palette, out);
-      const std::vector<coarsening::Combination> combinations =
-        builder.scope() == coarsening::DatabaseBuilder::Scope::all ?
-          coarsening::DatabaseBuilder::all_combinations(database) :
-          coarsening::DatabaseBuilder::scene_combinations(scene.grid);
-      builder.build(scene.palette, database, combinations, out, show_timings);
+      builder.build(scene.palette,
+                    database,
+                    builder.scope() == coarsening::DatabaseBuilder::Scope::all ?
+                      nullptr :
+                      &scene.grid,
+                    out,
+                    show_timings);
       return 0;
     }
   } // namespace

@@ -43,6 +43,13 @@ namespace ddfem::coarsening
                       "log-energy features, and map every combination to its "
                       "nearest one. 0 keeps every entry. Only with Scope = "
                       "all.");
+    prm.declare_entry("Levels",
+                      "1",
+                      Patterns::Integer(1, 2),
+                      "Coarsening levels to build: 1 (2x2x2 blocks of voxels) "
+                      "or 2 (also 4x4x4 blocks, through the staged "
+                      "compression of the subsection Level 2; needs the "
+                      "complete level 1, Scope = all or an earlier build).");
     prm.declare_entry("Threads",
                       "0",
                       Patterns::Integer(0),
@@ -50,6 +57,7 @@ namespace ddfem::coarsening
                       "cores. Results do not depend on it.");
     SamplingSettings::declare_parameters(prm);
     FitSettings::declare_parameters(prm);
+    HierarchySettings::declare_parameters(prm);
     prm.leave_subsection();
   }
 
@@ -64,8 +72,10 @@ namespace ddfem::coarsening
     run_scope         = prm.get("Scope") == "all" ? Scope::all : Scope::scene;
     n_representatives = prm.get_integer("Representatives");
     n_threads         = prm.get_integer("Threads");
+    levels            = prm.get_integer("Levels");
     sampling.parse_parameters(prm);
     fitting.parse_parameters(prm);
+    hierarchy.parse_parameters(prm);
     prm.leave_subsection();
     AssertThrow(!database_file.empty(),
                 ExcMessage("Database/File must name a file."));
@@ -206,6 +216,57 @@ namespace ddfem::coarsening
     const FitResult fit = fit_metamaterial(element, samples, prior, fitting);
     entry.material =
       symmetrize(fit.material, combination, database.symmetries());
+    record_fit(fit, samples, entry);
+    return entry;
+  }
+
+
+
+  Entry
+  DatabaseBuilder::fit_level2_entry(const Database         &level1,
+                                    const Hierarchy        &level2,
+                                    const unsigned int      r,
+                                    const SamplingSettings &sampling,
+                                    const FitSettings      &fitting,
+                                    const CoarseElement    &element,
+                                    const std::uint64_t     seed)
+  {
+    const std::array<Combination, 8> blocks = level2.composition(level1, r);
+    std::array<std::vector<material::MaterialPoint>, 8> children;
+    for (unsigned int k = 0; k < 8; ++k)
+      if (std::any_of(blocks[k].begin(), blocks[k].end(), [](auto id) {
+            return id != 0;
+          }))
+        children[k] = level1.lookup(blocks[k]).points;
+    // Point q starts from its child's sub-point and keeps its direction.
+    Metamaterial prior;
+    for (unsigned int q = 0; q < element.n_points(); ++q)
+      {
+        const auto             &child = children[element.child_of_point(q)];
+        material::MaterialPoint p;
+        p.direction[0] = 1;
+        if (!child.empty())
+          p = child[element.subpoint_of_point(q)];
+        prior.points.push_back(p);
+      }
+    const BlockSampler        sampler(children);
+    Entry                     entry;
+    const std::vector<Sample> samples =
+      sampler.sample(sampling, seed, entry.n_dropped);
+    const FitResult fit = fit_metamaterial(element, samples, prior, fitting);
+    entry.key           = r;
+    entry.material      = fit.material;
+    record_fit(fit, samples, entry);
+    return entry;
+  }
+
+
+
+  void
+  DatabaseBuilder::record_fit(const FitResult           &fit,
+                              const std::vector<Sample> &samples,
+                              Entry                     &entry)
+  {
     entry.median_error = fit.median_error;
     entry.max_error    = fit.max_error;
     entry.n_samples    = samples.size();
@@ -216,133 +277,275 @@ namespace ddfem::coarsening
         entry.min_strain = std::min(entry.min_strain, s.strain);
         entry.max_strain = std::max(entry.max_strain, s.strain);
       }
-    return entry;
   }
 
 
 
   void
-  DatabaseBuilder::build(const scene::Palette           &palette,
-                         Database                       &database,
-                         const std::vector<Combination> &combinations,
-                         std::ostream                   &out,
-                         const bool                      show_progress) const
+  DatabaseBuilder::fit_in_parallel(
+    const std::size_t                              n,
+    const std::function<Entry(const std::size_t)> &fit,
+    const std::function<void(const Entry &)>      &store,
+    std::ostream                                  &out,
+    const bool                                     show_progress) const
   {
-    const std::vector<Combination> todo = database.missing(combinations);
+    Timer                    timer;
+    std::mutex               mutex;
+    std::atomic<std::size_t> next(0);
+    std::size_t              done      = 0;
+    double                   last_draw = -1;
+    const unsigned int       workers =
+      std::max<std::size_t>(1,
+                            std::min<std::size_t>(n_threads > 0 ?
+                                                    n_threads :
+                                                    MultithreadInfo::n_cores(),
+                                                  n));
+    const auto work = [&]() {
+      for (std::size_t i = next++; i < n; i = next++)
+        {
+          const Entry                 entry = fit(i);
+          std::lock_guard<std::mutex> lock(mutex);
+          store(entry);
+          ++done;
+          // The progress bar, redrawn at most every half second.
+          if (show_progress &&
+              (timer.wall_time() > last_draw + 0.5 || done == n))
+            {
+              last_draw                = timer.wall_time();
+              const double       left  = last_draw / done * (n - done);
+              const unsigned int width = 30;
+              const unsigned int bar   = width * done / n;
+              out << "\r  [" << std::string(bar, '#')
+                  << std::string(width - bar, ' ') << "] " << done << "/" << n
+                  << ", " << std::fixed << std::setprecision(0) << last_draw
+                  << " s, about " << left << " s left   " << std::defaultfloat
+                  << std::setprecision(6) << std::flush;
+            }
+        }
+    };
+    std::vector<std::thread> threads;
+    for (unsigned int t = 1; t < workers; ++t)
+      threads.emplace_back(work);
+    work();
+    for (auto &t : threads)
+      t.join();
+    if (show_progress && n > 0)
+      out << std::endl;
+  }
+
+
+
+  namespace
+  {
+    /// Prints the statistics of a level's entries.
+    void
+    report(const std::vector<Entry> &entries, std::ostream &out)
+    {
+      std::vector<double> errors;
+      double              min_strain = 1e300, max_strain = 0;
+      std::size_t         samples = 0, dropped = 0;
+      for (const Entry &e : entries)
+        {
+          errors.push_back(e.median_error);
+          min_strain = std::min(min_strain, e.min_strain);
+          max_strain = std::max(max_strain, e.max_strain);
+          samples += e.n_samples;
+          dropped += e.n_dropped;
+        }
+      out << "  entries: " << entries.size() << ", samples kept: " << samples
+          << ", dropped (failed solves): " << dropped << std::endl;
+      if (errors.empty())
+        return;
+      std::sort(errors.begin(), errors.end());
+      const auto percentile = [&errors](const double p) {
+        return errors[std::min<std::size_t>(errors.size() - 1,
+                                            p * errors.size())];
+      };
+      out << std::setprecision(3) << "  strain range sampled: " << min_strain
+          << " to " << max_strain << " (largest principal stretch deviation)\n"
+          << "  held-out relative energy error per entry (median of each): "
+          << "10% " << percentile(0.1) << ", 50% " << percentile(0.5)
+          << ", 90% " << percentile(0.9) << ", max " << errors.back()
+          << std::setprecision(6) << std::endl;
+    }
+  } // namespace
+
+
+
+  void
+  DatabaseBuilder::build(const scene::Palette   &palette,
+                         Database               &database,
+                         const scene::VoxelGrid *scene_grid,
+                         std::ostream           &out,
+                         const bool              show_progress) const
+  {
+    Timer                          timer;
+    const std::vector<Combination> todo =
+      database.missing(scene_grid == nullptr ? all_combinations(database) :
+                                               scene_combinations(*scene_grid));
     out << "Metamaterial database '" << database_file
-        << "': " << database.combinations().size() << " combinations, "
+        << "', level 1: " << database.combinations().size() << " combinations, "
         << database.entries().size() << " entries present, " << todo.size()
         << " orbit representatives to fit" << std::endl;
     AssertThrow(todo.empty() || database.n_representatives() == 0,
                 ExcMessage("The metamaterial database '" + database_file +
                            "' is compressed and cannot take new entries."));
 
-    Timer               timer;
     const CoarseElement element(1);
     if (!todo.empty())
       {
-        Journal                  journal(database_file, database.fingerprint());
-        std::mutex               mutex;
-        std::atomic<std::size_t> next(0);
-        std::size_t              done      = 0;
-        double                   last_draw = -1;
-        const unsigned int       workers =
-          std::max(1u,
-                   std::min<unsigned int>(n_threads > 0 ?
-                                            n_threads :
-                                            MultithreadInfo::n_cores(),
-                                          todo.size()));
-        const auto work = [&]() {
-          for (std::size_t i = next++; i < todo.size(); i = next++)
-            {
-              // A seed per combination: entries do not depend on threads.
-              const std::size_t key   = database.combinations().key(todo[i]);
-              const Entry       entry = fit_entry(palette,
-                                            database,
-                                            todo[i],
-                                            sampling,
-                                            fitting,
-                                            element,
-                                            0x9E3779B97F4A7C15ULL * (key + 1));
-              std::lock_guard<std::mutex> lock(mutex);
-              journal.append(entry);
-              database.add(entry);
-              ++done;
-              // The progress bar, redrawn at most every half second.
-              if (show_progress &&
-                  (timer.wall_time() > last_draw + 0.5 || done == todo.size()))
-                {
-                  last_draw            = timer.wall_time();
-                  const double elapsed = timer.wall_time();
-                  const double left    = elapsed / done * (todo.size() - done);
-                  const unsigned int width = 30;
-                  const unsigned int bar   = width * done / todo.size();
-                  out << "\r  [" << std::string(bar, '#')
-                      << std::string(width - bar, ' ') << "] " << done << "/"
-                      << todo.size() << ", " << std::fixed
-                      << std::setprecision(0) << elapsed << " s, about " << left
-                      << " s left   " << std::defaultfloat << std::flush;
-                }
-            }
-        };
-        std::vector<std::thread> threads;
-        for (unsigned int t = 1; t < workers; ++t)
-          threads.emplace_back(work);
-        work();
-        for (auto &t : threads)
-          t.join();
-        if (show_progress)
-          out << std::endl;
+        Journal journal(database_file, database.fingerprint());
+        fit_in_parallel(
+          todo.size(),
+          [&](const std::size_t i) {
+            // A seed per combination: entries do not depend on threads.
+            const std::size_t key = database.combinations().key(todo[i]);
+            return fit_entry(palette,
+                             database,
+                             todo[i],
+                             sampling,
+                             fitting,
+                             element,
+                             0x9E3779B97F4A7C15ULL * (key + 1));
+          },
+          [&](const Entry &entry) {
+            journal.append(entry);
+            database.add(entry);
+          },
+          out,
+          show_progress);
       }
-    const double fit_time = timer.wall_time();
+    const double level1_time = timer.wall_time();
 
     if (n_representatives > 0 && database.n_representatives() == 0)
       {
         database.compress(n_representatives,
                           element,
-                          feature_deformations(element, 32, 0.1, 4711));
+                          feature_deformations(32, 0.1, 4711));
         out << "Compressed to " << database.n_representatives()
             << " representatives (" << database.entries().size()
             << " entries kept)" << std::endl;
       }
 
+    // Level 2: the staged tables first (saved before any fit, so a
+    // resumed build finds them), then the representatives' fits.
+    Hierarchy level2;
+    if (levels == 2)
+      {
+        if (std::filesystem::exists(database_file))
+          Database::load(database_file, &level2);
+        if (level2.empty() ||
+            level2.settings.fingerprint() != hierarchy.fingerprint())
+          {
+            level2 = Hierarchy();
+            level2.build_tables(database, hierarchy);
+          }
+      }
     std::filesystem::create_directories(
       std::filesystem::absolute(database_file).parent_path());
-    database.save(database_file);
+    database.save(database_file, levels == 2 ? &level2 : nullptr);
     Journal::remove(database_file);
-
-    // Report.
-    const auto         &entries = database.entries();
-    std::vector<double> errors;
-    double              min_strain = 1e300, max_strain = 0;
-    std::size_t         samples = 0, dropped = 0;
-    for (const Entry &e : entries)
-      {
-        errors.push_back(e.median_error);
-        min_strain = std::min(min_strain, e.min_strain);
-        max_strain = std::max(max_strain, e.max_strain);
-        samples += e.n_samples;
-        dropped += e.n_dropped;
-      }
-    std::sort(errors.begin(), errors.end());
-    const auto percentile = [&errors](const double p) {
-      return errors[std::min<std::size_t>(errors.size() - 1,
-                                          p * errors.size())];
-    };
-    out << "  entries: " << entries.size() << ", samples kept: " << samples
-        << ", dropped (failed solves): " << dropped << std::endl;
-    if (!errors.empty())
-      out << std::setprecision(3) << "  strain range sampled: " << min_strain
-          << " to " << max_strain << " (largest principal stretch deviation)\n"
-          << "  held-out relative energy error per entry (median of each): "
-          << "10% " << percentile(0.1) << ", 50% " << percentile(0.5)
-          << ", 90% " << percentile(0.9) << ", max " << errors.back()
-          << std::defaultfloat << std::setprecision(6) << std::endl;
+    report(database.entries(), out);
     if (show_progress)
-      out << "  fitting time: " << fit_time << " s ("
-          << (todo.empty() ? 0. : fit_time / todo.size())
-          << " s per combination), file size: "
+      out << "  level 1 fitting time: " << level1_time << " s ("
+          << (todo.empty() ? 0. : level1_time / todo.size())
+          << " s per combination)" << std::endl;
+
+    if (levels == 2)
+      {
+        std::vector<unsigned int> needed;
+        if (scene_grid == nullptr)
+          for (unsigned int r = 0; r < level2.n_representatives(); ++r)
+            needed.push_back(r);
+        else
+          for (const auto &blocks : scene_blocks(*scene_grid))
+            if (const int r = level2.find(database, blocks); r >= 0)
+              needed.push_back(r);
+        const std::string level2_journal = database_file + ".level2";
+        const std::string fingerprint =
+          database.fingerprint() + " | " + hierarchy.fingerprint();
+        const auto has = [&level2](const std::size_t r) {
+          return std::any_of(level2.entries.begin(),
+                             level2.entries.end(),
+                             [r](const Entry &e) { return e.key == r; });
+        };
+        for (const Entry &e : Journal::read(level2_journal, fingerprint))
+          if (!has(e.key))
+            level2.entries.push_back(e);
+        std::sort(needed.begin(), needed.end());
+        needed.erase(std::unique(needed.begin(), needed.end()), needed.end());
+        needed.erase(std::remove_if(needed.begin(), needed.end(), has),
+                     needed.end());
+        out << "Level 2: " << level2.n_representatives() << " representatives, "
+            << level2.entries.size() << " fitted, " << needed.size()
+            << " to fit" << std::endl;
+
+        const CoarseElement element2(2);
+        Timer               timer2;
+        if (!needed.empty())
+          {
+            Journal journal(level2_journal, fingerprint);
+            fit_in_parallel(
+              needed.size(),
+              [&](const std::size_t i) {
+                return fit_level2_entry(database,
+                                        level2,
+                                        needed[i],
+                                        sampling,
+                                        fitting,
+                                        element2,
+                                        0x2545F4914F6CDD1DULL *
+                                          (needed[i] + 1));
+              },
+              [&](const Entry &entry) {
+                journal.append(entry);
+                level2.entries.push_back(entry);
+              },
+              out,
+              show_progress);
+          }
+        std::sort(level2.entries.begin(),
+                  level2.entries.end(),
+                  [](const Entry &a, const Entry &b) { return a.key < b.key; });
+        database.save(database_file, &level2);
+        Journal::remove(level2_journal);
+        report(level2.entries, out);
+        if (show_progress)
+          out << "  level 2 fitting time: " << timer2.wall_time() << " s ("
+              << (needed.empty() ? 0. : timer2.wall_time() / needed.size())
+              << " s per representative)" << std::endl;
+      }
+    if (show_progress)
+      out << "  total time: " << timer.wall_time() << " s, file size: "
           << std::filesystem::file_size(database_file) / 1024. << " KiB"
           << std::endl;
+  }
+
+
+
+  std::vector<std::array<Combination, 8>>
+  DatabaseBuilder::scene_blocks(const scene::VoxelGrid &grid)
+  {
+    const auto &n = grid.size();
+    AssertThrow(n[0] % 4 == 0 && n[1] % 4 == 0 && n[2] % 4 == 0,
+                ExcMessage("Two coarsening levels need grid sizes divisible "
+                           "by 4; Geometry/Grid size is " +
+                           std::to_string(n[0]) + " " + std::to_string(n[1]) +
+                           " " + std::to_string(n[2]) + "."));
+    std::vector<std::array<Combination, 8>> result;
+    for (unsigned int k = 0; k < n[2]; k += 4)
+      for (unsigned int j = 0; j < n[1]; j += 4)
+        for (unsigned int i = 0; i < n[0]; i += 4)
+          {
+            std::array<Combination, 8> blocks;
+            for (unsigned int b = 0; b < 8; ++b)
+              for (unsigned int child = 0; child < 8; ++child)
+                blocks[b][child] =
+                  grid(i + 2 * (b & 1) + (child & 1),
+                       j + 2 * ((b >> 1) & 1) + ((child >> 1) & 1),
+                       k + 2 * ((b >> 2) & 1) + ((child >> 2) & 1));
+            result.push_back(blocks);
+          }
+    return result;
   }
 } // namespace ddfem::coarsening

@@ -1,7 +1,8 @@
 #include <deal.II/base/exceptions.h>
 
+#include <ddfem/coarsening/block_sampler.h>
 #include <ddfem/coarsening/database.h>
-#include <hdf5.h>
+#include <ddfem/coarsening/hierarchy.h>
 
 #include <algorithm>
 #include <cmath>
@@ -12,8 +13,12 @@
 #include <random>
 #include <sstream>
 
+#include "hdf5_io.h"
+
 namespace ddfem::coarsening
 {
+  using namespace hdf5;
+
   std::string
   DatabaseSettings::describe(const scene::Palette &palette)
   {
@@ -48,7 +53,6 @@ namespace ddfem::coarsening
 
   namespace
   {
-    constexpr unsigned int n_values = 6; // mu, lambda, C, v
 
     unsigned int
     count_materials(const std::string &palette)
@@ -56,176 +60,117 @@ namespace ddfem::coarsening
       return std::count(palette.begin(), palette.end(), ';') + 1;
     }
 
-    /// An HDF5 identifier closed by the matching function on scope exit.
-    class Handle
-    {
-    public:
-      Handle(const hid_t id, herr_t (*close)(hid_t))
-        : id(id)
-        , close(close)
-      {}
-      ~Handle()
-      {
-        if (id >= 0)
-          close(id);
-      }
-      Handle(const Handle &) = delete;
-      Handle &
-      operator=(const Handle &) = delete;
-      operator hid_t() const
-      {
-        return id;
-      }
-      bool
-      valid() const
-      {
-        return id >= 0;
-      }
+  } // namespace
 
-    private:
-      hid_t id;
-      herr_t (*close)(hid_t);
-    };
 
-    /// Thrown inside load() and turned into a message naming the file.
-    struct FileProblem
-    {
-      std::string what;
-    };
 
+  namespace hdf5
+  {
     void
-    check(const bool condition, const std::string &what)
+    write_entries(const hid_t               file,
+                  const std::string        &group,
+                  const std::vector<Entry> &entries,
+                  const unsigned int        n_points)
     {
-      if (!condition)
-        throw FileProblem{what};
+      const hsize_t             n = entries.size();
+      std::vector<std::int64_t> keys, counts;
+      std::vector<double>       parameters, errors, strains;
+      for (const Entry &e : entries)
+        {
+          Assert(e.material.points.size() == n_points, ExcInternalError());
+          keys.push_back(e.key);
+          for (const auto &p : e.material.points)
+            for (const double value : {p.mu,
+                                       p.lambda,
+                                       p.anisotropy,
+                                       p.direction[0],
+                                       p.direction[1],
+                                       p.direction[2]})
+              parameters.push_back(value);
+          errors.insert(errors.end(), {e.median_error, e.max_error});
+          strains.insert(strains.end(), {e.min_strain, e.max_strain});
+          counts.insert(counts.end(), {e.n_samples, e.n_dropped});
+        }
+      write_dataset(file, group + "/key", {n}, keys);
+      write_dataset(file,
+                    group + "/parameters",
+                    {n, n_points, n_values},
+                    parameters);
+      write_dataset(file, group + "/fit error", {n, 2}, errors);
+      write_dataset(file, group + "/strain range", {n, 2}, strains);
+      write_dataset(file, group + "/samples", {n, 2}, counts);
     }
 
-    template <typename T>
-    hid_t
-    native_type();
-    template <>
-    hid_t
-    native_type<double>()
-    {
-      return H5T_NATIVE_DOUBLE;
-    }
-    template <>
-    hid_t
-    native_type<std::int64_t>()
-    {
-      return H5T_NATIVE_INT64;
-    }
-    template <>
-    hid_t
-    native_type<std::int32_t>()
-    {
-      return H5T_NATIVE_INT32;
-    }
-    template <>
-    hid_t
-    native_type<std::uint8_t>()
-    {
-      return H5T_NATIVE_UINT8;
-    }
 
-    template <typename T>
-    void
-    write_dataset(const hid_t                 file,
-                  const std::string          &name,
-                  const std::vector<hsize_t> &dims,
-                  const std::vector<T>       &data)
-    {
-      const Handle space(H5Screate_simple(dims.size(), dims.data(), nullptr),
-                         H5Sclose);
-      const Handle lcpl(H5Pcreate(H5P_LINK_CREATE), H5Pclose);
-      H5Pset_create_intermediate_group(lcpl, 1);
-      const Handle set(H5Dcreate2(file,
-                                  name.c_str(),
-                                  native_type<T>(),
-                                  space,
-                                  lcpl,
-                                  H5P_DEFAULT,
-                                  H5P_DEFAULT),
-                       H5Dclose);
-      AssertThrow(set.valid() && (data.empty() || H5Dwrite(set,
-                                                           native_type<T>(),
-                                                           H5S_ALL,
-                                                           H5S_ALL,
-                                                           H5P_DEFAULT,
-                                                           data.data()) >= 0),
-                  ExcMessage("Could not write the dataset " + name + "."));
-    }
 
-    /// Reads a dataset whose shape must be @p dims.
-    template <typename T>
-    std::vector<T>
-    read_dataset(const hid_t                 file,
-                 const std::string          &name,
-                 const std::vector<hsize_t> &dims)
+    hsize_t
+    dataset_length(const hid_t file, const std::string &name)
     {
       check(H5Lexists(file, name.c_str(), H5P_DEFAULT) > 0,
-            "the dataset " + name + " is missing");
+            "has no dataset " + name);
       const Handle set(H5Dopen2(file, name.c_str(), H5P_DEFAULT), H5Dclose);
-      check(set.valid(), "the dataset " + name + " cannot be opened");
-      const Handle         space(H5Dget_space(set), H5Sclose);
-      std::vector<hsize_t> shape(H5Sget_simple_extent_ndims(space));
-      H5Sget_simple_extent_dims(space, shape.data(), nullptr);
-      std::ostringstream expected, found;
-      for (const auto d : dims)
-        expected << (&d == dims.data() ? "" : " x ") << d;
-      for (const auto d : shape)
-        found << (&d == shape.data() ? "" : " x ") << d;
-      check(shape == dims,
-            "the dataset " + name + " has shape " + found.str() +
-              " instead of " + expected.str());
-      std::size_t n = 1;
-      for (const auto d : dims)
-        n *= d;
-      std::vector<T> data(n);
-      check(n == 0 || H5Dread(set,
-                              native_type<T>(),
-                              H5S_ALL,
-                              H5S_ALL,
-                              H5P_DEFAULT,
-                              data.data()) >= 0,
-            "the dataset " + name + " cannot be read (truncated file?)");
-      return data;
+      check(set.valid(), "cannot open the dataset " + name);
+      const Handle space(H5Dget_space(set), H5Sclose);
+      hsize_t      dims[H5S_MAX_RANK];
+      check(H5Sget_simple_extent_ndims(space) >= 1 &&
+              H5Sget_simple_extent_dims(space, dims, nullptr) >= 1,
+            "has an empty-shaped dataset " + name);
+      return dims[0];
     }
 
-    void
-    write_attribute(const hid_t        file,
-                    const std::string &name,
-                    const std::string &value)
-    {
-      const Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
-      H5Tset_size(type, std::max<std::size_t>(1, value.size()));
-      const Handle space(H5Screate(H5S_SCALAR), H5Sclose);
-      const Handle attribute(
-        H5Acreate2(file, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT),
-        H5Aclose);
-      AssertThrow(attribute.valid() &&
-                    H5Awrite(attribute, type, value.c_str()) >= 0,
-                  ExcMessage("Could not write the attribute " + name + "."));
-    }
 
-    std::string
-    read_attribute(const hid_t file, const std::string &name)
+
+    std::vector<Entry>
+    read_entries(const hid_t        file,
+                 const std::string &group,
+                 const unsigned int n_points)
     {
-      check(H5Aexists(file, name.c_str()) > 0,
-            "the attribute " + name + " is missing");
-      const Handle attribute(H5Aopen(file, name.c_str(), H5P_DEFAULT),
-                             H5Aclose);
-      const Handle type(H5Aget_type(attribute), H5Tclose);
-      check(attribute.valid() && H5Tget_class(type) == H5T_STRING,
-            "the attribute " + name + " is not a string");
-      std::string  value(H5Tget_size(type), '\0');
-      const Handle memory(H5Tcopy(H5T_C_S1), H5Tclose);
-      H5Tset_size(memory, value.size());
-      check(H5Aread(attribute, memory, value.data()) >= 0,
-            "the attribute " + name + " cannot be read");
-      return value.substr(0, value.find('\0'));
+      const hsize_t n = dataset_length(file, group + "/key");
+      const auto keys = read_dataset<std::int64_t>(file, group + "/key", {n});
+      const auto parameters = read_dataset<double>(file,
+                                                   group + "/parameters",
+                                                   {n, n_points, n_values});
+      const auto errors =
+        read_dataset<double>(file, group + "/fit error", {n, 2});
+      const auto strains =
+        read_dataset<double>(file, group + "/strain range", {n, 2});
+      const auto counts =
+        read_dataset<std::int64_t>(file, group + "/samples", {n, 2});
+      std::vector<Entry> entries;
+      for (hsize_t e = 0; e < n; ++e)
+        {
+          Entry entry;
+          check(keys[e] >= 0 && (e == 0 || keys[e] > keys[e - 1]),
+                "has an invalid key at " + group + " " + std::to_string(e));
+          entry.key = keys[e];
+          for (unsigned int q = 0; q < n_points; ++q)
+            {
+              const double *v = &parameters[(e * n_points + q) * n_values];
+              material::MaterialPoint p;
+              p.mu         = v[0];
+              p.lambda     = v[1];
+              p.anisotropy = v[2];
+              for (unsigned int d = 0; d < 3; ++d)
+                p.direction[d] = v[3 + d];
+              check(std::isfinite(p.mu) && p.mu > 0 &&
+                      std::isfinite(p.lambda) && p.lambda >= 0 &&
+                      std::isfinite(p.anisotropy) && p.anisotropy >= 0 &&
+                      std::abs(p.direction.norm() - 1) < 1e-6,
+                    "has non-physical parameters at " + group + " " +
+                      std::to_string(e) + ", point " + std::to_string(q));
+              entry.material.points.push_back(p);
+            }
+          entry.median_error = errors[2 * e];
+          entry.max_error    = errors[2 * e + 1];
+          entry.min_strain   = strains[2 * e];
+          entry.max_strain   = strains[2 * e + 1];
+          entry.n_samples    = counts[2 * e];
+          entry.n_dropped    = counts[2 * e + 1];
+          entries.push_back(entry);
+        }
+      return entries;
     }
-  } // namespace
+  } // namespace hdf5
 
 
 
@@ -326,7 +271,7 @@ namespace ddfem::coarsening
 
 
   void
-  Database::save(const std::string &file) const
+  Database::save(const std::string &file, const Hierarchy *level2) const
   {
     const std::string temporary = file + ".partial";
     {
@@ -347,34 +292,14 @@ namespace ddfem::coarsening
       write_attribute(h5, "settings", settings_fingerprint);
       write_attribute(h5, "representatives", std::to_string(representatives));
 
-      const hsize_t             n = fitted.size();
-      std::vector<std::int64_t> keys, counts;
-      std::vector<double>       parameters, errors, strains;
-      for (const Entry &e : fitted)
-        {
-          keys.push_back(e.key);
-          for (const auto &p : e.material.points)
-            for (const double value : {p.mu,
-                                       p.lambda,
-                                       p.anisotropy,
-                                       p.direction[0],
-                                       p.direction[1],
-                                       p.direction[2]})
-              parameters.push_back(value);
-          errors.insert(errors.end(), {e.median_error, e.max_error});
-          strains.insert(strains.end(), {e.min_strain, e.max_strain});
-          counts.insert(counts.end(), {e.n_samples, e.n_dropped});
-        }
-      write_dataset(h5, "entries/key", {n}, keys);
-      write_dataset(h5, "entries/parameters", {n, 8, n_values}, parameters);
-      write_dataset(h5, "entries/fit error", {n, 2}, errors);
-      write_dataset(h5, "entries/strain range", {n, 2}, strains);
-      write_dataset(h5, "entries/samples", {n, 2}, counts);
+      write_entries(h5, "entries", fitted, 8);
       write_dataset(h5, "lookup/entry", {hsize_t(index.size())}, entry_of);
       write_dataset(h5,
                     "lookup/symmetry",
                     {hsize_t(index.size())},
                     symmetry_of);
+      if (level2 != nullptr && !level2->empty())
+        level2->save(h5);
     }
     std::filesystem::rename(temporary, file);
   }
@@ -382,7 +307,7 @@ namespace ddfem::coarsening
 
 
   Database
-  Database::load(const std::string &file)
+  Database::load(const std::string &file, Hierarchy *level2)
   {
     H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
     const std::string where = "The metamaterial database file '" + file + "' ";
@@ -410,66 +335,21 @@ namespace ddfem::coarsening
         db.settings_fingerprint = fingerprint;
         db.representatives = std::stoul(read_attribute(h5, "representatives"));
 
-        const Handle keys_set(H5Dopen2(h5, "entries/key", H5P_DEFAULT),
-                              H5Dclose);
-        check(keys_set.valid(), "has no dataset entries/key");
-        const Handle space(H5Dget_space(keys_set), H5Sclose);
-        hsize_t      n = 0;
-        check(H5Sget_simple_extent_ndims(space) == 1,
-              "has a dataset entries/key that is not a list");
-        H5Sget_simple_extent_dims(space, &n, nullptr);
-
-        const auto keys = read_dataset<std::int64_t>(h5, "entries/key", {n});
-        const auto parameters =
-          read_dataset<double>(h5, "entries/parameters", {n, 8, n_values});
-        const auto errors =
-          read_dataset<double>(h5, "entries/fit error", {n, 2});
-        const auto strains =
-          read_dataset<double>(h5, "entries/strain range", {n, 2});
-        const auto counts =
-          read_dataset<std::int64_t>(h5, "entries/samples", {n, 2});
+        db.fitted            = read_entries(h5, "entries", 8);
         const hsize_t n_keys = db.index.size();
         db.entry_of = read_dataset<std::int32_t>(h5, "lookup/entry", {n_keys});
         db.symmetry_of =
           read_dataset<std::uint8_t>(h5, "lookup/symmetry", {n_keys});
-
-        for (hsize_t e = 0; e < n; ++e)
-          {
-            Entry entry;
-            check(keys[e] >= 0 && std::size_t(keys[e]) < n_keys &&
-                    (e == 0 || keys[e] > keys[e - 1]),
-                  "has an invalid entry key at entry " + std::to_string(e));
-            entry.key = keys[e];
-            for (unsigned int q = 0; q < 8; ++q)
-              {
-                const double           *v = &parameters[(e * 8 + q) * n_values];
-                material::MaterialPoint p;
-                p.mu         = v[0];
-                p.lambda     = v[1];
-                p.anisotropy = v[2];
-                for (unsigned int d = 0; d < 3; ++d)
-                  p.direction[d] = v[3 + d];
-                check(std::isfinite(p.mu) && p.mu > 0 &&
-                        std::isfinite(p.lambda) && p.lambda >= 0 &&
-                        std::isfinite(p.anisotropy) && p.anisotropy >= 0 &&
-                        std::abs(p.direction.norm() - 1) < 1e-6,
-                      "has non-physical parameters at entry " +
-                        std::to_string(e) + ", point " + std::to_string(q));
-                entry.material.points.push_back(p);
-              }
-            entry.median_error = errors[2 * e];
-            entry.max_error    = errors[2 * e + 1];
-            entry.min_strain   = strains[2 * e];
-            entry.max_strain   = strains[2 * e + 1];
-            entry.n_samples    = counts[2 * e];
-            entry.n_dropped    = counts[2 * e + 1];
-            db.fitted.push_back(entry);
-          }
+        for (const Entry &e : db.fitted)
+          check(e.key < n_keys, "has an entry key beyond the palette");
+        const std::int64_t n = db.fitted.size();
         for (std::size_t k = 0; k < n_keys; ++k)
           check(db.entry_of[k] >= -1 && db.entry_of[k] < std::int64_t(n) &&
                   db.symmetry_of[k] < CubeSymmetries::size,
                 "has an invalid lookup table at combination " +
                   std::to_string(k));
+        if (level2 != nullptr && !level2->load(h5, n_keys))
+          *level2 = Hierarchy();
         return db;
       }
     catch (const FileProblem &problem)
@@ -511,30 +391,103 @@ namespace ddfem::coarsening
 
 
   std::vector<CornerDisplacements>
-  feature_deformations(const CoarseElement &element,
-                       const unsigned int   n,
-                       const double         strain,
-                       const std::uint64_t  seed)
+  feature_deformations(const unsigned int  n,
+                       const double        strain,
+                       const std::uint64_t seed)
   {
-    std::mt19937_64                  generator(seed);
-    std::normal_distribution<double> normal;
+    // A homogeneous block (nu = 0.4) under the sampler's force patterns:
+    // deformations of the kind the database was fitted to, in place of
+    // arbitrary corner motions that would probe unsampled modes.
+    material::MaterialPoint reference;
+    reference.mu     = 1;
+    reference.lambda = 4;
+    std::array<std::vector<material::MaterialPoint>, 8> children;
+    children.fill(std::vector<material::MaterialPoint>(8, reference));
+    SamplingSettings settings;
+    settings.n_directions = n;
+    settings.n_magnitudes = 1;
+    settings.min_strain   = strain;
+    settings.max_strain   = strain;
+    unsigned int                     n_dropped;
     std::vector<CornerDisplacements> result;
-    std::vector<Tensor<2, 3>>        F;
-    while (result.size() < n)
+    for (const Sample &s :
+         BlockSampler(children).sample(settings, seed, n_dropped))
+      result.push_back(s.corners);
+    return result;
+  }
+
+
+
+  std::vector<std::vector<double>>
+  Database::features(const CoarseElement                    &element,
+                     const std::vector<CornerDisplacements> &deformations,
+                     std::vector<std::size_t>               &keys) const
+  {
+    std::vector<std::vector<double>> result;
+    keys.clear();
+    for (std::size_t key = 0; key < index.size(); ++key)
       {
-        CornerDisplacements u;
-        for (auto &corner : u)
-          for (unsigned int d = 0; d < 3; ++d)
-            corner[d] = normal(generator);
-        element.deformation_gradients(u, F);
-        double largest = 0;
-        for (const auto &Fq : F)
-          for (const double e :
-               eigenvalues(symmetrize(Fq - unit_symmetric_tensor<3>())))
-            largest = std::max(largest, std::abs(e));
-        for (auto &corner : u)
-          corner *= strain / largest;
-        result.push_back(u);
+        const Combination c = index.combination(key);
+        if (std::all_of(c.begin(), c.end(), [](auto id) { return id == 0; }))
+          continue;
+        AssertThrow(entry_of[key] >= 0,
+                    ExcMessage("The metamaterial database is incomplete: "
+                               "build it with Database/Scope = all first."));
+        result.push_back(log_energies(element, lookup(c), deformations));
+        keys.push_back(key);
+      }
+    return result;
+  }
+
+
+
+  std::vector<double>
+  log_energies(const CoarseElement                    &element,
+               const Metamaterial                     &m,
+               const std::vector<CornerDisplacements> &deformations)
+  {
+    std::vector<double> result;
+    for (const auto &u : deformations)
+      {
+        double energy;
+        AssertThrow(element.energy(u, m, energy) && energy > 0,
+                    ExcInternalError());
+        result.push_back(std::log(energy));
+      }
+    return result;
+  }
+
+
+
+  Clustering
+  cluster(const std::vector<std::vector<double>> &features,
+          const unsigned int                      k,
+          const std::uint64_t                     seed)
+  {
+    Assert(!features.empty(), ExcInternalError());
+    std::mt19937_64    generator(seed);
+    const unsigned int first =
+      std::uniform_int_distribution<std::size_t>(0, features.size() - 1)(
+        generator);
+    Clustering result;
+    result.representatives = farthest_point_sampling(features, k, first);
+    result.nearest.resize(features.size());
+    for (unsigned int p = 0; p < features.size(); ++p)
+      {
+        double best_distance = std::numeric_limits<double>::max();
+        for (unsigned int r = 0; r < result.representatives.size(); ++r)
+          {
+            const auto &a = features[p],
+                       &b = features[result.representatives[r]];
+            double d      = 0;
+            for (unsigned int i = 0; i < a.size() && d < best_distance; ++i)
+              d += (a[i] - b[i]) * (a[i] - b[i]);
+            if (d < best_distance)
+              {
+                best_distance     = d;
+                result.nearest[p] = r;
+              }
+          }
       }
     return result;
   }
@@ -549,54 +502,19 @@ namespace ddfem::coarsening
     AssertThrow(k > 0,
                 ExcMessage("Compression needs at least one "
                            "representative."));
-    std::vector<std::vector<double>> features(index.size());
-    std::vector<std::size_t>         keys;
-    for (std::size_t key = 0; key < index.size(); ++key)
-      {
-        const Combination c = index.combination(key);
-        if (std::all_of(c.begin(), c.end(), [](auto id) { return id == 0; }))
-          continue;
-        AssertThrow(entry_of[key] >= 0,
-                    ExcMessage("Only a complete database can be compressed: "
-                               "build it with Scope = all first."));
-        const Metamaterial m = lookup(c);
-        for (const auto &u : deformations)
-          {
-            double energy;
-            AssertThrow(element.energy(u, m, energy) && energy > 0,
-                        ExcInternalError());
-            features[keys.size()].push_back(std::log(energy));
-          }
-        keys.push_back(key);
-      }
-    features.resize(keys.size());
-
-    std::mt19937_64    generator(20260101);
-    const unsigned int first =
-      std::uniform_int_distribution<std::size_t>(0, keys.size() - 1)(generator);
-    const std::vector<unsigned int> picked =
-      farthest_point_sampling(features, k, first);
+    std::vector<std::size_t> keys;
+    const Clustering         clusters =
+      cluster(features(element, deformations, keys), k, 20260101);
 
     // Redirect every combination to its nearest representative.
     std::vector<std::int32_t> new_entry_of(index.size(), -1);
     std::vector<std::uint8_t> new_symmetry_of(index.size(), 0);
     for (unsigned int p = 0; p < keys.size(); ++p)
       {
-        unsigned int best          = 0;
-        double       best_distance = std::numeric_limits<double>::max();
-        for (unsigned int r = 0; r < picked.size(); ++r)
-          {
-            double d = 0;
-            for (unsigned int i = 0; i < features[p].size(); ++i)
-              d += std::pow(features[p][i] - features[picked[r]][i], 2);
-            if (d < best_distance)
-              {
-                best_distance = d;
-                best          = r;
-              }
-          }
-        new_entry_of[keys[p]]    = entry_of[keys[picked[best]]];
-        new_symmetry_of[keys[p]] = symmetry_of[keys[picked[best]]];
+        const std::size_t representative =
+          keys[clusters.representatives[clusters.nearest[p]]];
+        new_entry_of[keys[p]]    = entry_of[representative];
+        new_symmetry_of[keys[p]] = symmetry_of[representative];
       }
 
     // Drop the entries nobody uses.
@@ -620,7 +538,7 @@ namespace ddfem::coarsening
     fitted          = kept;
     entry_of        = new_entry_of;
     symmetry_of     = new_symmetry_of;
-    representatives = picked.size();
+    representatives = clusters.representatives.size();
   }
 
 
@@ -685,7 +603,8 @@ namespace ddfem::coarsening
                                   entry.min_strain,
                                   entry.max_strain,
                                   double(entry.n_samples),
-                                  double(entry.n_dropped)};
+                                  double(entry.n_dropped),
+                                  double(entry.material.points.size())};
     for (const auto &p : entry.material.points)
       values.insert(values.end(),
                     {p.mu,
@@ -730,15 +649,24 @@ namespace ddfem::coarsening
                                "). Delete it or restore those "
                                "settings."));
       }
-    std::vector<double> values(7 + 8 * n_values);
+    const unsigned int  n_header = 8;
+    std::vector<double> values(n_header);
     std::uint32_t       magic;
     std::uint64_t       sum;
-    while (std::fread(&magic, sizeof(magic), 1, in) == 1 &&
-           magic == record_magic &&
-           std::fread(values.data(), sizeof(double), values.size(), in) ==
-             values.size() &&
-           std::fread(&sum, sizeof(sum), 1, in) == 1 && sum == checksum(values))
+    while (
+      std::fread(&magic, sizeof(magic), 1, in) == 1 && magic == record_magic &&
+      std::fread(values.data(), sizeof(double), n_header, in) == n_header &&
+      (values[7] == 8 || values[7] == 64))
       {
+        const unsigned int n_points = values[7];
+        values.resize(n_header + n_points * n_values);
+        if (std::fread(values.data() + n_header,
+                       sizeof(double),
+                       n_points * n_values,
+                       in) != n_points * n_values ||
+            std::fread(&sum, sizeof(sum), 1, in) != 1 ||
+            sum != checksum(values))
+          break;
         Entry e;
         e.key          = values[0];
         e.median_error = values[1];
@@ -747,9 +675,9 @@ namespace ddfem::coarsening
         e.max_strain   = values[4];
         e.n_samples    = values[5];
         e.n_dropped    = values[6];
-        for (unsigned int q = 0; q < 8; ++q)
+        for (unsigned int q = 0; q < n_points; ++q)
           {
-            const double           *v = &values[7 + q * n_values];
+            const double           *v = &values[n_header + q * n_values];
             material::MaterialPoint p;
             p.mu         = v[0];
             p.lambda     = v[1];
@@ -759,6 +687,7 @@ namespace ddfem::coarsening
             e.material.points.push_back(p);
           }
         entries.push_back(e);
+        values.resize(n_header);
       }
     std::fclose(in);
     return entries;

@@ -4,9 +4,11 @@
 #include <deal.II/base/parameter_handler.h>
 
 #include <ddfem/coarsening/database.h>
+#include <ddfem/coarsening/hierarchy.h>
 #include <ddfem/scene/palette.h>
 #include <ddfem/scene/voxel_grid.h>
 
+#include <functional>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -72,18 +74,21 @@ namespace ddfem::coarsening
     open(const scene::Palette &palette, std::ostream &out) const;
 
     /**
-     * Fits the missing orbit representatives of @p combinations into
-     * @p database (in parallel, journaled), compresses if asked and the
-     * database is complete, and saves it to file(). Prints a report to
-     * @p out; with @p show_progress a progress bar with the estimated time
-     * left, and timings.
+     * Fits the missing orbit representatives of every combination (or, if
+     * @p scene_grid is given, of its 2x2x2 blocks) into @p database, in
+     * parallel and journaled, compresses if asked, saves to file(); with
+     * Levels = 2 then builds the staged level-2 tables and fits the
+     * level-2 representatives (all, or those of @p scene_grid's 4x4x4
+     * blocks), journaled too. Prints a report to @p out; with
+     * @p show_progress a progress bar with the estimated time left, and
+     * timings.
      */
     void
-    build(const scene::Palette           &palette,
-          Database                       &database,
-          const std::vector<Combination> &combinations,
-          std::ostream                   &out,
-          const bool                      show_progress) const;
+    build(const scene::Palette   &palette,
+          Database               &database,
+          const scene::VoxelGrid *scene_grid,
+          std::ostream           &out,
+          const bool              show_progress) const;
 
     /// Every combination of the palette (Scope = all).
     static std::vector<Combination>
@@ -92,6 +97,10 @@ namespace ddfem::coarsening
     /// The combinations of the 2x2x2 blocks of @p grid (Scope = scene).
     static std::vector<Combination>
     scene_combinations(const scene::VoxelGrid &grid);
+
+    /// The 4x4x4 blocks of @p grid, each as its eight 2x2x2 sub-blocks.
+    static std::vector<std::array<Combination, 8>>
+    scene_blocks(const scene::VoxelGrid &grid);
 
     /**
      * Samples and fits the metamaterial of one combination: the 2x2x2
@@ -108,14 +117,48 @@ namespace ddfem::coarsening
               const CoarseElement    &element,
               const std::uint64_t     seed);
 
+    /**
+     * Samples and fits second-level representative @p r of @p level2: its
+     * block of eight level-1 metamaterials, force-space samples from a
+     * generator seeded with @p seed, and the 64-point fit toward the
+     * children's records (whose directions it keeps).
+     */
+    static Entry
+    fit_level2_entry(const Database         &level1,
+                     const Hierarchy        &level2,
+                     const unsigned int      r,
+                     const SamplingSettings &sampling,
+                     const FitSettings      &fitting,
+                     const CoarseElement    &element,
+                     const std::uint64_t     seed);
+
   private:
-    std::string      database_file;
-    bool             with_void         = true;
-    Scope            run_scope         = Scope::all;
-    unsigned int     n_representatives = 0;
-    unsigned int     n_threads         = 0;
-    SamplingSettings sampling;
-    FitSettings      fitting;
+    /// Copies a fit's statistics into @p entry.
+    static void
+    record_fit(const FitResult           &fit,
+               const std::vector<Sample> &samples,
+               Entry                     &entry);
+
+    /**
+     * Runs fit(i) for i < n on the worker threads and hands each result to
+     * store() under a lock, drawing the progress bar.
+     */
+    void
+    fit_in_parallel(const std::size_t                              n,
+                    const std::function<Entry(const std::size_t)> &fit,
+                    const std::function<void(const Entry &)>      &store,
+                    std::ostream                                  &out,
+                    const bool show_progress) const;
+
+    std::string       database_file;
+    bool              with_void         = true;
+    Scope             run_scope         = Scope::all;
+    unsigned int      n_representatives = 0;
+    unsigned int      n_threads         = 0;
+    unsigned int      levels            = 1;
+    SamplingSettings  sampling;
+    FitSettings       fitting;
+    HierarchySettings hierarchy;
   };
 } // namespace ddfem::coarsening
 

@@ -13,6 +13,8 @@
 
 namespace ddfem::coarsening
 {
+  class Hierarchy;
+
   /// Version of the database file layout; a file with another is rejected.
   constexpr int database_format_version = 1;
 
@@ -78,19 +80,21 @@ namespace ddfem::coarsening
     Database(const DatabaseSettings &settings, const unsigned int n_materials);
 
     /**
-     * Reads a database file. Throws ExcMessage naming @p file and what is
-     * wrong if it cannot be read, is not a ddfem database, or holds
+     * Reads a database file, and its second level into @p level2 if given
+     * (left empty if the file has none). Throws ExcMessage naming @p file and
+     * what is wrong if it cannot be read, is not a ddfem database, or holds
      * inconsistent data.
      */
     static Database
-    load(const std::string &file);
+    load(const std::string &file, Hierarchy *level2 = nullptr);
 
     /**
-     * Writes the database to @p file atomically (a temporary file renamed
+     * Writes the database, with the second level @p level2 if given, to
+     * @p file atomically (a temporary file renamed
      * over it), so a reader never sees a partial file.
      */
     void
-    save(const std::string &file) const;
+    save(const std::string &file, const Hierarchy *level2 = nullptr) const;
 
     /// The canonical description of the palette it was built for.
     const std::string &
@@ -167,6 +171,17 @@ namespace ddfem::coarsening
              const CoarseElement                    &element,
              const std::vector<CornerDisplacements> &deformations);
 
+    /**
+     * The compression features (paper eq. 5) of every combination but the
+     * all-void one: the log-energies of its metamaterial under
+     * @p deformations. @p keys receives the combinations' keys. Throws
+     * ExcMessage if the database is incomplete.
+     */
+    std::vector<std::vector<double>>
+    features(const CoarseElement                    &element,
+             const std::vector<CornerDisplacements> &deformations,
+             std::vector<std::size_t>               &keys) const;
+
   private:
     std::string        palette_description;
     std::string        settings_fingerprint;
@@ -179,6 +194,31 @@ namespace ddfem::coarsening
     unsigned int              representatives = 0;
   };
 
+  /// The log-energies of @p m under @p deformations (a feature vector).
+  std::vector<double>
+  log_energies(const CoarseElement                    &element,
+               const Metamaterial                     &m,
+               const std::vector<CornerDisplacements> &deformations);
+
+  /// A clustering of feature vectors around representatives.
+  struct Clustering
+  {
+    /// Indices of the representatives, in the order they were picked.
+    std::vector<unsigned int> representatives;
+    /// Per point, the index (into representatives) of its nearest one.
+    std::vector<unsigned int> nearest;
+  };
+
+  /**
+   * Picks @p k representatives of @p features by farthest point sampling
+   * from a start drawn with @p seed, and assigns every point to its
+   * nearest representative (paper section 4.4).
+   */
+  Clustering
+  cluster(const std::vector<std::vector<double>> &features,
+          const unsigned int                      k,
+          const std::uint64_t                     seed);
+
   /**
    * Farthest point sampling: starting from @p first, repeatedly picks the
    * point farthest (Euclidean) from all picked ones, until @p k are
@@ -190,15 +230,14 @@ namespace ddfem::coarsening
                           const unsigned int                      first);
 
   /**
-   * Random corner displacements, rigid motion removed, scaled to a
-   * largest principal strain of @p strain on the coarse element: the
-   * common deformations of compression features.
+   * The common deformations of compression features: the corner motions
+   * of a homogeneous block under @p n of the sampler's force patterns
+   * (seeded with @p seed) with linearized strain @p strain.
    */
   std::vector<CornerDisplacements>
-  feature_deformations(const CoarseElement &element,
-                       const unsigned int   n,
-                       const double         strain,
-                       const std::uint64_t  seed);
+  feature_deformations(const unsigned int  n,
+                       const double        strain,
+                       const std::uint64_t seed);
 
   /**
    * An append-only journal of finished entries next to a database file

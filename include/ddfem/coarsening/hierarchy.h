@@ -1,0 +1,135 @@
+#ifndef ddfem_coarsening_hierarchy_h
+#define ddfem_coarsening_hierarchy_h
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <ddfem/coarsening/database.h>
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace ddfem::coarsening
+{
+  using namespace dealii;
+
+  /**
+   * Settings of the second coarsening level (paper section 4.5). Declared
+   * in the prm subsection "Level 2" (inside "Database").
+   */
+  struct HierarchySettings
+  {
+    /// Level-1 metamaterials kept as the second level's palette.
+    unsigned int n_classes = 400;
+    /// Representatives after the 2x1x1 and 1x2x1 stages.
+    unsigned int n_intermediate = 400;
+    /// Second-level metamaterials fitted (after the 1x1x2 stage).
+    unsigned int n_representatives = 400;
+
+    /// Declares the subsection "Level 2".
+    static void
+    declare_parameters(ParameterHandler &prm);
+    /// Reads the subsection "Level 2".
+    void
+    parse_parameters(ParameterHandler &prm);
+    /// One line naming every setting.
+    std::string
+    fingerprint() const;
+  };
+
+  /**
+   * The second coarsening level (paper section 4.5): a 4x4x4 block of
+   * voxels is a 2x2x2 block of level-1 elements. The level-1
+   * metamaterials are clustered into n_classes classes (the second
+   * level's palette); pairs of classes along x are clustered into
+   * n_intermediate representatives, pairs of those along y likewise, and
+   * pairs of those along z into the n_representatives metamaterials that
+   * are fitted. Only those are sampled and fitted: each stage stores just
+   * the lookup table to the next. Features are the log-energies of the
+   * composite blocks (sums of their level-1 elements' energies, paper
+   * eq. 5) under common deformations.
+   *
+   * A second-level metamaterial has 64 points (CoarseElement(2)); point q
+   * starts from, and is regularized toward, the record of its child's
+   * sub-point, whose direction it keeps.
+   */
+  class Hierarchy
+  {
+  public:
+    /// The settings it was built with.
+    HierarchySettings settings;
+
+    /**
+     * Builds the classes and the three stages' lookup tables from the
+     * complete level-1 database @p level1.
+     */
+    void
+    build_tables(const Database &level1, const HierarchySettings &settings);
+
+    /// Whether the tables exist.
+    bool
+    empty() const
+    {
+      return class_key.empty();
+    }
+
+    /// Number of second-level metamaterials.
+    unsigned int
+    n_representatives() const
+    {
+      return pairs[2].size() / 2;
+    }
+
+    /**
+     * The level-1 blocks (one combination per child, child 0 first; all
+     * void for a void child) whose metamaterials make representative
+     * @p r.
+     */
+    std::array<Combination, 8>
+    composition(const Database &level1, const unsigned int r) const;
+
+    /**
+     * The representative of a 4x4x4 block given as its eight 2x2x2
+     * sub-blocks (child order), or -1 if all are void.
+     */
+    int
+    find(const Database                   &level1,
+         const std::array<Combination, 8> &blocks) const;
+
+    /// The fitted second-level entries (key = representative index).
+    std::vector<Entry> entries;
+
+    /**
+     * The metamaterial of a 4x4x4 block (64 points). Throws ExcMessage if
+     * its representative has not been fitted or the block is void.
+     */
+    Metamaterial
+    lookup(const Database                   &level1,
+           const std::array<Combination, 8> &blocks) const;
+
+    /// Writes the tables and entries into the open HDF5 file @p file.
+    void
+    save(const std::int64_t file) const;
+
+    /**
+     * Reads them from @p file if it has a level-2 group (returns false
+     * otherwise). Throws a message naming what is wrong if they are
+     * inconsistent.
+     */
+    bool
+    load(const std::int64_t file, const std::size_t n_level1_keys);
+
+  private:
+    /// Per level-1 key, its class (n_classes for the all-void block).
+    std::vector<std::int32_t> class_of;
+    /// The level-1 key representing each class.
+    std::vector<std::int64_t> class_key;
+    /// Per stage: (n_previous + 1)^2 table from a pair to a class of this
+    /// stage (its count for void), and each class's representative pair.
+    std::array<std::vector<std::int32_t>, 3> table;
+    std::array<std::vector<std::int32_t>, 3> pairs;
+  };
+} // namespace ddfem::coarsening
+
+#endif

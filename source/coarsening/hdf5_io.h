@@ -1,0 +1,212 @@
+#ifndef ddfem_coarsening_hdf5_io_h
+#define ddfem_coarsening_hdf5_io_h
+
+// Small helpers over the HDF5 C API for the database files (internal to
+// the coarsening module): every failure becomes a message naming what is
+// wrong, never an abort.
+
+#include <deal.II/base/exceptions.h>
+
+#include <ddfem/coarsening/database.h>
+#include <hdf5.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace ddfem::coarsening::hdf5
+{
+  using namespace dealii;
+
+  /// An HDF5 identifier closed by the matching function on scope exit.
+  class Handle
+  {
+  public:
+    Handle(const hid_t id, herr_t (*close)(hid_t))
+      : id(id)
+      , close(close)
+    {}
+    ~Handle()
+    {
+      if (id >= 0)
+        close(id);
+    }
+    Handle(const Handle &) = delete;
+    Handle &
+    operator=(const Handle &) = delete;
+    operator hid_t() const
+    {
+      return id;
+    }
+    bool
+    valid() const
+    {
+      return id >= 0;
+    }
+
+  private:
+    hid_t id;
+    herr_t (*close)(hid_t);
+  };
+
+  /// Thrown while reading and turned into a message naming the file.
+  struct FileProblem
+  {
+    std::string what;
+  };
+
+  inline void
+  check(const bool condition, const std::string &what)
+  {
+    if (!condition)
+      throw FileProblem{what};
+  }
+
+  template <typename T>
+  hid_t
+  native_type();
+  template <>
+  inline hid_t
+  native_type<double>()
+  {
+    return H5T_NATIVE_DOUBLE;
+  }
+  template <>
+  inline hid_t
+  native_type<std::int64_t>()
+  {
+    return H5T_NATIVE_INT64;
+  }
+  template <>
+  inline hid_t
+  native_type<std::int32_t>()
+  {
+    return H5T_NATIVE_INT32;
+  }
+  template <>
+  inline hid_t
+  native_type<std::uint8_t>()
+  {
+    return H5T_NATIVE_UINT8;
+  }
+
+  template <typename T>
+  void
+  write_dataset(const hid_t                 file,
+                const std::string          &name,
+                const std::vector<hsize_t> &dims,
+                const std::vector<T>       &data)
+  {
+    const Handle space(H5Screate_simple(dims.size(), dims.data(), nullptr),
+                       H5Sclose);
+    const Handle lcpl(H5Pcreate(H5P_LINK_CREATE), H5Pclose);
+    H5Pset_create_intermediate_group(lcpl, 1);
+    const Handle set(H5Dcreate2(file,
+                                name.c_str(),
+                                native_type<T>(),
+                                space,
+                                lcpl,
+                                H5P_DEFAULT,
+                                H5P_DEFAULT),
+                     H5Dclose);
+    AssertThrow(set.valid() && (data.empty() || H5Dwrite(set,
+                                                         native_type<T>(),
+                                                         H5S_ALL,
+                                                         H5S_ALL,
+                                                         H5P_DEFAULT,
+                                                         data.data()) >= 0),
+                ExcMessage("Could not write the dataset " + name + "."));
+  }
+
+  /// Reads a dataset whose shape must be @p dims.
+  template <typename T>
+  std::vector<T>
+  read_dataset(const hid_t                 file,
+               const std::string          &name,
+               const std::vector<hsize_t> &dims)
+  {
+    check(H5Lexists(file, name.c_str(), H5P_DEFAULT) > 0,
+          "the dataset " + name + " is missing");
+    const Handle set(H5Dopen2(file, name.c_str(), H5P_DEFAULT), H5Dclose);
+    check(set.valid(), "the dataset " + name + " cannot be opened");
+    const Handle         space(H5Dget_space(set), H5Sclose);
+    std::vector<hsize_t> shape(H5Sget_simple_extent_ndims(space));
+    H5Sget_simple_extent_dims(space, shape.data(), nullptr);
+    std::ostringstream expected, found;
+    for (const auto d : dims)
+      expected << (&d == dims.data() ? "" : " x ") << d;
+    for (const auto d : shape)
+      found << (&d == shape.data() ? "" : " x ") << d;
+    check(shape == dims,
+          "the dataset " + name + " has shape " + found.str() + " instead of " +
+            expected.str());
+    std::size_t n = 1;
+    for (const auto d : dims)
+      n *= d;
+    std::vector<T> data(n);
+    check(n == 0 || H5Dread(set,
+                            native_type<T>(),
+                            H5S_ALL,
+                            H5S_ALL,
+                            H5P_DEFAULT,
+                            data.data()) >= 0,
+          "the dataset " + name + " cannot be read (truncated file?)");
+    return data;
+  }
+
+  inline void
+  write_attribute(const hid_t        file,
+                  const std::string &name,
+                  const std::string &value)
+  {
+    const Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
+    H5Tset_size(type, std::max<std::size_t>(1, value.size()));
+    const Handle space(H5Screate(H5S_SCALAR), H5Sclose);
+    const Handle attribute(
+      H5Acreate2(file, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT),
+      H5Aclose);
+    AssertThrow(attribute.valid() &&
+                  H5Awrite(attribute, type, value.c_str()) >= 0,
+                ExcMessage("Could not write the attribute " + name + "."));
+  }
+
+  inline std::string
+  read_attribute(const hid_t file, const std::string &name)
+  {
+    check(H5Aexists(file, name.c_str()) > 0,
+          "the attribute " + name + " is missing");
+    const Handle attribute(H5Aopen(file, name.c_str(), H5P_DEFAULT), H5Aclose);
+    const Handle type(H5Aget_type(attribute), H5Tclose);
+    check(attribute.valid() && H5Tget_class(type) == H5T_STRING,
+          "the attribute " + name + " is not a string");
+    std::string  value(H5Tget_size(type), '\0');
+    const Handle memory(H5Tcopy(H5T_C_S1), H5Tclose);
+    H5Tset_size(memory, value.size());
+    check(H5Aread(attribute, memory, value.data()) >= 0,
+          "the attribute " + name + " cannot be read");
+    return value.substr(0, value.find('\0'));
+  }
+  /// Number of values stored per metamaterial point: mu, lambda, C, v.
+  constexpr unsigned int n_values = 6;
+
+  /// Writes metamaterial entries of @p n_points points into @p group.
+  void
+  write_entries(const hid_t               file,
+                const std::string        &group,
+                const std::vector<Entry> &entries,
+                const unsigned int        n_points);
+
+  /// Reads and validates the entries of @p group (FileProblem if bad).
+  std::vector<Entry>
+  read_entries(const hid_t        file,
+               const std::string &group,
+               const unsigned int n_points);
+
+  /// The first dimension of dataset @p name (FileProblem if missing).
+  hsize_t
+  dataset_length(const hid_t file, const std::string &name);
+} // namespace ddfem::coarsening::hdf5
+
+#endif

@@ -1,0 +1,356 @@
+#include <ddfem/coarsening/hierarchy.h>
+
+#include <random>
+#include <sstream>
+
+#include "hdf5_io.h"
+
+namespace ddfem::coarsening
+{
+  using namespace hdf5;
+
+  void
+  HierarchySettings::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Level 2");
+    prm.declare_entry("Level-1 classes",
+                      "400",
+                      Patterns::Integer(1),
+                      "The level-1 metamaterials are clustered into this many "
+                      "classes, the second level's palette.");
+    prm.declare_entry("Intermediate representatives",
+                      "400",
+                      Patterns::Integer(1),
+                      "Representatives kept after the 2x1x1 and the 1x2x1 "
+                      "stage (the paper keeps 400).");
+    prm.declare_entry("Representatives",
+                      "400",
+                      Patterns::Integer(1),
+                      "Second-level metamaterials (after the 1x1x2 stage); "
+                      "each one is sampled and fitted with 64 points.");
+    prm.leave_subsection();
+  }
+
+
+
+  void
+  HierarchySettings::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Level 2");
+    n_classes         = prm.get_integer("Level-1 classes");
+    n_intermediate    = prm.get_integer("Intermediate representatives");
+    n_representatives = prm.get_integer("Representatives");
+    prm.leave_subsection();
+  }
+
+
+
+  std::string
+  HierarchySettings::fingerprint() const
+  {
+    return "level-1 classes: " + std::to_string(n_classes) +
+           ", intermediate: " + std::to_string(n_intermediate) +
+           ", representatives: " + std::to_string(n_representatives);
+  }
+
+
+
+  namespace
+  {
+    /// Level-1 classes at the positions of a stage-@p s class: positions
+    /// are numbered by their coordinates' bits (x first).
+    std::vector<std::int32_t>
+    expand(const std::array<std::vector<std::int32_t>, 3> &pairs,
+           const std::array<unsigned int, 4>              &n_classes,
+           const int                                       s,
+           const std::int32_t                              c)
+    {
+      if (s < 0)
+        return {c};
+      if (c == std::int32_t(n_classes[s + 1])) // void
+        return std::vector<std::int32_t>(2u << s, n_classes[0]);
+      std::vector<std::int32_t> low =
+        expand(pairs, n_classes, s - 1, pairs[s][2 * c]);
+      const std::vector<std::int32_t> high =
+        expand(pairs, n_classes, s - 1, pairs[s][2 * c + 1]);
+      low.insert(low.end(), high.begin(), high.end());
+      return low;
+    }
+  } // namespace
+
+
+
+  void
+  Hierarchy::build_tables(const Database          &level1,
+                          const HierarchySettings &new_settings)
+  {
+    settings = new_settings;
+    const CoarseElement element(1);
+
+    // The second level's palette: clusters of the level-1 metamaterials.
+    std::vector<std::size_t> keys;
+    const auto               level1_features =
+      level1.features(element, feature_deformations(32, 0.1, 4711), keys);
+    const Clustering classes =
+      cluster(level1_features, settings.n_classes, 20260102);
+    const unsigned int n1 = classes.representatives.size();
+    class_of.assign(level1.combinations().size(), n1);
+    for (unsigned int p = 0; p < keys.size(); ++p)
+      class_of[keys[p]] = classes.nearest[p];
+    class_key.clear();
+    for (const unsigned int r : classes.representatives)
+      class_key.push_back(keys[r]);
+    std::vector<Metamaterial> class_material;
+    for (const auto key : class_key)
+      class_material.push_back(
+        level1.lookup(level1.combinations().combination(key)));
+
+    std::array<unsigned int, 4> n_classes = {{n1, 0, 0, 0}};
+    for (unsigned int s = 0; s < 3; ++s)
+      {
+        // Common deformations of the composite block of stage s (two,
+        // four, eight level-1 elements) and each level-1 class's energy
+        // at each position in it.
+        const unsigned int n_positions = 2u << s;
+        const Point<3>     size(2, s >= 1 ? 2 : 1, s >= 2 ? 2 : 1);
+        const std::vector<CornerDisplacements> deformations =
+          feature_deformations(32, 0.1, 4711 + s);
+        const unsigned int n_deformations = deformations.size();
+        // energy[d][position][class]
+        std::vector<std::vector<std::vector<double>>> energy(
+          n_deformations,
+          std::vector<std::vector<double>>(n_positions,
+                                           std::vector<double>(n1 + 1, 0.)));
+        std::vector<Tensor<2, 3>> F;
+        for (unsigned int d = 0; d < n_deformations; ++d)
+          {
+            const CornerDisplacements       &composite = deformations[d];
+            std::vector<CornerDisplacements> child(n_positions);
+            double                           largest = 0;
+            for (unsigned int p = 0; p < n_positions; ++p)
+              {
+                for (unsigned int v = 0; v < 8; ++v)
+                  {
+                    Point<3> x;
+                    for (unsigned int i = 0; i < 3; ++i)
+                      x[i] = (((p >> i) & 1) + ((v >> i) & 1)) / size[i];
+                    for (unsigned int w = 0; w < 8; ++w)
+                      {
+                        double N = 1;
+                        for (unsigned int i = 0; i < 3; ++i)
+                          N *= (w & (1u << i)) ? x[i] : 1. - x[i];
+                        child[p][v] += N * composite[w];
+                      }
+                  }
+                element.deformation_gradients(child[p], F);
+                for (const auto &Fq : F)
+                  for (const double e :
+                       eigenvalues(symmetrize(Fq - unit_symmetric_tensor<3>())))
+                    largest = std::max(largest, std::abs(e));
+              }
+            for (unsigned int p = 0; p < n_positions; ++p)
+              {
+                for (auto &corner : child[p])
+                  corner *= 0.1 / largest;
+                for (unsigned int c = 0; c < n1; ++c)
+                  AssertThrow(element.energy(child[p],
+                                             class_material[c],
+                                             energy[d][p][c]),
+                              ExcInternalError());
+              }
+          }
+
+        // Features of every pair of the previous stage's classes.
+        const unsigned int               n_previous = n_classes[s];
+        std::vector<std::vector<double>> features;
+        std::vector<std::int32_t>        candidates;
+        for (unsigned int b = 0; b <= n_previous; ++b)
+          for (unsigned int a = 0; a <= n_previous; ++a)
+            {
+              // Void halves exist only if the palette has void.
+              if ((a == n_previous && b == n_previous) ||
+                  (!level1.combinations().with_void() &&
+                   (a == n_previous || b == n_previous)))
+                continue;
+              std::vector<std::int32_t> at =
+                expand(pairs, n_classes, int(s) - 1, a);
+              const std::vector<std::int32_t> high =
+                expand(pairs, n_classes, int(s) - 1, b);
+              at.insert(at.end(), high.begin(), high.end());
+              std::vector<double> feature(n_deformations);
+              for (unsigned int d = 0; d < n_deformations; ++d)
+                {
+                  double sum = 0;
+                  for (unsigned int p = 0; p < n_positions; ++p)
+                    sum += energy[d][p][at[p]];
+                  feature[d] = std::log(sum);
+                }
+              features.push_back(feature);
+              candidates.push_back(a + (n_previous + 1) * b);
+            }
+        const unsigned int n_wanted =
+          s < 2 ? settings.n_intermediate : settings.n_representatives;
+        const Clustering stage = cluster(features, n_wanted, 20260103 + s);
+        n_classes[s + 1]       = stage.representatives.size();
+        table[s].assign((n_previous + 1) * (n_previous + 1), n_classes[s + 1]);
+        for (unsigned int p = 0; p < candidates.size(); ++p)
+          table[s][candidates[p]] = stage.nearest[p];
+        pairs[s].clear();
+        for (const unsigned int r : stage.representatives)
+          {
+            pairs[s].push_back(candidates[r] % (n_previous + 1));
+            pairs[s].push_back(candidates[r] / (n_previous + 1));
+          }
+      }
+    entries.clear();
+  }
+
+
+
+  std::array<Combination, 8>
+  Hierarchy::composition(const Database &level1, const unsigned int r) const
+  {
+    const std::array<unsigned int, 4> n_classes = {
+      {static_cast<unsigned int>(class_key.size()),
+       static_cast<unsigned int>(pairs[0].size() / 2),
+       static_cast<unsigned int>(pairs[1].size() / 2),
+       static_cast<unsigned int>(pairs[2].size() / 2)}};
+    const std::vector<std::int32_t> at = expand(pairs, n_classes, 2, r);
+    std::array<Combination, 8>      blocks;
+    for (unsigned int p = 0; p < 8; ++p)
+      blocks[p] = (at[p] == std::int32_t(class_key.size())) ?
+                    Combination{} :
+                    level1.combinations().combination(class_key[at[p]]);
+    return blocks;
+  }
+
+
+
+  int
+  Hierarchy::find(const Database                   &level1,
+                  const std::array<Combination, 8> &blocks) const
+  {
+    std::array<std::int32_t, 8> c;
+    for (unsigned int p = 0; p < 8; ++p)
+      {
+        const bool is_void = std::all_of(blocks[p].begin(),
+                                         blocks[p].end(),
+                                         [](auto id) { return id == 0; });
+        c[p]               = is_void ? class_key.size() :
+                                       class_of[level1.combinations().key(blocks[p])];
+      }
+    // Pair along x, then y, then z.
+    std::size_t n = class_key.size() + 1;
+    for (unsigned int s = 0; s < 3; ++s)
+      {
+        const unsigned int width = 8u >> (s + 1);
+        for (unsigned int p = 0; p < width; ++p)
+          c[p] = table[s][c[2 * p] + n * c[2 * p + 1]];
+        n = pairs[s].size() / 2 + 1;
+      }
+    return c[0] == std::int32_t(n - 1) ? -1 : c[0];
+  }
+
+
+
+  Metamaterial
+  Hierarchy::lookup(const Database                   &level1,
+                    const std::array<Combination, 8> &blocks) const
+  {
+    const int r = find(level1, blocks);
+    AssertThrow(r >= 0, ExcMessage("A void 4x4x4 block has no metamaterial."));
+    const auto entry =
+      std::lower_bound(entries.begin(),
+                       entries.end(),
+                       std::size_t(r),
+                       [](const Entry &e, const std::size_t key) {
+                         return e.key < key;
+                       });
+    AssertThrow(entry != entries.end() && entry->key == std::size_t(r),
+                ExcMessage("The second-level metamaterial " +
+                           std::to_string(r) + " has not been fitted."));
+    return entry->material;
+  }
+} // namespace ddfem::coarsening
+
+
+
+namespace ddfem::coarsening
+{
+  void
+  Hierarchy::save(const std::int64_t file) const
+  {
+    write_attribute(file, "level 2 settings", settings.fingerprint());
+    write_dataset(file,
+                  "level2/class of",
+                  {hsize_t(class_of.size())},
+                  class_of);
+    write_dataset(file,
+                  "level2/class key",
+                  {hsize_t(class_key.size())},
+                  class_key);
+    for (unsigned int s = 0; s < 3; ++s)
+      {
+        const std::string stage = "level2/stage " + std::to_string(s + 1);
+        write_dataset(file,
+                      stage + "/table",
+                      {hsize_t(table[s].size())},
+                      table[s]);
+        write_dataset(file,
+                      stage + "/pairs",
+                      {hsize_t(pairs[s].size() / 2), 2},
+                      pairs[s]);
+      }
+    write_entries(file, "level2/entries", entries, 64);
+  }
+
+
+
+  bool
+  Hierarchy::load(const std::int64_t file, const std::size_t n_level1_keys)
+  {
+    if (H5Lexists(file, "level2", H5P_DEFAULT) <= 0)
+      return false;
+    const std::string  text = read_attribute(file, "level 2 settings");
+    std::istringstream in(text);
+    std::string        word;
+    char               comma;
+    in >> word >> word >> settings.n_classes >> comma >> word >>
+      settings.n_intermediate >> comma >> word >> settings.n_representatives;
+    check(settings.fingerprint() == text,
+          "has unreadable level-2 settings '" + text + "'");
+
+    class_of         = read_dataset<std::int32_t>(file,
+                                          "level2/class of",
+                                          {hsize_t(n_level1_keys)});
+    const hsize_t n1 = dataset_length(file, "level2/class key");
+    class_key = read_dataset<std::int64_t>(file, "level2/class key", {n1});
+    for (const auto c : class_of)
+      check(c >= 0 && hsize_t(c) <= n1, "has an invalid level-2 class table");
+    for (const auto k : class_key)
+      check(k >= 0 && std::size_t(k) < n_level1_keys,
+            "has an invalid level-2 class key");
+    hsize_t n_previous = n1;
+    for (unsigned int s = 0; s < 3; ++s)
+      {
+        const std::string stage = "level2/stage " + std::to_string(s + 1);
+        const hsize_t     n     = dataset_length(file, stage + "/pairs");
+        table[s] =
+          read_dataset<std::int32_t>(file,
+                                     stage + "/table",
+                                     {(n_previous + 1) * (n_previous + 1)});
+        pairs[s] = read_dataset<std::int32_t>(file, stage + "/pairs", {n, 2});
+        for (const auto c : table[s])
+          check(c >= 0 && hsize_t(c) <= n,
+                "has an invalid " + stage + " table");
+        for (const auto c : pairs[s])
+          check(c >= 0 && hsize_t(c) <= n_previous,
+                "has invalid " + stage + " pairs");
+        n_previous = n;
+      }
+    entries = read_entries(file, "level2/entries", 64);
+    for (const Entry &e : entries)
+      check(e.key < n_previous, "has a level-2 entry beyond the tables");
+    return true;
+  }
+} // namespace ddfem::coarsening
