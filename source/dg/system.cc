@@ -14,6 +14,7 @@
 
 #include <array>
 #include <cmath>
+#include <sstream>
 
 namespace ddfem::dg
 {
@@ -641,9 +642,11 @@ namespace ddfem::dg
       {
         assemble(parameters.penalty, t);
         const Definiteness d = check_definiteness();
+        std::ostringstream eta;
+        eta << parameters.penalty;
         AssertThrow(d != Definiteness::not_positive_definite,
                     ExcMessage(
-                      "DG/Penalty = " + std::to_string(parameters.penalty) +
+                      "DG/Penalty = " + eta.str() +
                       " is too small: the stiffness matrix is not positive "
                       "definite (or the Dirichlet conditions do not prevent "
                       "rigid motions). Use a larger penalty or 'automatic'."));
