@@ -157,6 +157,7 @@ namespace ddfem::dg
     summary["degree"]            = parameters.degree;
     summary["penalty"]           = dg->penalty();
     summary["penalty_automatic"] = parameters.automatic_penalty();
+    summary["penalty_doublings"] = dg->penalty_doublings;
     summary["definiteness"]      = to_string(definiteness);
     summary["dirichlet"] =
       parameters.dirichlet == Parameters::Dirichlet::weak ? "weak" : "strong";

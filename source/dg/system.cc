@@ -204,7 +204,42 @@ namespace ddfem::dg
     if (is_continuous)
       DoFTools::make_sparsity_pattern(dof_handler, dsp, constraints, true);
     else
-      DoFTools::make_flux_sparsity_pattern(dof_handler, dsp, constraints, true);
+      {
+        // The face terms of IP couple every dof of the two cells; the
+        // penalty term of BZ only those non-zero on the face, and on
+        // axis-aligned faces only equal components (paper Table 1).
+        for (const auto &cell : triangulation.active_cell_iterators())
+          for (const unsigned int f : cell->face_indices())
+            {
+              bool aligned = false;
+              for (unsigned int d = 0; d < dim; ++d)
+                {
+                  bool flat = true;
+                  for (const unsigned int v : cell->face(f)->vertex_indices())
+                    flat = flat && std::abs(cell->face(f)->vertex(v)[d] -
+                                            cell->face(f)->vertex(0)[d]) <
+                                     1e-12 * cell->diameter();
+                  aligned = aligned || flat;
+                }
+              axis_aligned = axis_aligned && aligned;
+            }
+        const bool bz = parameters.flux == Parameters::Flux::babuska_zlamal;
+        Table<2, DoFTools::Coupling> cell_mask(n_components, n_components);
+        Table<2, DoFTools::Coupling> face_mask(n_components, n_components);
+        cell_mask.fill(DoFTools::always);
+        for (unsigned int c = 0; c < n_components; ++c)
+          for (unsigned int d = 0; d < n_components; ++d)
+            face_mask(c, d) = !bz                       ? DoFTools::always :
+                              (c == d || !axis_aligned) ? DoFTools::nonzero :
+                                                          DoFTools::none;
+        DoFTools::make_flux_sparsity_pattern(dof_handler,
+                                             dsp,
+                                             constraints,
+                                             true,
+                                             cell_mask,
+                                             face_mask,
+                                             numbers::invalid_subdomain_id);
+      }
     sparsity.copy_from(dsp);
     matrix.reinit(sparsity);
     rhs.reinit(dof_handler.n_dofs());
@@ -498,15 +533,57 @@ namespace ddfem::dg
           interface_index[side[i]][local[i]] = i;
         }
 
-      FaceCopy &face = c.faces.emplace_back();
-      face.dofs      = fiv.get_interface_dof_indices();
+      FaceCopy                   &face     = c.faces.emplace_back();
+      const auto                 &all_dofs = fiv.get_interface_dof_indices();
+      std::vector<Tensor<1, dim>> jump(n_if);
+      if (!ip)
+        {
+          // Babuska-Zlamal: the penalty term only, on the dofs whose shape
+          // functions are non-zero on the face; on axis-aligned faces it
+          // does not couple different components (see the sparsity).
+          const std::array<unsigned int, 2> face_no = {{f, nf}};
+          std::vector<unsigned int>         used;
+          for (unsigned int i = 0; i < n_if; ++i)
+            if (fe.has_support_on_face(local[i], face_no[side[i]]))
+              used.push_back(i);
+          for (const unsigned int i : used)
+            face.dofs.push_back(all_dofs[i]);
+          face.matrix.reinit(used.size(), used.size());
+          face.vector.reinit(used.size());
+          for (unsigned int q = 0; q < fiv.n_quadrature_points; ++q)
+            {
+              const Tensor<1, dim> nq = fiv.normal(q);
+              for (const unsigned int i : used)
+                jump[i] =
+                  (side[i] == 0 ? 1. : -1.) *
+                  value_of(fe.system_to_component_index(local[i]).first,
+                           fiv.get_fe_face_values(side[i]).shape_value(local[i],
+                                                                       q));
+              for (unsigned int a = 0; a < used.size(); ++a)
+                for (unsigned int b = 0; b < used.size(); ++b)
+                  if (!axis_aligned ||
+                      fe.system_to_component_index(local[used[a]]).first ==
+                        fe.system_to_component_index(local[used[b]]).first)
+                    face.matrix(a, b) += eta_f *
+                                         penalty_product(jump[used[a]],
+                                                         jump[used[b]],
+                                                         nq,
+                                                         mu_f,
+                                                         lambda_f,
+                                                         n_components) *
+                                         fiv.JxW(q);
+            }
+          return;
+        }
+
+      // Interior penalty: consistency and symmetry terms split by the side
+      // whose stress they contain (paper section 7), and the penalty term.
+      face.dofs = all_dofs;
       face.matrix.reinit(n_if, n_if);
       face.vector.reinit(n_if);
-      // Consistency and symmetry terms split by the side whose stress
-      // they contain (paper section 7), and the penalty term.
       std::array<FullMatrix<double>, 2> A = {
         {FullMatrix<double>(n_if, n_if), FullMatrix<double>(n_if, n_if)}};
-      std::vector<Tensor<1, dim>> jump(n_if), traction(n_if);
+      std::vector<Tensor<1, dim>> traction(n_if);
       for (unsigned int q = 0; q < fiv.n_quadrature_points; ++q)
         {
           const Tensor<1, dim> nq = fiv.normal(q);
@@ -518,11 +595,10 @@ namespace ddfem::dg
                 fe.system_to_component_index(local[i]).first;
               jump[i] = (side[i] == 0 ? 1. : -1.) *
                         value_of(ci, fv.shape_value(local[i], q));
-              if (ip)
-                traction[i] = flux(gradient_of(ci, fv.shape_grad(local[i], q)),
-                                   *m[side[i]],
-                                   n_components) *
-                              nq;
+              traction[i] = flux(gradient_of(ci, fv.shape_grad(local[i], q)),
+                                 *m[side[i]],
+                                 n_components) *
+                            nq;
             }
           for (unsigned int i = 0; i < n_if; ++i)
             for (unsigned int j = 0; j < n_if; ++j)
@@ -532,15 +608,10 @@ namespace ddfem::dg
                   penalty_product(
                     jump[i], jump[j], nq, mu_f, lambda_f, n_components) *
                   dx;
-                if (ip)
-                  {
-                    A[side[j]](i, j) -= 0.5 * (jump[i] * traction[j]) * dx;
-                    A[side[i]](i, j) -= 0.5 * (jump[j] * traction[i]) * dx;
-                  }
+                A[side[j]](i, j) -= 0.5 * (jump[i] * traction[j]) * dx;
+                A[side[i]](i, j) -= 0.5 * (jump[j] * traction[i]) * dx;
               }
         }
-      if (!ip)
-        return;
       if (current)
         {
           Blocks<dim> b;

@@ -233,6 +233,8 @@ namespace ddfem::dg
     const ProblemData<dim> &data;
     const unsigned int      n_components;
     const bool              is_continuous;
+    /// Whether every face of the mesh is normal to a coordinate axis.
+    bool axis_aligned = true;
     /// Cell and face quadrature rules (Gauss, k+1 points per direction).
     const QGauss<dim>     quadrature;
     const QGauss<dim - 1> face_quadrature;
