@@ -36,7 +36,7 @@ namespace ddfem::dg
       "1/vol(K+)) times the larger stiffness of the two sides (2 mu on the "
       "jump, lambda on its normal component). 'automatic': start at eta = 1 "
       "and double until the stiffness matrix is positive definite (checked "
-      "by a dense Cholesky factorization, see 'Definiteness check limit'). "
+      "by a banded Cholesky factorization, see 'Definiteness check limit'). "
       "A positive number: that eta; if the matrix is not positive definite "
       "the run stops with an error.");
     prm.declare_entry(
@@ -75,12 +75,14 @@ namespace ddfem::dg
       "than this, relative to its norm.");
     prm.declare_entry(
       "Definiteness check limit",
-      "6000",
-      Patterns::Integer(0),
-      "Largest number of degrees of freedom for which positive "
-      "definiteness is checked (dense Cholesky, memory 8 n^2 bytes). "
-      "'Penalty = automatic' needs the check; with a fixed penalty larger "
-      "systems are solved unchecked and reported as such.");
+      "5e7",
+      Patterns::Double(0),
+      "Positive definiteness of K is checked by a banded Cholesky "
+      "factorization (LAPACK dpbtrf) after a Cuthill-McKee renumbering, "
+      "exact, in n (b + 1) entries of memory (8 bytes each) and about "
+      "n b^2 operations for n DoFs and bandwidth b. Larger systems are not "
+      "checked: 'Penalty = automatic' then stops with a message, a fixed "
+      "penalty is solved unchecked and reported as such.");
     prm.leave_subsection();
   }
 
@@ -113,7 +115,7 @@ namespace ddfem::dg
     load_steps  = prm.get_integer("Load steps");
     corotation_iterations    = prm.get_integer("Corotation iterations");
     corotation_tolerance     = prm.get_double("Corotation tolerance");
-    definiteness_check_limit = prm.get_integer("Definiteness check limit");
+    definiteness_check_limit = prm.get_double("Definiteness check limit");
     prm.leave_subsection();
     AssertThrow(!(dirichlet == Dirichlet::strong && element == Element::dgp),
                 ExcMessage("DG/Dirichlet = strong needs nodes on the "

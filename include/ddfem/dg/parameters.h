@@ -104,8 +104,9 @@ namespace ddfem::dg
     unsigned int corotation_iterations = 50;
     /// 'Corotation tolerance': relative change of the solution.
     double corotation_tolerance = 1e-8;
-    /// 'Definiteness check limit': largest system checked by Cholesky.
-    unsigned int definiteness_check_limit = 6000;
+    /// 'Definiteness check limit': largest band (matrix entries) of the
+    /// Cholesky check.
+    double definiteness_check_limit = 5e7;
   };
 } // namespace ddfem::dg
 

@@ -75,7 +75,7 @@ namespace ddfem::dg
     positive_definite,
     /// The Cholesky factorization failed.
     not_positive_definite,
-    /// The system is larger than 'Definiteness check limit'.
+    /// The band is larger than 'Definiteness check limit'.
     not_checked
   };
 
@@ -132,9 +132,9 @@ namespace ddfem::dg
              const Vector<double> *current = nullptr);
 
     /**
-     * Checks the assembled matrix for positive definiteness by a dense
-     * Cholesky factorization, if it has at most 'Definiteness check limit'
-     * rows.
+     * Checks the assembled matrix for positive definiteness by a banded
+     * Cholesky factorization after a Cuthill-McKee renumbering, if the band
+     * holds at most 'Definiteness check limit' entries.
      */
     Definiteness
     check_definiteness() const;
