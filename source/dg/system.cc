@@ -668,6 +668,15 @@ namespace ddfem::dg
       MeshWorker::assemble_own_cells | MeshWorker::assemble_boundary_faces;
     if (!is_continuous)
       flags |= MeshWorker::assemble_own_interior_faces_once;
+    // mesh_loop wants a face worker exactly if faces are worked on.
+    using FaceWorker = std::function<void(const Iterator &,
+                                          const unsigned int,
+                                          const unsigned int,
+                                          const Iterator &,
+                                          const unsigned int,
+                                          const unsigned int,
+                                          MeshWorker::ScratchData<dim> &,
+                                          CopyData &)>;
     CopyData copy;
     MeshWorker::mesh_loop(dof_handler.begin_active(),
                           dof_handler.end(),
@@ -677,7 +686,8 @@ namespace ddfem::dg
                           copy,
                           flags,
                           boundary_worker,
-                          face_worker);
+                          is_continuous ? FaceWorker() :
+                                          FaceWorker(face_worker));
     total.stop();
     assembly_time    = copy_timer.wall_time();
     integration_time = total.wall_time() - assembly_time;
