@@ -26,13 +26,12 @@ main()
   for (unsigned int i = 0; i < 3; ++i)
     for (unsigned int j = 0; j < 3; ++j)
       grad[i][j] = 0.01 * (1 + i) - 0.003 * j * j + 0.002 * i * j;
-  const Tensor<2, 3> linearized = double_contract<2, 0, 3, 1>(
-    at_identity.tangent, grad);
+  const Tensor<2, 3> linearized =
+    double_contract<2, 0, 3, 1>(at_identity.tangent, grad);
   const Tensor<2, 3> sigma =
     material::linear_elastic_stress(grad, point.mu, point.lambda);
   testing::check_below("|sigma - A(I):grad u| / |sigma|",
                        (sigma - linearized).norm() / sigma.norm(),
                        1e-12);
-  std::cout << "stress at identity: " << at_identity.stress.norm()
-            << std::endl;
+  std::cout << "stress at identity: " << at_identity.stress.norm() << std::endl;
 }
