@@ -38,7 +38,9 @@ namespace ddfem::dg
       "and double until the stiffness matrix is positive definite (checked "
       "by a banded Cholesky factorization, see 'Definiteness check limit'). "
       "A positive number: that eta; if the matrix is not positive definite "
-      "the run stops with an error.");
+      "the run stops with an error. With babuska-zlamal every eta > 0 is "
+      "positive definite, so 'automatic' gives eta = 1, a soft glue; its "
+      "error is O(1/eta), so give a fixed eta (the paper uses 10 to 100).");
     prm.declare_entry(
       "Dirichlet",
       "weak",
