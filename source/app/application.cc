@@ -346,6 +346,39 @@ namespace ddfem::app
 
 
 
+  namespace
+  {
+    /**
+     * Run types "dg convergence" and "dg cost": the DG studies of
+     * subsections "DG convergence" and "DG cost" (the scene is ignored).
+     */
+    int
+    run_dg_study(const std::string &run_type,
+                 ParameterHandler  &prm,
+                 std::ostream      &out)
+    {
+      prm.enter_subsection("Output");
+      const std::string directory = prm.get("Output directory");
+      const bool        timings   = prm.get_bool("Screen timings");
+      prm.leave_subsection();
+      if (run_type == "dg convergence")
+        {
+          dg::ConvergenceStudy study;
+          study.parse_parameters(prm);
+          study.run(directory, out);
+        }
+      else
+        {
+          dg::CostStudy study;
+          study.parse_parameters(prm);
+          study.run(directory, timings, out);
+        }
+      return 0;
+    }
+  } // namespace
+
+
+
   void
   declare_parameters(ParameterHandler &prm)
   {
@@ -446,26 +479,8 @@ namespace ddfem::app
           }
 
         const std::string run_type = prm.get("Run type");
-        if (run_type != "simulation")
-          {
-            prm.enter_subsection("Output");
-            const std::string directory = prm.get("Output directory");
-            const bool        timings   = prm.get_bool("Screen timings");
-            prm.leave_subsection();
-            if (run_type == "dg convergence")
-              {
-                dg::ConvergenceStudy study;
-                study.parse_parameters(prm);
-                study.run(directory, out);
-              }
-            else
-              {
-                dg::CostStudy study;
-                study.parse_parameters(prm);
-                study.run(directory, timings, out);
-              }
-            return 0;
-          }
+        if (run_type == "dg convergence" || run_type == "dg cost")
+          return run_dg_study(run_type, prm, out);
         Simulation simulation(out, err);
         simulation.parse_parameters(prm, prm_file);
         return simulation.run(prm);
