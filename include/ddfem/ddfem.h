@@ -28,6 +28,14 @@ namespace ddfem
   namespace solver
   {}
 
+  /**
+   * Discontinuous Galerkin linear and corotated elasticity: interior
+   * penalty and Babuska-Zlamal fluxes, penalty choice, the convergence and
+   * cost studies.
+   */
+  namespace dg
+  {}
+
   /// Output of results: VTU files.
   namespace report
   {}

@@ -5,6 +5,9 @@
 #include <ddfem/app/application.h>
 #include <ddfem/base/exceptions.h>
 #include <ddfem/coarsening/builder.h>
+#include <ddfem/dg/parameters.h>
+#include <ddfem/dg/scene_solver.h>
+#include <ddfem/dg/studies.h>
 #include <ddfem/report/output.h>
 #include <ddfem/scene/scene.h>
 #include <ddfem/solver/discretization.h>
@@ -69,8 +72,9 @@ namespace ddfem::app
     }
 
     /**
-     * One simulation of a scene with the fine continuous method: builds the
-     * discretization, solves, writes VTU and summary.json.
+     * One simulation of a scene with the fine continuous method or the DG
+     * method: builds the discretization, solves, writes VTU and
+     * summary.json.
      */
     class Simulation
     {
@@ -98,11 +102,105 @@ namespace ddfem::app
         solver_parameters.parse_parameters(prm);
         linear_solver.parse_parameters(prm);
         vtu.parse_parameters(prm);
+        dg_parameters.parse_parameters(prm);
         scene.parse_parameters(prm);
       }
 
       int
       run(const ParameterHandler &prm)
+      {
+        return method == "dg" ? run_dg(prm) : run_fine(prm);
+      }
+
+    private:
+      /// Creates the output directory and writes parameters.prm into it.
+      void
+      prepare_output(const ParameterHandler &prm) const
+      {
+        std::filesystem::create_directories(directory);
+        std::ofstream used(directory + "/parameters.prm");
+        prm.print_parameters(used, ParameterHandler::ShortPRM);
+        AssertThrow(used,
+                    ExcMessage("Cannot write \"" + directory +
+                               "/parameters.prm\" (Output/Output directory)."));
+      }
+
+      /// Writes @p summary as summary.json.
+      void
+      write_summary(const nlohmann::json &summary) const
+      {
+        std::ofstream json(directory + "/summary.json");
+        json << summary.dump(2) << std::endl;
+        AssertThrow(json,
+                    ExcMessage("Cannot write \"" + directory +
+                               "/summary.json\" (Output/Output directory)."));
+      }
+
+      /// The DG method: linear or corotated elasticity, one solve.
+      int
+      run_dg(const ParameterHandler &prm)
+      {
+        Timer           total;
+        dg::SceneSolver solver(scene, dg_parameters);
+        solver.setup();
+        const auto &n      = scene.grid.size();
+        const auto &system = solver.system();
+        pcout << "Scene \"" << scene_name << "\", method dg\n"
+              << "  grid " << n[0] << " x " << n[1] << " x " << n[2]
+              << " voxels of " << scene.grid.voxel_size() << " m, "
+              << scene.grid.n_solid_voxels() << " solid\n"
+              << "  " << system.dof_handler.get_triangulation().n_active_cells()
+              << " cells, " << system.dof_handler.n_dofs() << " DoFs ("
+              << dg_parameters.element_name() << "(" << dg_parameters.degree
+              << ")^3), flux " << dg_parameters.flux_name() << ", "
+              << system.matrix.n_nonzero_elements() << " nonzeros\n"
+              << "  penalty eta = " << system.penalty()
+              << (dg_parameters.automatic_penalty() ?
+                    " (automatic, " + std::to_string(system.penalty_doublings) +
+                      " doublings)" :
+                    std::string(" (fixed)"))
+              << ", K " << dg::to_string(solver.definiteness) << std::endl;
+        for (const Point<3> &p : scene.probes)
+          solver.point_value(p); // throws if outside
+
+        // All input is valid: from here on, results are written.
+        prepare_output(prm);
+        const unsigned int solves = solver.solve();
+        if (vtu.enabled())
+          solver.write_vtu(directory + "/solution.vtu");
+
+        nlohmann::json summary;
+        summary["scene"]        = scene_name;
+        summary["grid"]         = {n[0], n[1], n[2]};
+        summary["voxel_size"]   = scene.grid.voxel_size();
+        summary["solid_voxels"] = scene.grid.n_solid_voxels();
+        solver.summarize(summary);
+        pcout << "Solved with " << solves << " linear solve"
+              << (solves == 1 ? "" : "s") << std::endl;
+        summary["probes"] = nlohmann::json::array();
+        for (const Point<3> &p : scene.probes)
+          {
+            const Tensor<1, 3> d = solver.point_value(p);
+            summary["probes"].push_back({{"point", {p[0], p[1], p[2]}},
+                                         {"displacement", {d[0], d[1], d[2]}}});
+            pcout << "  probe (" << p << "): u = (" << std::setprecision(5) << d
+                  << ")" << std::endl;
+          }
+        summary["wall_time_s"]    = total.wall_time();
+        summary["peak_memory_mb"] = peak_memory_mb();
+        write_summary(summary);
+        if (screen_timings)
+          pcout << "  wall time " << total.wall_time() << " s, integration "
+                << system.integration_time << " s, assembly "
+                << system.assembly_time << " s, solve " << system.solve_time
+                << " s\n  peak memory " << peak_memory_mb() << " MB"
+                << std::endl;
+        return 0;
+      }
+
+      /// The fine continuous Neo-Hookean method.
+      int
+      run_fine(const ParameterHandler &prm)
       {
         Timer                                   total;
         std::unique_ptr<solver::Discretization> discretization;
@@ -134,15 +232,7 @@ namespace ddfem::app
           solver->point_value(solver->solution(), p); // throws if outside
 
         // All input is valid: from here on, results are written.
-        std::filesystem::create_directories(directory);
-        {
-          std::ofstream used(directory + "/parameters.prm");
-          prm.print_parameters(used, ParameterHandler::ShortPRM);
-          AssertThrow(used,
-                      ExcMessage(
-                        "Cannot write \"" + directory +
-                        "/parameters.prm\" (Output/Output directory)."));
-        }
+        prepare_output(prm);
         vtu.initialize(directory, "solution");
         const auto on_step = [&](const unsigned int step, const double t) {
           TimerOutput::Scope scope(timer, "output");
@@ -222,13 +312,7 @@ namespace ddfem::app
         summary["time_per_newton_iteration_s"] =
           wall / std::max(1u, statistics.newton_iterations);
         summary["peak_memory_mb"] = peak_memory_mb();
-        {
-          std::ofstream json(directory + "/summary.json");
-          json << summary.dump(2) << std::endl;
-          AssertThrow(json,
-                      ExcMessage("Cannot write \"" + directory +
-                                 "/summary.json\" (Output/Output directory)."));
-        }
+        write_summary(summary);
 
         if (screen_timings)
           {
@@ -247,7 +331,6 @@ namespace ddfem::app
         return 0;
       }
 
-    private:
       ConditionalOStream               pcout;
       std::ostream                    &err;
       TimerOutput                      timer;
@@ -258,6 +341,7 @@ namespace ddfem::app
       solver::StaticSolver::Parameters solver_parameters;
       solver::LinearSolver             linear_solver;
       report::VtuWriter                vtu;
+      dg::Parameters                   dg_parameters;
     };
   } // namespace
 
@@ -290,6 +374,36 @@ namespace ddfem::app
                     show_timings);
       return 0;
     }
+
+
+
+    /**
+     * Run types "dg convergence" and "dg cost": the DG studies of
+     * subsections "DG convergence" and "DG cost" (the scene is ignored).
+     */
+    int
+    run_dg_study(const std::string &run_type,
+                 ParameterHandler  &prm,
+                 std::ostream      &out)
+    {
+      prm.enter_subsection("Output");
+      const std::string directory = prm.get("Output directory");
+      const bool        timings   = prm.get_bool("Screen timings");
+      prm.leave_subsection();
+      if (run_type == "dg convergence")
+        {
+          dg::ConvergenceStudy study;
+          study.parse_parameters(prm);
+          study.run(directory, out);
+        }
+      else
+        {
+          dg::CostStudy study;
+          study.parse_parameters(prm);
+          study.run(directory, timings, out);
+        }
+      return 0;
+    }
   } // namespace
 
 
@@ -306,21 +420,27 @@ namespace ddfem::app
     prm.declare_entry(
       "Run type",
       "simulation",
-      Patterns::Selection("simulation|database"),
-      "'simulation' solves the scene. 'database' builds (or extends, or "
-      "resumes) the metamaterial database of the scene's palette described "
-      "in the subsection Database, and solves nothing.");
+      Patterns::Selection("simulation|database|dg convergence|dg cost"),
+      "What to run: 'simulation' solves the scene with the 'Method'; "
+      "'database' builds (or extends, or resumes) the metamaterial database "
+      "of the scene's palette described in subsection 'Database' and "
+      "solves nothing; 'dg convergence' is the convergence study of "
+      "subsection 'DG convergence' and 'dg cost' the cost comparison of "
+      "subsection 'DG cost' (both ignore the scene).");
     prm.declare_entry(
       "Method",
       "fine",
-      Patterns::Selection("fine"),
+      Patterns::Selection("fine|dg"),
       "Discretization: 'fine' is the continuous Neo-Hookean model on the "
-      "voxel grid, one hexahedron per solid voxel.");
+      "voxel grid, one hexahedron per solid voxel; 'dg' is discontinuous "
+      "Galerkin linear (or corotated) elasticity on the same mesh, "
+      "configured in subsection 'DG'.");
     prm.enter_subsection("Discretization");
     prm.declare_entry("Polynomial degree",
                       "1",
                       Patterns::Integer(1, 2),
-                      "Degree p of the FE_Q(p)^3 displacement element.");
+                      "Degree p of the FE_Q(p)^3 displacement element, or k "
+                      "of the DG element (Method = dg).");
     prm.leave_subsection();
     prm.enter_subsection("Output");
     prm.declare_entry(
@@ -341,6 +461,9 @@ namespace ddfem::app
     solver::StaticSolver::Parameters::declare_parameters(prm);
     solver::LinearSolver::declare_parameters(prm);
     coarsening::DatabaseBuilder::declare_parameters(prm);
+    dg::Parameters::declare_parameters(prm);
+    dg::ConvergenceStudy::declare_parameters(prm);
+    dg::CostStudy::declare_parameters(prm);
   }
 
 
@@ -387,8 +510,11 @@ namespace ddfem::app
             apply_override(prm, arguments[++i]);
           }
 
-        if (prm.get("Run type") == "database")
+        const std::string run_type = prm.get("Run type");
+        if (run_type == "database")
           return build_database(prm, out);
+        if (run_type == "dg convergence" || run_type == "dg cost")
+          return run_dg_study(run_type, prm, out);
         Simulation simulation(out, err);
         simulation.parse_parameters(prm, prm_file);
         return simulation.run(prm);

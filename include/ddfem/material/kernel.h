@@ -85,6 +85,29 @@ namespace ddfem::material
    */
   double
   von_mises(const Tensor<2, 3> &sigma);
+
+  /**
+   * Linear elastic (Hookean) stress sigma = 2 mu eps + lambda tr(eps) I of
+   * the small strain eps = sym(@p grad_u), with the Lame parameters @p mu
+   * and @p lambda (Pa). It is the linearization of evaluate() at F = I for
+   * an isotropic point without anisotropy; the DG discretization uses it.
+   */
+  template <int dim>
+  inline Tensor<2, dim>
+  linear_elastic_stress(const Tensor<2, dim> &grad_u,
+                        const double          mu,
+                        const double          lambda)
+  {
+    Tensor<2, dim> sigma;
+    const double   trace = dealii::trace(grad_u);
+    for (unsigned int i = 0; i < dim; ++i)
+      {
+        for (unsigned int j = 0; j < dim; ++j)
+          sigma[i][j] = mu * (grad_u[i][j] + grad_u[j][i]);
+        sigma[i][i] += lambda * trace;
+      }
+    return sigma;
+  }
 } // namespace ddfem::material
 
 #endif

@@ -52,6 +52,13 @@ namespace ddfem::report
           const double                            t,
           const bool                              last);
 
+    /// Whether any file is written ('Write VTU' is not 'none').
+    bool
+    enabled() const
+    {
+      return when != "none";
+    }
+
   private:
     /// 'Write VTU': every step, last step or none.
     std::string when;

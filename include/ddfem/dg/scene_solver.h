@@ -1,0 +1,83 @@
+#ifndef ddfem_dg_scene_solver_h
+#define ddfem_dg_scene_solver_h
+
+#include <deal.II/base/point.h>
+#include <deal.II/base/tensor.h>
+#include <deal.II/grid/tria.h>
+
+#include <ddfem/dg/parameters.h>
+#include <ddfem/dg/system.h>
+#include <ddfem/scene/scene.h>
+#include <nlohmann/json.hpp>
+
+#include <memory>
+#include <string>
+
+namespace ddfem::dg
+{
+  using namespace dealii;
+
+  /**
+   * A scene solved with the DG method (Method = dg): the voxel mesh with one
+   * hexahedron per solid voxel, the palette's Lame parameters per cell, the
+   * scene's boundary conditions (fixed, sliding, displacement and rotation
+   * as Dirichlet data, weak or strong; traction, pressure and body force as
+   * loads) and a System<3>.
+   */
+  class SceneSolver
+  {
+  public:
+    /// A solver for @p scene with @p parameters (both must outlive it).
+    SceneSolver(const scene::Scene &scene, const Parameters &parameters);
+
+    /**
+     * Builds the mesh and the system and settles the penalty. Throws
+     * ExcMessage on bad input (a Dirichlet region that misses the boundary,
+     * a fixed penalty that is too small), before anything is written.
+     */
+    void
+    setup();
+
+    /// Solves (linear or corotated); returns the number of linear solves.
+    unsigned int
+    solve();
+
+    /// The displacement at @p p; throws ExcMessage naming
+    /// Geometry/Probe points if @p p is outside the solid.
+    Tensor<1, 3>
+    point_value(const Point<3> &p) const;
+
+    /// Writes the (discontinuous) displacement and material id to @p file.
+    void
+    write_vtu(const std::string &file) const;
+
+    /**
+     * Adds the DG entries to @p summary: method, flux, element, degree,
+     * penalty, definiteness, dofs, cells, nonzeros, times and solves.
+     */
+    void
+    summarize(nlohmann::json &summary) const;
+
+    /// The DG system (valid after setup()).
+    const System<3> &
+    system() const
+    {
+      return *dg;
+    }
+
+    /// The outcome of the definiteness check at the settled penalty.
+    Definiteness definiteness = Definiteness::not_checked;
+
+  private:
+    const scene::Scene               &scene;
+    const Parameters                 &parameters;
+    Triangulation<3>                  triangulation;
+    ProblemData<3>                    data;
+    std::unique_ptr<FiniteElement<3>> element;
+    std::unique_ptr<System<3>>        dg;
+    unsigned int                      linear_solves = 0;
+    double                            setup_time = 0, solve_time = 0;
+  };
+} // namespace ddfem::dg
+
+#endif

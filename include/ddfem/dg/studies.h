@@ -1,0 +1,152 @@
+#ifndef ddfem_dg_studies_h
+#define ddfem_dg_studies_h
+
+#include <deal.II/base/function.h>
+#include <deal.II/base/parameter_handler.h>
+
+#include <ddfem/dg/parameters.h>
+
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace ddfem::dg
+{
+  using namespace dealii;
+
+  /**
+   * A smooth manufactured solution on the unit square or cube with
+   * @p n_components components (1: Poisson, dim: elasticity),
+   * u_c(x) = prod_d sin(pi x_d + 0.5 + 0.3 c + 0.2 d), non-zero on the
+   * boundary. Values, gradients and Hessians are exact.
+   */
+  template <int dim>
+  class ManufacturedSolution : public Function<dim>
+  {
+  public:
+    /// The solution with @p n_components components.
+    explicit ManufacturedSolution(const unsigned int n_components);
+
+    /// u_c(p).
+    double
+    value(const Point<dim> &p, const unsigned int c = 0) const override;
+
+    /// grad u_c(p).
+    Tensor<1, dim>
+    gradient(const Point<dim> &p, const unsigned int c = 0) const override;
+
+    /// The Hessian of u_c at p.
+    SymmetricTensor<2, dim>
+    hessian(const Point<dim> &p, const unsigned int c = 0) const override;
+  };
+
+  /**
+   * The load f = -div sigma(u) of an exact solution @p u (with Hessians)
+   * at @p p: -mu Laplace(u) for one component, and -(mu Laplace(u) + (mu +
+   * lambda) grad div u) for linear elasticity with Lame parameters @p mu,
+   * @p lambda. Component c of the result is the load on component c.
+   */
+  template <int dim>
+  Tensor<1, dim>
+  manufactured_load(const Function<dim> &u,
+                    const Point<dim>    &p,
+                    const double         mu,
+                    const double         lambda);
+
+  /**
+   * One method of the studies: continuous FE_Q(k), or a DG flux with
+   * the element of the "DG" subsection, both of degree k.
+   */
+  struct StudyMethod
+  {
+    /// "CG Q1", "BZ quad", ...
+    std::string name;
+    /// FE_Q instead of a DG element.
+    bool continuous;
+    /// The DG flux (unused if continuous).
+    Parameters::Flux flux;
+    /// The polynomial degree k.
+    unsigned int degree;
+  };
+
+  /**
+   * The methods named in @p list ("CG Q1", "CG Q2", "BZ lin", "BZ quad",
+   * "IP lin", "IP quad", comma separated).
+   */
+  std::vector<StudyMethod>
+  parse_methods(const std::string &list);
+
+  /**
+   * Convergence of CG and DG (paper figure 4): the manufactured solution
+   * on 2^l x 2^l squares (Poisson) and 2^l x 2^l x 2^l cubes (linear
+   * elasticity, mu = 1, lambda = 1.5, i.e. nu = 0.3) with Dirichlet data
+   * on the whole boundary (weak for DG, strong for CG). For each method a
+   * ConvergenceTable of the L2 error, the broken H1 seminorm error and a
+   * condition number estimate of K (the Lanczos estimate of an
+   * unpreconditioned CG solve), with observed rates in h. The DG penalty
+   * is that of subsection "DG"; 'automatic' is settled on the coarsest
+   * grid and kept on the finer ones (eq. 7 scales it with the mesh).
+   * Declared in the prm subsection "DG convergence".
+   */
+  class ConvergenceStudy
+  {
+  public:
+    /// Declares "DG convergence".
+    static void
+    declare_parameters(ParameterHandler &prm);
+
+    /// Reads "DG convergence" and "DG".
+    void
+    parse_parameters(ParameterHandler &prm);
+
+    /**
+     * Runs the study, prints the tables to @p out and writes them to
+     * dg_convergence.txt and dg_convergence.csv in @p directory.
+     */
+    void
+    run(const std::string &directory, std::ostream &out) const;
+
+  private:
+    Parameters               dg;
+    std::vector<StudyMethod> methods;
+    std::vector<std::string> problems;
+    unsigned int             min_2d, max_2d, min_3d, max_3d;
+    unsigned int             condition_limit;
+  };
+
+  /**
+   * The paper's Table 1: 3D linear elasticity (the manufactured solution
+   * of ConvergenceStudy on the unit cube) with BZ and IP, linear and
+   * quadratic, on an n^3 mesh, and trilinear CG on the mesh whose number
+   * of DoFs is closest to that of the linear DG methods. Reports DoFs,
+   * sparsity and the wall times of integration (local matrices), assembly
+   * (adding into K) and solve (UMFPACK), on one thread, and the ratios
+   * DG/CG measured in the same run. Declared in "DG cost".
+   */
+  class CostStudy
+  {
+  public:
+    /// Declares "DG cost".
+    static void
+    declare_parameters(ParameterHandler &prm);
+
+    /// Reads "DG cost" and "DG".
+    void
+    parse_parameters(ParameterHandler &prm);
+
+    /**
+     * Runs the comparison, prints the table to @p out (times only if
+     * @p timings) and writes it with times to dg_cost.txt in @p directory.
+     */
+    void
+    run(const std::string &directory,
+        const bool         timings,
+        std::ostream      &out) const;
+
+  private:
+    Parameters   dg;
+    unsigned int resolution;
+  };
+} // namespace ddfem::dg
+
+#endif

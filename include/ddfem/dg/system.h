@@ -1,0 +1,247 @@
+#ifndef ddfem_dg_system_h
+#define ddfem_dg_system_h
+
+#include <deal.II/base/function.h>
+#include <deal.II/base/point.h>
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/base/tensor.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/fe/mapping_q1.h>
+#include <deal.II/grid/tria.h>
+#include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/sparse_matrix.h>
+#include <deal.II/lac/sparsity_pattern.h>
+#include <deal.II/lac/vector.h>
+
+#include <ddfem/dg/parameters.h>
+
+#include <functional>
+#include <vector>
+
+namespace ddfem::dg
+{
+  using namespace dealii;
+
+  /**
+   * The linear material of one cell. For a vector field (dim components):
+   * the Lame parameters mu and lambda (Pa) of sigma = 2 mu eps + lambda
+   * tr(eps) I. For a scalar field (one component, the Poisson problem):
+   * sigma = mu grad u, lambda unused.
+   */
+  struct CellMaterial
+  {
+    /// Shear modulus (Pa), or the conductivity of a scalar problem.
+    double mu = 1;
+    /// Lame's first parameter (Pa).
+    double lambda = 0;
+  };
+
+  /**
+   * What the discrete problem is, independent of the discretization: the
+   * material of every cell and the data of the boundary value problem.
+   * Loads are given at load factor 1 and scaled by the load factor t;
+   * component c of a load vector acts on component c of the field (a
+   * scalar problem uses component 0).
+   */
+  template <int dim>
+  struct ProblemData
+  {
+    /// Material per cell, indexed by active_cell_index().
+    std::vector<CellMaterial> materials;
+    /// Body force per volume at t = 1 at a point; empty: none.
+    std::function<Tensor<1, dim>(const Point<dim> &)> body_force;
+    /**
+     * Surface load at t = 1 on a boundary face with the given center, at
+     * a point with the given outward unit normal; empty: none.
+     */
+    std::function<Tensor<1, dim>(const Point<dim> &,
+                                 const Point<dim> &,
+                                 const Tensor<1, dim> &)>
+      traction;
+    /**
+     * Dirichlet data: whether component c is prescribed at a boundary
+     * point at load factor t, and if so its value (written to the last
+     * argument). Empty: no Dirichlet condition.
+     */
+    std::function<bool(const Point<dim> &, unsigned int, double, double &)>
+      dirichlet;
+  };
+
+  /// The outcome of a positive definiteness check of the stiffness matrix.
+  enum class Definiteness
+  {
+    /// The Cholesky factorization succeeded.
+    positive_definite,
+    /// The Cholesky factorization failed.
+    not_positive_definite,
+    /// The band is larger than 'Definiteness check limit'.
+    not_checked
+  };
+
+  /// "positive definite", "NOT positive definite" or "not checked".
+  std::string
+  to_string(const Definiteness d);
+
+  /**
+   * The stiffness matrix, load vector and solution of linear (or
+   * corotated) elasticity, or of the Poisson problem, on a mesh with a
+   * discontinuous element FE_DGQ/FE_DGP (interior penalty or Babuska-
+   * Zlamal flux, paper sections 4-5) or, for comparison, a continuous FE_Q
+   * (then there are no face terms and Dirichlet conditions are strong).
+   *
+   * Assembly runs MeshWorker::mesh_loop over cells, boundary faces and
+   * interior faces (FEInterfaceValues), so hanging faces need no special
+   * case. The face penalty is eq. (7), eta_f = eta area(f) (1/vol(K-) +
+   * 1/vol(K+)), multiplied by the stiffness of the face: 2 mu_f on the
+   * jump and lambda_f on its normal component, with mu_f and lambda_f the
+   * larger of the two sides' values (the average stress {sigma} in the
+   * consistency term carries the stiffer side's stress, so the penalty must
+   * dominate it; lambda only enters the consistency term through the
+   * normal jump, so it penalizes only that, as in Hansbo and Larson 2002).
+   * A boundary face with weakly imposed Dirichlet data is a face to a
+   * mirror image of its cell: eta_f = 2 eta area(f) / vol(K).
+   */
+  template <int dim>
+  class System
+  {
+  public:
+    /**
+     * Sets up @p n_components copies of the scalar element @p scalar_fe
+     * on @p triangulation (both must outlive this object, as must
+     * @p parameters and @p data). @p n_components is 1 (Poisson) or dim
+     * (elasticity).
+     */
+    System(const Triangulation<dim> &triangulation,
+           const FiniteElement<dim> &scalar_fe,
+           const unsigned int        n_components,
+           const Parameters         &parameters,
+           const ProblemData<dim>   &data);
+
+    /**
+     * Assembles the stiffness matrix and load vector at penalty @p eta and
+     * load factor @p t. If @p current is given (corotated formulation,
+     * DG and vector fields only), every element and face contribution is
+     * warped with the rotations of the elements fitted to @p current
+     * (paper section 7) and the load vector contains the warping offsets,
+     * so that the solution of the system is the next fixed-point iterate.
+     */
+    void
+    assemble(const double          eta,
+             const double          t,
+             const Vector<double> *current = nullptr);
+
+    /**
+     * Checks the assembled matrix for positive definiteness by a banded
+     * Cholesky factorization after a Cuthill-McKee renumbering, if the band
+     * holds at most 'Definiteness check limit' entries.
+     */
+    Definiteness
+    check_definiteness() const;
+
+    /**
+     * Settles the penalty and assembles at load factor @p t: with
+     * 'Penalty = automatic', starts at eta = 1 and doubles until the
+     * matrix is positive definite (at most 30 times); with a fixed penalty,
+     * checks it. Throws ExcMessage naming DG/Penalty if the fixed penalty
+     * gives a matrix that is not positive definite, or if the automatic
+     * penalty cannot be checked. Continuous elements need no penalty.
+     * Returns the outcome of the last check.
+     */
+    Definiteness
+    settle_penalty(const double t);
+
+    /// Solves the assembled system with UMFPACK into solution.
+    void
+    solve();
+
+    /**
+     * The whole solve at the settled penalty: linear, or corotated with
+     * 'Load steps' steps of fixed-point iterations. Throws ExcMessage if
+     * the corotated iteration does not reach its tolerance. Returns the
+     * number of linear solves.
+     */
+    unsigned int
+    run();
+
+    /**
+     * The coefficients of @p function (with as many components as the
+     * field) by an L2 projection on each cell: exact for functions in the
+     * element's local polynomial space. Discontinuous elements only.
+     */
+    void
+    project_locally(const Function<dim> &function, Vector<double> &v) const;
+
+    /**
+     * The rotation of every cell (by active cell index): the orthogonal
+     * factor of the polar decomposition of the least-squares affine fit
+     * of the deformed positions x + @p u over the cell's quadrature points.
+     */
+    std::vector<Tensor<2, dim>>
+    rotations(const Vector<double> &u) const;
+
+    /// The L2 norm over all interior faces of the jump of @p u.
+    double
+    jump_norm(const Vector<double> &u) const;
+
+    /// Whether the element is continuous (FE_Q): no face terms.
+    bool
+    continuous() const
+    {
+      return is_continuous;
+    }
+
+    /// The penalty eta the matrix was last assembled with.
+    double
+    penalty() const
+    {
+      return eta_used;
+    }
+
+    /// Wall time (s) of the last assembly spent in the local integrals.
+    double integration_time = 0;
+    /// Wall time (s) of the last assembly spent in adding into K and F.
+    double assembly_time = 0;
+    /// Wall time (s) of the last solve (factorization and substitution).
+    double solve_time = 0;
+    /// Penalty doublings of the last settle_penalty() (0 if fixed).
+    unsigned int penalty_doublings = 0;
+
+    /// The vector-valued element.
+    FESystem<dim> fe;
+    /// The (affine) mapping of the cells.
+    MappingQ1<dim> mapping;
+    /// Degrees of freedom on the mesh.
+    DoFHandler<dim> dof_handler;
+    /// Strongly imposed Dirichlet values (and hanging nodes for FE_Q).
+    AffineConstraints<double> constraints;
+    /// Sparsity of the cell and face couplings.
+    SparsityPattern sparsity;
+    /// The stiffness matrix K.
+    SparseMatrix<double> matrix;
+    /// The load vector F.
+    Vector<double> rhs;
+    /// The solution u.
+    Vector<double> solution;
+
+  private:
+    /// Rebuilds the strong Dirichlet constraints at load factor @p t.
+    void
+    make_constraints(const double t);
+
+    const Parameters       &parameters;
+    const ProblemData<dim> &data;
+    const unsigned int      n_components;
+    const bool              is_continuous;
+    /// Whether every face of the mesh is normal to a coordinate axis.
+    bool axis_aligned = true;
+    /// Cell and face quadrature rules (Gauss, k+1 points per direction).
+    const QGauss<dim>     quadrature;
+    const QGauss<dim - 1> face_quadrature;
+    /// The coefficients of the identity map x (corotated offsets X^0).
+    Vector<double> identity;
+    double         eta_used = 0;
+  };
+} // namespace ddfem::dg
+
+#endif

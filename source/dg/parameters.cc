@@ -1,0 +1,162 @@
+#include <deal.II/fe/fe_dgp.h>
+#include <deal.II/fe/fe_dgq.h>
+
+#include <ddfem/base/parsing.h>
+#include <ddfem/dg/parameters.h>
+
+namespace ddfem::dg
+{
+  void
+  Parameters::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("DG");
+    prm.declare_entry(
+      "Flux",
+      "interior penalty",
+      Patterns::Selection("interior penalty|babuska-zlamal"),
+      "Numerical flux on faces (Method = dg). 'interior penalty': symmetric "
+      "interior penalty (consistency, symmetry and penalty terms, paper eq. "
+      "8): converges at order k+1 in L2, needs a large enough penalty. "
+      "'babuska-zlamal': the penalty term only (eq. 6): cheaper, positive "
+      "definite for any penalty, but inconsistent (does not converge to the "
+      "exact solution).");
+    prm.declare_entry(
+      "Element",
+      "FE_DGQ",
+      Patterns::Selection("FE_DGQ|FE_DGP"),
+      "Shape functions per element, of degree k = 'Discretization/Polynomial "
+      "degree' (1 or 2). FE_DGQ: Lagrange Q_k, (k+1)^3 nodes per element. "
+      "FE_DGP: complete polynomials P_k (4 linear or 10 quadratic functions "
+      "per element, the paper's non-nodal basis).");
+    prm.declare_entry(
+      "Penalty",
+      "automatic",
+      Patterns::Anything(),
+      "Global penalty eta of eq. (7), eta_f = eta area(f) (1/vol(K-) + "
+      "1/vol(K+)) times the larger stiffness of the two sides (2 mu on the "
+      "jump, lambda on its normal component). 'automatic': start at eta = 1 "
+      "and double until the stiffness matrix is positive definite (checked "
+      "by a banded Cholesky factorization, see 'Definiteness check limit'). "
+      "A positive number: that eta; if the matrix is not positive definite "
+      "the run stops with an error. With babuska-zlamal every eta > 0 is "
+      "positive definite, so 'automatic' gives eta = 1, a soft glue; its "
+      "error is O(1/eta), so give a fixed eta (the paper uses 10 to 100).");
+    prm.declare_entry(
+      "Dirichlet",
+      "weak",
+      Patterns::Selection("weak|strong"),
+      "How fixed, sliding and displacement conditions are imposed. 'weak': "
+      "Nitsche's method (paper section 5: the outside of a boundary face is "
+      "a ghost element with the prescribed displacement, penalized as an "
+      "interior face). 'strong': the nodes of FE_DGQ on the boundary face "
+      "are constrained (not available for the non-nodal FE_DGP).");
+    prm.declare_entry(
+      "Formulation",
+      "linear",
+      Patterns::Selection("linear|corotated"),
+      "'linear': small-strain elasticity, one linear solve. 'corotated': "
+      "stiffness warping (paper section 7) with a rotation per element "
+      "from the polar decomposition of its least-squares affine map; "
+      "solved by a fixed-point iteration per load step.");
+    prm.declare_entry("Load steps",
+                      "5",
+                      Patterns::Integer(1, 1000),
+                      "Equal load increments of the corotated formulation.");
+    prm.declare_entry(
+      "Corotation iterations",
+      "50",
+      Patterns::Integer(1, 10000),
+      "Maximum fixed-point iterations (rotations from the last solution, "
+      "one linear solve each) per load step of the corotated formulation; "
+      "the run fails if they do not reach the tolerance.");
+    prm.declare_entry(
+      "Corotation tolerance",
+      "1e-8",
+      Patterns::Double(0),
+      "The corotated iteration stops when the solution changes by less "
+      "than this, relative to its norm.");
+    prm.declare_entry(
+      "Definiteness check limit",
+      "5e7",
+      Patterns::Double(0),
+      "Positive definiteness of K is checked by a banded Cholesky "
+      "factorization (LAPACK dpbtrf) after a Cuthill-McKee renumbering, "
+      "exact, in n (b + 1) entries of memory (8 bytes each) and about "
+      "n b^2 operations for n DoFs and bandwidth b. Larger systems are not "
+      "checked: 'Penalty = automatic' then stops with a message, a fixed "
+      "penalty is solved unchecked and reported as such.");
+    prm.leave_subsection();
+  }
+
+
+
+  void
+  Parameters::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Discretization");
+    degree = prm.get_integer("Polynomial degree");
+    prm.leave_subsection();
+    prm.enter_subsection("DG");
+    flux    = prm.get("Flux") == "interior penalty" ? Flux::interior_penalty :
+                                                      Flux::babuska_zlamal;
+    element = prm.get("Element") == "FE_DGQ" ? Element::dgq : Element::dgp;
+    const std::string penalty_text = prm.get("Penalty");
+    if (penalty_text == "automatic")
+      penalty = 0;
+    else
+      {
+        penalty = parse_number(penalty_text, "DG/Penalty");
+        AssertThrow(penalty > 0,
+                    ExcMessage("DG/Penalty = " + penalty_text +
+                               ": expected 'automatic' or a number > 0."));
+      }
+    dirichlet =
+      prm.get("Dirichlet") == "weak" ? Dirichlet::weak : Dirichlet::strong;
+    formulation = prm.get("Formulation") == "linear" ? Formulation::linear :
+                                                       Formulation::corotated;
+    load_steps  = prm.get_integer("Load steps");
+    corotation_iterations    = prm.get_integer("Corotation iterations");
+    corotation_tolerance     = prm.get_double("Corotation tolerance");
+    definiteness_check_limit = prm.get_double("Definiteness check limit");
+    prm.leave_subsection();
+    AssertThrow(!(dirichlet == Dirichlet::strong && element == Element::dgp),
+                ExcMessage("DG/Dirichlet = strong needs nodes on the "
+                           "boundary: use DG/Element = FE_DGQ, or "
+                           "DG/Dirichlet = weak with FE_DGP."));
+  }
+
+
+
+  template <int dim>
+  std::unique_ptr<FiniteElement<dim>>
+  Parameters::make_element() const
+  {
+    if (element == Element::dgq)
+      return std::make_unique<FE_DGQ<dim>>(degree);
+    return std::make_unique<FE_DGP<dim>>(degree);
+  }
+
+
+
+  std::string
+  Parameters::flux_name() const
+  {
+    return flux == Flux::interior_penalty ? "interior penalty" :
+                                            "babuska-zlamal";
+  }
+
+
+
+  std::string
+  Parameters::element_name() const
+  {
+    return element == Element::dgq ? "FE_DGQ" : "FE_DGP";
+  }
+
+
+
+  template std::unique_ptr<FiniteElement<2>>
+  Parameters::make_element<2>() const;
+  template std::unique_ptr<FiniteElement<3>>
+  Parameters::make_element<3>() const;
+} // namespace ddfem::dg

@@ -1,0 +1,176 @@
+#include <deal.II/base/timer.h>
+#include <deal.II/numerics/data_out.h>
+#include <deal.II/numerics/vector_tools.h>
+
+#include <ddfem/base/exceptions.h>
+#include <ddfem/dg/scene_solver.h>
+
+#include <fstream>
+#include <sstream>
+
+namespace ddfem::dg
+{
+  SceneSolver::SceneSolver(const scene::Scene &scene,
+                           const Parameters   &parameters)
+    : scene(scene)
+    , parameters(parameters)
+  {}
+
+
+
+  void
+  SceneSolver::setup()
+  {
+    Timer timer;
+    scene::make_voxel_mesh(scene.grid, 0, triangulation);
+    for (const auto &cell : triangulation.active_cell_iterators())
+      {
+        const auto &m = scene.palette[cell->material_id()];
+        data.materials.push_back({m.mu, m.lambda});
+      }
+    const scene::BoundaryConditions &bc = scene.boundary_conditions;
+    data.dirichlet                      = [&bc](const Point<3>    &p,
+                           const unsigned int c,
+                           const double       t,
+                           double            &value) {
+      return bc.prescribed_displacement(p, c, t, value);
+    };
+    data.traction =
+      [&bc](const Point<3> &center, const Point<3> &p, const Tensor<1, 3> &n) {
+        return bc.traction(center, p, n);
+      };
+    if (bc.has_body_force())
+      data.body_force = [&bc](const Point<3> &p) { return bc.body_force(p); };
+
+    // Every condition must act somewhere: with weak Dirichlet conditions at
+    // the boundary quadrature points, with strong ones at the nodes.
+    std::vector<Point<3>> face_centers, points;
+    const bool      weak = parameters.dirichlet == Parameters::Dirichlet::weak;
+    const QGauss<2> face_quadrature(parameters.degree + 1);
+    for (const auto &cell : triangulation.active_cell_iterators())
+      for (const unsigned int f : cell->face_indices())
+        if (cell->face(f)->at_boundary())
+          {
+            face_centers.push_back(cell->face(f)->center());
+            if (weak)
+              for (const Point<2> &q : face_quadrature.get_points())
+                {
+                  // Bilinear map of the (planar) voxel face.
+                  const auto face = cell->face(f);
+                  Point<3>   x;
+                  for (unsigned int v = 0; v < 4; ++v)
+                    x += face->vertex(v) * ((v % 2 ? q[0] : 1 - q[0]) *
+                                            (v / 2 ? q[1] : 1 - q[1]));
+                  points.push_back(x);
+                }
+          }
+    if (!weak)
+      points = triangulation.get_vertices();
+    try
+      {
+        bc.check_regions(points, face_centers);
+      }
+    catch (const ExceptionBase &e)
+      {
+        AssertThrow(weak == false,
+                    ExcMessage(message_of(e) +
+                               " With DG/Dirichlet = weak, conditions act at "
+                               "the quadrature points of boundary faces: use "
+                               "regions that cover faces, or "
+                               "DG/Dirichlet = strong."));
+        throw;
+      }
+
+    element = parameters.make_element<3>();
+    dg =
+      std::make_unique<System<3>>(triangulation, *element, 3, parameters, data);
+    definiteness = dg->settle_penalty(1);
+    setup_time   = timer.wall_time();
+  }
+
+
+
+  unsigned int
+  SceneSolver::solve()
+  {
+    Timer timer;
+    linear_solves = dg->run();
+    solve_time    = timer.wall_time();
+    return linear_solves;
+  }
+
+
+
+  Tensor<1, 3>
+  SceneSolver::point_value(const Point<3> &p) const
+  {
+    Vector<double> value(3);
+    try
+      {
+        VectorTools::point_value(
+          dg->mapping, dg->dof_handler, dg->solution, p, value);
+      }
+    catch (...)
+      {
+        std::ostringstream text;
+        text << p;
+        AssertThrow(false,
+                    ExcMessage("Geometry/Probe points: the point (" +
+                               text.str() + ") m does not lie in the solid."));
+      }
+    return Tensor<1, 3>({value(0), value(1), value(2)});
+  }
+
+
+
+  void
+  SceneSolver::write_vtu(const std::string &file) const
+  {
+    Vector<double> material_id(triangulation.n_active_cells());
+    for (const auto &cell : triangulation.active_cell_iterators())
+      material_id(cell->active_cell_index()) = cell->material_id();
+    DataOut<3> data_out;
+    data_out.attach_dof_handler(dg->dof_handler);
+    data_out.add_data_vector(
+      dg->solution,
+      std::vector<std::string>(3, "displacement"),
+      DataOut<3>::type_dof_data,
+      std::vector<DataComponentInterpretation::DataComponentInterpretation>(
+        3, DataComponentInterpretation::component_is_part_of_vector));
+    data_out.add_data_vector(material_id, "material_id");
+    data_out.build_patches(dg->mapping, parameters.degree);
+    std::ofstream out(file);
+    data_out.write_vtu(out);
+    AssertThrow(out,
+                ExcMessage("Cannot write \"" + file +
+                           "\" (Output/Output directory)."));
+  }
+
+
+
+  void
+  SceneSolver::summarize(nlohmann::json &summary) const
+  {
+    summary["method"]            = "dg";
+    summary["flux"]              = parameters.flux_name();
+    summary["element"]           = parameters.element_name();
+    summary["degree"]            = parameters.degree;
+    summary["penalty"]           = dg->penalty();
+    summary["penalty_automatic"] = parameters.automatic_penalty();
+    summary["penalty_doublings"] = dg->penalty_doublings;
+    summary["definiteness"]      = to_string(definiteness);
+    summary["dirichlet"] =
+      parameters.dirichlet == Parameters::Dirichlet::weak ? "weak" : "strong";
+    summary["formulation"] =
+      parameters.formulation == Parameters::Formulation::linear ? "linear" :
+                                                                  "corotated";
+    summary["cells"]              = triangulation.n_active_cells();
+    summary["dofs"]               = dg->dof_handler.n_dofs();
+    summary["nonzeros"]           = dg->matrix.n_nonzero_elements();
+    summary["linear_solves"]      = linear_solves;
+    summary["time_setup_s"]       = setup_time;
+    summary["time_integration_s"] = dg->integration_time;
+    summary["time_assembly_s"]    = dg->assembly_time;
+    summary["time_solve_s"]       = solve_time;
+  }
+} // namespace ddfem::dg

@@ -1,0 +1,517 @@
+#include <deal.II/base/convergence_table.h>
+#include <deal.II/base/multithread_info.h>
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/grid/grid_generator.h>
+#include <deal.II/lac/precondition.h>
+#include <deal.II/lac/solver_cg.h>
+#include <deal.II/lac/solver_control.h>
+#include <deal.II/numerics/vector_tools.h>
+
+#include <ddfem/dg/studies.h>
+#include <ddfem/dg/system.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <limits>
+#include <memory>
+#include <sstream>
+
+namespace ddfem::dg
+{
+  namespace
+  {
+    /// Phase of factor d of component c of the manufactured solution.
+    double
+    phase(const unsigned int c, const unsigned int d)
+    {
+      return 0.5 + 0.3 * c + 0.2 * d;
+    }
+
+    /// The Lame parameters of the elasticity problems (nu = 0.3).
+    constexpr double study_mu = 1, study_lambda = 1.5;
+  } // namespace
+
+
+
+  template <int dim>
+  ManufacturedSolution<dim>::ManufacturedSolution(
+    const unsigned int n_components)
+    : Function<dim>(n_components)
+  {}
+
+
+
+  template <int dim>
+  double
+  ManufacturedSolution<dim>::value(const Point<dim>  &p,
+                                   const unsigned int c) const
+  {
+    double u = 1;
+    for (unsigned int d = 0; d < dim; ++d)
+      u *= std::sin(numbers::PI * p[d] + phase(c, d));
+    return u;
+  }
+
+
+
+  template <int dim>
+  Tensor<1, dim>
+  ManufacturedSolution<dim>::gradient(const Point<dim>  &p,
+                                      const unsigned int c) const
+  {
+    Tensor<1, dim> g;
+    for (unsigned int i = 0; i < dim; ++i)
+      {
+        g[i] = numbers::PI;
+        for (unsigned int d = 0; d < dim; ++d)
+          g[i] *= d == i ? std::cos(numbers::PI * p[d] + phase(c, d)) :
+                           std::sin(numbers::PI * p[d] + phase(c, d));
+      }
+    return g;
+  }
+
+
+
+  template <int dim>
+  SymmetricTensor<2, dim>
+  ManufacturedSolution<dim>::hessian(const Point<dim>  &p,
+                                     const unsigned int c) const
+  {
+    SymmetricTensor<2, dim> H;
+    for (unsigned int i = 0; i < dim; ++i)
+      for (unsigned int j = i; j < dim; ++j)
+        {
+          H[i][j] = numbers::PI * numbers::PI * (i == j ? -1 : 1);
+          for (unsigned int d = 0; d < dim; ++d)
+            H[i][j] *= (d == i || d == j) && i != j ?
+                         std::cos(numbers::PI * p[d] + phase(c, d)) :
+                         std::sin(numbers::PI * p[d] + phase(c, d));
+        }
+    return H;
+  }
+
+
+
+  template <int dim>
+  Tensor<1, dim>
+  manufactured_load(const Function<dim> &u,
+                    const Point<dim>    &p,
+                    const double         mu,
+                    const double         lambda)
+  {
+    Tensor<1, dim> f;
+    if (u.n_components == 1)
+      {
+        f[0] = -mu * trace(u.hessian(p, 0));
+        return f;
+      }
+    for (unsigned int j = 0; j < dim; ++j)
+      {
+        const SymmetricTensor<2, dim> H = u.hessian(p, j);
+        f[j] -= mu * trace(H);
+        for (unsigned int i = 0; i < dim; ++i)
+          f[i] -= (mu + lambda) * H[i][j];
+      }
+    return f;
+  }
+
+
+
+  std::vector<StudyMethod>
+  parse_methods(const std::string &list)
+  {
+    std::vector<StudyMethod> methods;
+    for (const std::string &name : Utilities::split_string_list(list))
+      {
+        const auto words = Utilities::split_string_list(name, ' ');
+        AssertThrow(words.size() == 2,
+                    ExcMessage("Unknown study method \"" + name + "\"."));
+        StudyMethod m;
+        m.name       = name;
+        m.continuous = words[0] == "CG";
+        m.flux       = words[0] == "BZ" ? Parameters::Flux::babuska_zlamal :
+                                          Parameters::Flux::interior_penalty;
+        m.degree     = (words[1] == "Q2" || words[1] == "quad") ? 2 : 1;
+        methods.push_back(m);
+      }
+    return methods;
+  }
+
+
+
+  namespace
+  {
+    /// What one solve of the manufactured problem gave.
+    struct Result
+    {
+      unsigned int cells    = 0;
+      unsigned int dofs     = 0;
+      std::size_t  nonzeros = 0;
+      double       l2 = 0, h1 = 0;
+      double       condition   = std::numeric_limits<double>::quiet_NaN();
+      double       eta         = 0;
+      double       integration = 0, assembly = 0, solve = 0;
+    };
+
+    /**
+     * Solves the manufactured problem on the n^dim mesh of the unit cube
+     * with @p method (the DG choices of @p dg; its penalty must be fixed,
+     * or automatic on a small enough system). Estimates the condition
+     * number if there are at most @p condition_limit DoFs.
+     */
+    template <int dim>
+    Result
+    solve_manufactured(const unsigned int n,
+                       const unsigned int n_components,
+                       const StudyMethod &method,
+                       const Parameters  &dg,
+                       const unsigned int condition_limit)
+    {
+      Triangulation<dim> tria;
+      GridGenerator::subdivided_hyper_cube(tria, n, 0, 1);
+      const ManufacturedSolution<dim> exact(n_components);
+      const double                    mu = n_components == 1 ? 1 : study_mu;
+      const double     lambda            = n_components == 1 ? 0 : study_lambda;
+      ProblemData<dim> data;
+      data.materials.assign(tria.n_active_cells(), {mu, lambda});
+      data.body_force = [&](const Point<dim> &p) {
+        return manufactured_load(exact, p, mu, lambda);
+      };
+      data.dirichlet = [&](const Point<dim>  &p,
+                           const unsigned int c,
+                           const double,
+                           double &value) {
+        value = exact.value(p, c);
+        return true;
+      };
+
+      Parameters parameters = dg;
+      parameters.flux       = method.flux;
+      parameters.degree     = method.degree;
+      std::unique_ptr<FiniteElement<dim>> scalar =
+        method.continuous ?
+          std::unique_ptr<FiniteElement<dim>>(new FE_Q<dim>(method.degree)) :
+          parameters.make_element<dim>();
+      System<dim> system(tria, *scalar, n_components, parameters, data);
+      system.settle_penalty(1);
+      system.solve();
+
+      Result r;
+      r.cells       = tria.n_active_cells();
+      r.dofs        = system.dof_handler.n_dofs();
+      r.nonzeros    = system.matrix.n_nonzero_elements();
+      r.eta         = system.penalty();
+      r.integration = system.integration_time;
+      r.assembly    = system.assembly_time;
+      r.solve       = system.solve_time;
+      Vector<float>     cellwise(tria.n_active_cells());
+      const QGauss<dim> quadrature(method.degree + 2);
+      VectorTools::integrate_difference(system.mapping,
+                                        system.dof_handler,
+                                        system.solution,
+                                        exact,
+                                        cellwise,
+                                        quadrature,
+                                        VectorTools::L2_norm);
+      r.l2 =
+        VectorTools::compute_global_error(tria, cellwise, VectorTools::L2_norm);
+      VectorTools::integrate_difference(system.mapping,
+                                        system.dof_handler,
+                                        system.solution,
+                                        exact,
+                                        cellwise,
+                                        quadrature,
+                                        VectorTools::H1_seminorm);
+      r.h1 = VectorTools::compute_global_error(tria,
+                                               cellwise,
+                                               VectorTools::H1_seminorm);
+
+      if (r.dofs <= condition_limit)
+        {
+          SolverControl control(20 * r.dofs, 1e-12 * system.rhs.l2_norm());
+          SolverCG<Vector<double>> cg(control);
+          cg.connect_condition_number_slot(
+            [&r](const double c) { r.condition = c; }, false);
+          Vector<double> x(r.dofs);
+          try
+            {
+              cg.solve(system.matrix, x, system.rhs, PreconditionIdentity());
+            }
+          catch (const SolverControl::NoConvergence &)
+            {
+              r.condition = std::numeric_limits<double>::quiet_NaN();
+            }
+        }
+      return r;
+    }
+
+    /**
+     * @p dg with its penalty fixed: an automatic penalty is settled on the
+     * n^dim mesh (small) of the problem with @p method.
+     */
+    template <int dim>
+    Parameters
+    fixed_penalty(const Parameters  &dg,
+                  const StudyMethod &method,
+                  const unsigned int n,
+                  const unsigned int n_components)
+    {
+      Parameters fixed = dg;
+      if (dg.automatic_penalty() && !method.continuous)
+        fixed.penalty =
+          solve_manufactured<dim>(n, n_components, method, dg, 0).eta;
+      return fixed;
+    }
+  } // namespace
+
+
+
+  void
+  ConvergenceStudy::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("DG convergence");
+    prm.declare_entry(
+      "Problems",
+      "2D Poisson, 3D elasticity",
+      Patterns::MultipleSelection("2D Poisson|3D elasticity"),
+      "Manufactured problems (Run type = dg convergence): -Laplace u = f on "
+      "the unit square, and linear elasticity (mu = 1, lambda = 1.5) on the "
+      "unit cube; the exact solution is smooth and non-zero on the "
+      "boundary.");
+    prm.declare_entry("Methods",
+                      "CG Q1, CG Q2, BZ lin, BZ quad, IP lin, IP quad",
+                      Patterns::MultipleSelection(
+                        "CG Q1|CG Q2|BZ lin|BZ quad|IP lin|IP quad"),
+                      "Methods to compare: continuous FE_Q(k), and DG with "
+                      "the Babuska-Zlamal or interior penalty flux and the "
+                      "element of subsection DG, k = 1 (lin) or 2 (quad).");
+    prm.declare_entry("2D refinements",
+                      "2, 7",
+                      Patterns::List(Patterns::Integer(0, 12), 2, 2),
+                      "Smallest and largest l of the 2^l x 2^l grids.");
+    prm.declare_entry("3D refinements",
+                      "1, 4",
+                      Patterns::List(Patterns::Integer(0, 7), 2, 2),
+                      "Smallest and largest l of the 2^l x 2^l x 2^l grids.");
+    prm.declare_entry(
+      "Condition number limit",
+      "20000",
+      Patterns::Integer(0),
+      "The condition number of K is estimated (Lanczos estimate of an "
+      "unpreconditioned CG solve) for systems with at most this many DoFs, "
+      "and printed as nan above.");
+    prm.leave_subsection();
+  }
+
+
+
+  void
+  ConvergenceStudy::parse_parameters(ParameterHandler &prm)
+  {
+    dg.parse_parameters(prm);
+    prm.enter_subsection("DG convergence");
+    problems       = Utilities::split_string_list(prm.get("Problems"));
+    methods        = parse_methods(prm.get("Methods"));
+    const auto l2d = Utilities::string_to_int(
+      Utilities::split_string_list(prm.get("2D refinements")));
+    const auto l3d = Utilities::string_to_int(
+      Utilities::split_string_list(prm.get("3D refinements")));
+    min_2d          = l2d[0];
+    max_2d          = l2d[1];
+    min_3d          = l3d[0];
+    max_3d          = l3d[1];
+    condition_limit = prm.get_integer("Condition number limit");
+    prm.leave_subsection();
+    AssertThrow(min_2d <= max_2d && min_3d <= max_3d,
+                ExcMessage("DG convergence/2D refinements and 3D "
+                           "refinements: expected 'smallest, largest' with "
+                           "smallest <= largest."));
+  }
+
+
+
+  void
+  ConvergenceStudy::run(const std::string &directory, std::ostream &out) const
+  {
+    std::filesystem::create_directories(directory);
+    std::ofstream text(directory + "/dg_convergence.txt");
+    std::ofstream csv(directory + "/dg_convergence.csv");
+    csv << "problem,method,cells,dofs,L2,H1,condition,eta\n";
+    csv << std::setprecision(6);
+    out << "DG convergence study, element " << dg.element_name()
+        << ", Dirichlet weak (DG) / strong (CG)\n";
+    for (const std::string &problem : problems)
+      for (const StudyMethod &method : methods)
+        {
+          const bool         poisson = problem == "2D Poisson";
+          const unsigned int lo      = poisson ? min_2d : min_3d;
+          const unsigned int hi      = poisson ? max_2d : max_3d;
+          const Parameters   fixed   = poisson ?
+                                         fixed_penalty<2>(dg, method, 1u << lo, 1) :
+                                         fixed_penalty<3>(dg, method, 1u << lo, 3);
+          ConvergenceTable   table;
+          for (unsigned int l = lo; l <= hi; ++l)
+            {
+              const Result r = poisson ?
+                                 solve_manufactured<2>(
+                                   1u << l, 1, method, fixed, condition_limit) :
+                                 solve_manufactured<3>(
+                                   1u << l, 3, method, fixed, condition_limit);
+              table.add_value("cells", r.cells);
+              table.add_value("dofs", r.dofs);
+              table.add_value("L2", r.l2);
+              table.add_value("H1", r.h1);
+              table.add_value("cond", r.condition);
+              csv << problem << ',' << method.name << ',' << r.cells << ','
+                  << r.dofs << ',' << r.l2 << ',' << r.h1 << ',' << r.condition
+                  << ',' << r.eta << '\n';
+            }
+          for (const std::string column : {"L2", "H1"})
+            {
+              table.set_scientific(column, true);
+              table.set_precision(column, 3);
+              table.evaluate_convergence_rates(
+                column,
+                "cells",
+                ConvergenceTable::reduction_rate_log2,
+                poisson ? 2 : 3);
+            }
+          table.set_scientific("cond", true);
+          table.set_precision("cond", 2);
+          std::ostringstream heading;
+          heading << "\n" << problem << ", " << method.name;
+          if (!method.continuous)
+            heading << " (" << dg.element_name() << ", eta = " << fixed.penalty
+                    << (dg.automatic_penalty() ? ", automatic" : "") << ")";
+          heading << ":\n";
+          out << heading.str();
+          table.write_text(out);
+          text << heading.str();
+          table.write_text(text);
+        }
+    AssertThrow(text && csv,
+                ExcMessage("Cannot write the convergence tables into \"" +
+                           directory + "\" (Output/Output directory)."));
+  }
+
+
+
+  void
+  CostStudy::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("DG cost");
+    prm.declare_entry(
+      "Resolution",
+      "10",
+      Patterns::Integer(1, 100),
+      "Cells per direction n of the DG meshes (Run type = dg cost); the "
+      "trilinear CG mesh is chosen with the number of DoFs closest to the "
+      "linear DG methods (paper Table 1: 10 and 15 for FE_DGP).");
+    prm.leave_subsection();
+  }
+
+
+
+  void
+  CostStudy::parse_parameters(ParameterHandler &prm)
+  {
+    dg.parse_parameters(prm);
+    prm.enter_subsection("DG cost");
+    resolution = prm.get_integer("Resolution");
+    prm.leave_subsection();
+  }
+
+
+
+  void
+  CostStudy::run(const std::string &directory,
+                 const bool         timings,
+                 std::ostream      &out) const
+  {
+    // One thread, as the paper's timings and so that integration and
+    // assembly times are separable.
+    MultithreadInfo::set_thread_limit(1);
+    const std::vector<StudyMethod> dg_methods =
+      parse_methods("BZ lin, IP lin, BZ quad, IP quad");
+    std::vector<std::pair<StudyMethod, Result>> results;
+    for (const StudyMethod &method : dg_methods)
+      {
+        const Parameters fixed = fixed_penalty<3>(dg, method, 2, 3);
+        results.emplace_back(
+          method, solve_manufactured<3>(resolution, 3, method, fixed, 0));
+      }
+    // The CG mesh with the number of DoFs closest to linear DG.
+    const double target = results[0].second.dofs;
+    unsigned int n_cg   = 1;
+    while (std::abs(3 * std::pow(n_cg + 2, 3) - target) <
+           std::abs(3 * std::pow(n_cg + 1, 3) - target))
+      ++n_cg;
+    const StudyMethod cg        = parse_methods("CG Q1")[0];
+    const Result      reference = solve_manufactured<3>(n_cg, 3, cg, dg, 0);
+    results.emplace_back(cg, reference);
+
+    std::ostringstream table;
+    table << "3D linear elasticity, DG element " << dg.element_name()
+          << ", DG mesh " << resolution << "^3, CG mesh " << n_cg
+          << "^3, one thread, UMFPACK\n"
+          << std::left << std::setw(10) << "method" << std::right
+          << std::setw(8) << "DoFs" << std::setw(10) << "nonzeros"
+          << std::setw(9) << "spars.%" << std::setw(8) << "eta" << std::setw(10)
+          << "L2 error";
+    std::ostringstream times;
+    times << std::setw(9) << "int. ms" << std::setw(9) << "ass. ms"
+          << std::setw(10) << "solve ms" << std::setw(8) << "int/CG"
+          << std::setw(8) << "ass/CG" << std::setw(9) << "solve/CG"
+          << std::setw(9) << "total/CG";
+    std::ostringstream screen, file;
+    screen << table.str() << "\n";
+    file << table.str() << times.str() << "\n";
+    for (const auto &[method, r] : results)
+      {
+        std::ostringstream row, time_row;
+        row << std::left << std::setw(10) << method.name << std::right
+            << std::setw(8) << r.dofs << std::setw(10) << r.nonzeros
+            << std::setw(9) << std::fixed << std::setprecision(3)
+            << 100. * r.nonzeros / (double(r.dofs) * r.dofs) << std::setw(8)
+            << std::setprecision(1) << r.eta << std::setw(10) << std::scientific
+            << std::setprecision(2) << r.l2;
+        const double total = r.integration + r.assembly + r.solve;
+        const double total_cg =
+          reference.integration + reference.assembly + reference.solve;
+        time_row << std::fixed << std::setprecision(1) << std::setw(9)
+                 << 1e3 * r.integration << std::setw(9) << 1e3 * r.assembly
+                 << std::setw(10) << 1e3 * r.solve << std::setprecision(2)
+                 << std::setw(8) << r.integration / reference.integration
+                 << std::setw(8) << r.assembly / reference.assembly
+                 << std::setw(9) << r.solve / reference.solve << std::setw(9)
+                 << total / total_cg;
+        screen << row.str() << "\n";
+        file << row.str() << time_row.str() << "\n";
+      }
+    out << (timings ? file.str() : screen.str());
+    std::filesystem::create_directories(directory);
+    std::ofstream text(directory + "/dg_cost.txt");
+    text << file.str();
+    AssertThrow(text,
+                ExcMessage("Cannot write \"" + directory +
+                           "/dg_cost.txt\" (Output/Output directory)."));
+  }
+
+
+
+  template class ManufacturedSolution<2>;
+  template class ManufacturedSolution<3>;
+  template Tensor<1, 2>
+  manufactured_load(const Function<2> &,
+                    const Point<2> &,
+                    const double,
+                    const double);
+  template Tensor<1, 3>
+  manufactured_load(const Function<3> &,
+                    const Point<3> &,
+                    const double,
+                    const double);
+} // namespace ddfem::dg

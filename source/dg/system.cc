@@ -1,0 +1,999 @@
+#include <deal.II/base/timer.h>
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/fe/fe_interface_values.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/full_matrix.h>
+#include <deal.II/lac/sparse_direct.h>
+#include <deal.II/lac/sparsity_tools.h>
+#include <deal.II/meshworker/mesh_loop.h>
+#include <deal.II/meshworker/scratch_data.h>
+
+#include <ddfem/dg/system.h>
+#include <ddfem/material/kernel.h>
+
+#include <array>
+#include <cmath>
+#include <sstream>
+
+extern "C" void
+dpbtrf_(const char *uplo,
+        const int  *n,
+        const int  *kd,
+        double     *ab,
+        const int  *ldab,
+        int        *info);
+
+namespace ddfem::dg
+{
+  std::string
+  to_string(const Definiteness d)
+  {
+    switch (d)
+      {
+        case Definiteness::positive_definite:
+          return "positive definite";
+        case Definiteness::not_positive_definite:
+          return "NOT positive definite";
+        default:
+          return "not checked";
+      }
+  }
+
+
+
+  namespace
+  {
+    /// The stress of a field whose gradient is @p G (rows: components).
+    template <int dim>
+    Tensor<2, dim>
+    flux(const Tensor<2, dim> &G,
+         const CellMaterial   &m,
+         const unsigned int    n_components)
+    {
+      return n_components == 1 ?
+               Tensor<2, dim>(m.mu * G) :
+               material::linear_elastic_stress(G, m.mu, m.lambda);
+    }
+
+    /// The penalty integrand of the jumps @p a, @p b at the normal @p n.
+    template <int dim>
+    double
+    penalty_product(const Tensor<1, dim> &a,
+                    const Tensor<1, dim> &b,
+                    const Tensor<1, dim> &n,
+                    const double          mu,
+                    const double          lambda,
+                    const unsigned int    n_components)
+    {
+      return n_components == 1 ? mu * (a * b) :
+                                 2 * mu * (a * b) + lambda * (a * n) * (b * n);
+    }
+
+    /**
+     * Block structure of a set of local degrees of freedom of a vector
+     * element: the component of each, and for each the local indices of
+     * the same scalar shape function in every component.
+     */
+    template <int dim>
+    struct Blocks
+    {
+      std::vector<unsigned int>                  component;
+      std::vector<std::array<unsigned int, dim>> partner;
+    };
+
+    /// The block structure of the dofs of one cell of @p fe.
+    template <int dim>
+    Blocks<dim>
+    cell_blocks(const FiniteElement<dim> &fe)
+    {
+      Blocks<dim> b;
+      for (unsigned int i = 0; i < fe.n_dofs_per_cell(); ++i)
+        {
+          const auto [c, base] = fe.system_to_component_index(i);
+          b.component.push_back(c);
+          std::array<unsigned int, dim> p;
+          for (unsigned int a = 0; a < dim; ++a)
+            p[a] = fe.component_to_system_index(a, base);
+          b.partner.push_back(p);
+        }
+      return b;
+    }
+
+    /**
+     * The warped contribution of the local matrix @p A with the rotation
+     * @p R (paper eq. 16): K += R A R^T, F -= R A (R^T x0 - x0), with x0
+     * the local coefficients of the identity map.
+     */
+    template <int dim>
+    void
+    add_warped(const FullMatrix<double> &A,
+               const Tensor<2, dim>     &R,
+               const Blocks<dim>        &b,
+               const Vector<double>     &x0,
+               FullMatrix<double>       &K,
+               Vector<double>           &F)
+    {
+      const unsigned int n = A.m();
+      FullMatrix<double> AR(n, n);
+      for (unsigned int i = 0; i < n; ++i)
+        for (unsigned int j = 0; j < n; ++j)
+          for (unsigned int a = 0; a < dim; ++a)
+            AR(i, j) += A(i, b.partner[j][a]) * R[b.component[j]][a];
+      for (unsigned int i = 0; i < n; ++i)
+        for (unsigned int j = 0; j < n; ++j)
+          for (unsigned int a = 0; a < dim; ++a)
+            K(i, j) += R[b.component[i]][a] * AR(b.partner[i][a], j);
+
+      Vector<double> d(n), y(n);
+      for (unsigned int i = 0; i < n; ++i)
+        {
+          for (unsigned int a = 0; a < dim; ++a)
+            d[i] += R[a][b.component[i]] * x0[b.partner[i][a]];
+          d[i] -= x0[i];
+        }
+      A.vmult(y, d);
+      for (unsigned int i = 0; i < n; ++i)
+        for (unsigned int a = 0; a < dim; ++a)
+          F[i] -= R[b.component[i]][a] * y[b.partner[i][a]];
+    }
+
+    /// F += R r for a local force @p r in the rotated frame.
+    template <int dim>
+    void
+    add_rotated(const Vector<double> &r,
+                const Tensor<2, dim> &R,
+                const Blocks<dim>    &b,
+                Vector<double>       &F)
+    {
+      for (unsigned int i = 0; i < r.size(); ++i)
+        for (unsigned int a = 0; a < dim; ++a)
+          F[i] += R[b.component[i]][a] * r[b.partner[i][a]];
+    }
+
+    /// Local matrix, vector and dof indices of one face.
+    struct FaceCopy
+    {
+      std::vector<types::global_dof_index> dofs;
+      FullMatrix<double>                   matrix;
+      Vector<double>                       vector;
+    };
+
+    /// Local contributions of one cell, its boundary faces and its faces.
+    struct CopyData
+    {
+      std::vector<types::global_dof_index> dofs;
+      FullMatrix<double>                   matrix;
+      Vector<double>                       vector;
+      std::vector<FaceCopy>                faces;
+    };
+
+    /// Orthogonal factor of the polar decomposition of @p A (Newton).
+    template <int dim>
+    Tensor<2, dim>
+    polar_rotation(const Tensor<2, dim> &A)
+    {
+      Tensor<2, dim> R = A;
+      for (unsigned int it = 0; it < 100; ++it)
+        {
+          const Tensor<2, dim> next   = 0.5 * (R + transpose(invert(R)));
+          const double         change = (next - R).norm();
+          R                           = next;
+          if (change < 1e-14 * std::sqrt(double(dim)))
+            break;
+        }
+      return R;
+    }
+  } // namespace
+
+
+
+  template <int dim>
+  System<dim>::System(const Triangulation<dim> &triangulation,
+                      const FiniteElement<dim> &scalar_fe,
+                      const unsigned int        n_components,
+                      const Parameters         &parameters,
+                      const ProblemData<dim>   &data)
+    : fe(scalar_fe, n_components)
+    , dof_handler(triangulation)
+    , parameters(parameters)
+    , data(data)
+    , n_components(n_components)
+    , is_continuous(scalar_fe.n_dofs_per_face() > 0)
+    , quadrature(scalar_fe.degree + 1)
+    , face_quadrature(scalar_fe.degree + 1)
+  {
+    Assert(n_components == 1 || n_components == dim, ExcInternalError());
+    AssertThrow(data.materials.size() == triangulation.n_active_cells(),
+                ExcMessage("One material per cell is needed."));
+    dof_handler.distribute_dofs(fe);
+    make_constraints(1);
+    DynamicSparsityPattern dsp(dof_handler.n_dofs());
+    if (is_continuous)
+      DoFTools::make_sparsity_pattern(dof_handler, dsp, constraints, true);
+    else
+      {
+        // The face terms of IP couple every dof of the two cells; the
+        // penalty term of BZ only those non-zero on the face, and on
+        // axis-aligned faces only equal components (paper Table 1).
+        for (const auto &cell : triangulation.active_cell_iterators())
+          for (const unsigned int f : cell->face_indices())
+            {
+              bool aligned = false;
+              for (unsigned int d = 0; d < dim; ++d)
+                {
+                  bool flat = true;
+                  for (const unsigned int v : cell->face(f)->vertex_indices())
+                    flat = flat && std::abs(cell->face(f)->vertex(v)[d] -
+                                            cell->face(f)->vertex(0)[d]) <
+                                     1e-12 * cell->diameter();
+                  aligned = aligned || flat;
+                }
+              axis_aligned = axis_aligned && aligned;
+            }
+        const bool bz = parameters.flux == Parameters::Flux::babuska_zlamal;
+        Table<2, DoFTools::Coupling> cell_mask(n_components, n_components);
+        Table<2, DoFTools::Coupling> face_mask(n_components, n_components);
+        cell_mask.fill(DoFTools::always);
+        for (unsigned int c = 0; c < n_components; ++c)
+          for (unsigned int d = 0; d < n_components; ++d)
+            face_mask(c, d) = !bz                       ? DoFTools::always :
+                              (c == d || !axis_aligned) ? DoFTools::nonzero :
+                                                          DoFTools::none;
+        DoFTools::make_flux_sparsity_pattern(dof_handler,
+                                             dsp,
+                                             constraints,
+                                             true,
+                                             cell_mask,
+                                             face_mask,
+                                             numbers::invalid_subdomain_id);
+      }
+    sparsity.copy_from(dsp);
+    matrix.reinit(sparsity);
+    rhs.reinit(dof_handler.n_dofs());
+    solution.reinit(dof_handler.n_dofs());
+    if (!is_continuous && n_components == dim)
+      project_locally(Functions::IdentityFunction<dim>(), identity);
+  }
+
+
+
+  template <int dim>
+  void
+  System<dim>::make_constraints(const double t)
+  {
+    constraints.clear();
+    if (is_continuous)
+      DoFTools::make_hanging_node_constraints(dof_handler, constraints);
+    const bool strong =
+      is_continuous || parameters.dirichlet == Parameters::Dirichlet::strong;
+    if (data.dirichlet && strong)
+      {
+        const auto &unit_points = fe.get_unit_support_points();
+        std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
+        for (const auto &cell : dof_handler.active_cell_iterators())
+          if (cell->at_boundary())
+            {
+              cell->get_dof_indices(dofs);
+              for (const unsigned int f : cell->face_indices())
+                if (cell->face(f)->at_boundary())
+                  for (unsigned int i = 0; i < dofs.size(); ++i)
+                    {
+                      const unsigned int direction =
+                        GeometryInfo<dim>::unit_normal_direction[f];
+                      if (std::abs(unit_points[i][direction] - f % 2) > 1e-12 ||
+                          constraints.is_constrained(dofs[i]))
+                        continue;
+                      const Point<dim> p =
+                        mapping.transform_unit_to_real_cell(cell,
+                                                            unit_points[i]);
+                      double value = 0;
+                      if (data.dirichlet(
+                            p, fe.system_to_component_index(i).first, t, value))
+                        {
+                          constraints.add_line(dofs[i]);
+                          constraints.set_inhomogeneity(dofs[i], value);
+                        }
+                    }
+            }
+      }
+    constraints.close();
+  }
+
+
+
+  template <int dim>
+  void
+  System<dim>::assemble(const double          eta,
+                        const double          t,
+                        const Vector<double> *current)
+  {
+    AssertThrow(current == nullptr || (!is_continuous && n_components == dim),
+                ExcMessage("The corotated formulation needs a "
+                           "discontinuous vector-valued element."));
+    eta_used = eta;
+    make_constraints(t);
+    matrix = 0;
+    rhs    = 0;
+
+    const std::vector<Tensor<2, dim>> cell_rotations =
+      current ? rotations(*current) : std::vector<Tensor<2, dim>>();
+    const Blocks<dim> blocks =
+      n_components == dim ? cell_blocks<dim>(fe) : Blocks<dim>();
+    const unsigned int n = fe.n_dofs_per_cell();
+    const bool ip   = parameters.flux == Parameters::Flux::interior_penalty;
+    const bool weak = parameters.dirichlet == Parameters::Dirichlet::weak &&
+                      !is_continuous && bool(data.dirichlet);
+
+    using Iterator = typename DoFHandler<dim>::active_cell_iterator;
+    MeshWorker::ScratchData<dim> scratch(mapping,
+                                         fe,
+                                         quadrature,
+                                         update_values | update_gradients |
+                                           update_quadrature_points |
+                                           update_JxW_values,
+                                         face_quadrature,
+                                         update_values | update_gradients |
+                                           update_quadrature_points |
+                                           update_JxW_values |
+                                           update_normal_vectors);
+
+    // The shape functions of a primitive vector element: e_c phi and
+    // e_c (x) grad phi.
+    const auto value_of = [](const unsigned int c, const double phi) {
+      Tensor<1, dim> v;
+      v[c] = phi;
+      return v;
+    };
+    const auto gradient_of = [](const unsigned int    c,
+                                const Tensor<1, dim> &grad) {
+      Tensor<2, dim> G;
+      G[c] = grad;
+      return G;
+    };
+    const auto local_identity =
+      [&](const std::vector<types::global_dof_index> &dofs) {
+        Vector<double> x0(dofs.size());
+        for (unsigned int i = 0; i < dofs.size(); ++i)
+          x0[i] = identity[dofs[i]];
+        return x0;
+      };
+
+    const auto cell_worker = [&](const Iterator               &cell,
+                                 MeshWorker::ScratchData<dim> &s,
+                                 CopyData                     &c) {
+      const FEValues<dim> &fv = s.reinit(cell);
+      const CellMaterial  &m  = data.materials[cell->active_cell_index()];
+      c.dofs.resize(n);
+      cell->get_dof_indices(c.dofs);
+      c.matrix.reinit(n, n);
+      c.vector.reinit(n);
+      c.faces.clear();
+      FullMatrix<double>          A(n, n);
+      std::vector<Tensor<2, dim>> stress(n);
+      for (unsigned int q = 0; q < fv.n_quadrature_points; ++q)
+        {
+          for (unsigned int j = 0; j < n; ++j)
+            stress[j] = flux(gradient_of(fe.system_to_component_index(j).first,
+                                         fv.shape_grad(j, q)),
+                             m,
+                             n_components);
+          const Tensor<1, dim> f =
+            data.body_force ? t * data.body_force(fv.quadrature_point(q)) :
+                              Tensor<1, dim>();
+          for (unsigned int i = 0; i < n; ++i)
+            {
+              const unsigned int   ci = fe.system_to_component_index(i).first;
+              const Tensor<1, dim> gi = fv.shape_grad(i, q);
+              for (unsigned int j = 0; j < n; ++j)
+                A(i, j) += gi * stress[j][ci] * fv.JxW(q);
+              c.vector[i] += f[ci] * fv.shape_value(i, q) * fv.JxW(q);
+            }
+        }
+      if (current)
+        add_warped(A,
+                   cell_rotations[cell->active_cell_index()],
+                   blocks,
+                   local_identity(c.dofs),
+                   c.matrix,
+                   c.vector);
+      else
+        c.matrix.add(1., A);
+    };
+
+    const auto boundary_worker = [&](const Iterator               &cell,
+                                     const unsigned int            face_no,
+                                     MeshWorker::ScratchData<dim> &s,
+                                     CopyData                     &c) {
+      const FEFaceValuesBase<dim> &fv = s.reinit(cell, face_no);
+      const CellMaterial &m      = data.materials[cell->active_cell_index()];
+      const Point<dim>    center = cell->face(face_no)->center();
+      double              area   = 0;
+      for (unsigned int q = 0; q < fv.n_quadrature_points; ++q)
+        area += fv.JxW(q);
+      const double eta_f = 2 * eta * area / cell->measure();
+      // Nitsche's consistency terms, warped (all components prescribed)
+      // or not (some prescribed), and their Dirichlet data parts.
+      FullMatrix<double>          warped(n, n), plain(n, n);
+      Vector<double>              warped_data(n);
+      const Tensor<2, dim>        R = current ?
+                                        cell_rotations[cell->active_cell_index()] :
+                                        unit_symmetric_tensor<dim>();
+      std::vector<Tensor<2, dim>> stress(n);
+      for (unsigned int q = 0; q < fv.n_quadrature_points; ++q)
+        {
+          const Point<dim>     &x  = fv.quadrature_point(q);
+          const Tensor<1, dim> &nq = fv.normal_vector(q);
+          const double          dx = fv.JxW(q);
+          if (data.traction)
+            {
+              const Tensor<1, dim> tr = t * data.traction(center, x, nq);
+              for (unsigned int i = 0; i < n; ++i)
+                c.vector[i] += tr[fe.system_to_component_index(i).first] *
+                               fv.shape_value(i, q) * dx;
+            }
+          if (!weak)
+            continue;
+          Tensor<1, dim> mask, g;
+          unsigned int   n_prescribed = 0;
+          for (unsigned int d = 0; d < n_components; ++d)
+            if (data.dirichlet(x, d, t, g[d]))
+              {
+                mask[d] = 1;
+                ++n_prescribed;
+              }
+          if (n_prescribed == 0)
+            continue;
+          const bool     warp    = current && n_prescribed == n_components;
+          Tensor<1, dim> g_local = g;
+          if (warp)
+            g_local = transpose(R) * (x + g) - x;
+          for (unsigned int j = 0; j < n; ++j)
+            stress[j] = flux(gradient_of(fe.system_to_component_index(j).first,
+                                         fv.shape_grad(j, q)),
+                             m,
+                             n_components);
+          FullMatrix<double> &M = warp ? warped : plain;
+          for (unsigned int i = 0; i < n; ++i)
+            {
+              const unsigned int   ci = fe.system_to_component_index(i).first;
+              const Tensor<1, dim> vi =
+                mask[ci] * value_of(ci, fv.shape_value(i, q));
+              const Tensor<1, dim> si = stress[i] * nq;
+              Tensor<1, dim>       masked_g;
+              for (unsigned int d = 0; d < dim; ++d)
+                masked_g[d] = mask[d] * g[d];
+              c.vector[i] += eta_f *
+                             penalty_product(masked_g,
+                                             vi,
+                                             nq,
+                                             m.mu,
+                                             std::max(m.lambda, 0.),
+                                             n_components) *
+                             dx;
+              if (ip)
+                {
+                  // -(u - g).sigma(v) n: the data part moves to F.
+                  double data_term = 0;
+                  for (unsigned int d = 0; d < dim; ++d)
+                    data_term -= mask[d] * g_local[d] * si[d];
+                  (warp ? warped_data[i] : c.vector[i]) += data_term * dx;
+                }
+              for (unsigned int j = 0; j < n; ++j)
+                {
+                  const unsigned int cj = fe.system_to_component_index(j).first;
+                  const Tensor<1, dim> vj =
+                    mask[cj] * value_of(cj, fv.shape_value(j, q));
+                  c.matrix(i, j) +=
+                    eta_f *
+                    penalty_product(
+                      vi, vj, nq, m.mu, std::max(m.lambda, 0.), n_components) *
+                    dx;
+                  if (ip)
+                    M(i, j) -= (vi * (stress[j] * nq) + vj * si) * dx;
+                }
+            }
+        }
+      c.matrix.add(1., plain);
+      if (current)
+        {
+          const Vector<double> x0 = local_identity(c.dofs);
+          add_warped(warped, R, blocks, x0, c.matrix, c.vector);
+          add_rotated(warped_data, R, blocks, c.vector);
+        }
+      else
+        {
+          c.matrix.add(1., warped);
+          c.vector += warped_data;
+        }
+    };
+
+    const auto face_worker = [&](const Iterator               &cell,
+                                 const unsigned int            f,
+                                 const unsigned int            sf,
+                                 const Iterator               &ncell,
+                                 const unsigned int            nf,
+                                 const unsigned int            nsf,
+                                 MeshWorker::ScratchData<dim> &s,
+                                 CopyData                     &c) {
+      const FEInterfaceValues<dim> &fiv = s.reinit(cell, f, sf, ncell, nf, nsf);
+      const unsigned int            n_if = fiv.n_current_interface_dofs();
+      const std::array<const CellMaterial *, 2> m = {
+        {&data.materials[cell->active_cell_index()],
+         &data.materials[ncell->active_cell_index()]}};
+      const double mu_f     = std::max(m[0]->mu, m[1]->mu);
+      const double lambda_f = std::max({m[0]->lambda, m[1]->lambda, 0.});
+      double       area     = 0;
+      for (unsigned int q = 0; q < fiv.n_quadrature_points; ++q)
+        area += fiv.JxW(q);
+      const double eta_f =
+        eta * area * (1 / cell->measure() + 1 / ncell->measure());
+
+      // Side and local index of every interface dof (one side each: DG).
+      std::vector<unsigned int>                side(n_if), local(n_if);
+      std::array<std::vector<unsigned int>, 2> interface_index = {
+        {std::vector<unsigned int>(n), std::vector<unsigned int>(n)}};
+      for (unsigned int i = 0; i < n_if; ++i)
+        {
+          const auto pair = fiv.interface_dof_to_dof_indices(i);
+          side[i]         = pair[0] == numbers::invalid_unsigned_int ? 1 : 0;
+          local[i]        = pair[side[i]];
+          interface_index[side[i]][local[i]] = i;
+        }
+
+      FaceCopy                   &face     = c.faces.emplace_back();
+      const auto                 &all_dofs = fiv.get_interface_dof_indices();
+      std::vector<Tensor<1, dim>> jump(n_if);
+      if (!ip)
+        {
+          // Babuska-Zlamal: the penalty term only, on the dofs whose shape
+          // functions are non-zero on the face; on axis-aligned faces it
+          // does not couple different components (see the sparsity).
+          const std::array<unsigned int, 2> face_no = {{f, nf}};
+          std::vector<unsigned int>         used;
+          for (unsigned int i = 0; i < n_if; ++i)
+            if (fe.has_support_on_face(local[i], face_no[side[i]]))
+              used.push_back(i);
+          for (const unsigned int i : used)
+            face.dofs.push_back(all_dofs[i]);
+          face.matrix.reinit(used.size(), used.size());
+          face.vector.reinit(used.size());
+          for (unsigned int q = 0; q < fiv.n_quadrature_points; ++q)
+            {
+              const Tensor<1, dim> nq = fiv.normal(q);
+              for (const unsigned int i : used)
+                jump[i] =
+                  (side[i] == 0 ? 1. : -1.) *
+                  value_of(fe.system_to_component_index(local[i]).first,
+                           fiv.get_fe_face_values(side[i]).shape_value(local[i],
+                                                                       q));
+              for (unsigned int a = 0; a < used.size(); ++a)
+                for (unsigned int b = 0; b < used.size(); ++b)
+                  if (!axis_aligned ||
+                      fe.system_to_component_index(local[used[a]]).first ==
+                        fe.system_to_component_index(local[used[b]]).first)
+                    face.matrix(a, b) += eta_f *
+                                         penalty_product(jump[used[a]],
+                                                         jump[used[b]],
+                                                         nq,
+                                                         mu_f,
+                                                         lambda_f,
+                                                         n_components) *
+                                         fiv.JxW(q);
+            }
+          return;
+        }
+
+      // Interior penalty: consistency and symmetry terms split by the side
+      // whose stress they contain (paper section 7), and the penalty term.
+      face.dofs = all_dofs;
+      face.matrix.reinit(n_if, n_if);
+      face.vector.reinit(n_if);
+      std::array<FullMatrix<double>, 2> A = {
+        {FullMatrix<double>(n_if, n_if), FullMatrix<double>(n_if, n_if)}};
+      std::vector<Tensor<1, dim>> traction(n_if);
+      for (unsigned int q = 0; q < fiv.n_quadrature_points; ++q)
+        {
+          const Tensor<1, dim> nq = fiv.normal(q);
+          const double         dx = fiv.JxW(q);
+          for (unsigned int i = 0; i < n_if; ++i)
+            {
+              const FEFaceValuesBase<dim> &fv = fiv.get_fe_face_values(side[i]);
+              const unsigned int           ci =
+                fe.system_to_component_index(local[i]).first;
+              jump[i] = (side[i] == 0 ? 1. : -1.) *
+                        value_of(ci, fv.shape_value(local[i], q));
+              traction[i] = flux(gradient_of(ci, fv.shape_grad(local[i], q)),
+                                 *m[side[i]],
+                                 n_components) *
+                            nq;
+            }
+          for (unsigned int i = 0; i < n_if; ++i)
+            for (unsigned int j = 0; j < n_if; ++j)
+              {
+                face.matrix(i, j) +=
+                  eta_f *
+                  penalty_product(
+                    jump[i], jump[j], nq, mu_f, lambda_f, n_components) *
+                  dx;
+                A[side[j]](i, j) -= 0.5 * (jump[i] * traction[j]) * dx;
+                A[side[i]](i, j) -= 0.5 * (jump[j] * traction[i]) * dx;
+              }
+        }
+      if (current)
+        {
+          Blocks<dim> b;
+          for (unsigned int i = 0; i < n_if; ++i)
+            {
+              b.component.push_back(blocks.component[local[i]]);
+              std::array<unsigned int, dim> p;
+              for (unsigned int a = 0; a < dim; ++a)
+                p[a] = interface_index[side[i]][blocks.partner[local[i]][a]];
+              b.partner.push_back(p);
+            }
+          const Vector<double> x0 = local_identity(face.dofs);
+          add_warped(A[0],
+                     cell_rotations[cell->active_cell_index()],
+                     b,
+                     x0,
+                     face.matrix,
+                     face.vector);
+          add_warped(A[1],
+                     cell_rotations[ncell->active_cell_index()],
+                     b,
+                     x0,
+                     face.matrix,
+                     face.vector);
+        }
+      else
+        {
+          face.matrix.add(1., A[0]);
+          face.matrix.add(1., A[1]);
+        }
+    };
+
+    Timer      copy_timer(MPI_COMM_SELF, false);
+    const auto copier = [&](const CopyData &c) {
+      copy_timer.start();
+      constraints.distribute_local_to_global(
+        c.matrix, c.vector, c.dofs, matrix, rhs);
+      for (const FaceCopy &face : c.faces)
+        constraints.distribute_local_to_global(
+          face.matrix, face.vector, face.dofs, matrix, rhs);
+      copy_timer.stop();
+    };
+
+    Timer total;
+    auto  flags =
+      MeshWorker::assemble_own_cells | MeshWorker::assemble_boundary_faces;
+    if (!is_continuous)
+      flags |= MeshWorker::assemble_own_interior_faces_once;
+    // mesh_loop wants a face worker exactly if faces are worked on.
+    using FaceWorker = std::function<void(const Iterator &,
+                                          const unsigned int,
+                                          const unsigned int,
+                                          const Iterator &,
+                                          const unsigned int,
+                                          const unsigned int,
+                                          MeshWorker::ScratchData<dim> &,
+                                          CopyData &)>;
+    CopyData copy;
+    MeshWorker::mesh_loop(dof_handler.begin_active(),
+                          dof_handler.end(),
+                          cell_worker,
+                          copier,
+                          scratch,
+                          copy,
+                          flags,
+                          boundary_worker,
+                          is_continuous ? FaceWorker() :
+                                          FaceWorker(face_worker));
+    total.stop();
+    assembly_time    = copy_timer.wall_time();
+    integration_time = total.wall_time() - assembly_time;
+  }
+
+
+
+  template <int dim>
+  Definiteness
+  System<dim>::check_definiteness() const
+  {
+    // Banded Cholesky (LAPACK dpbtrf) after a Cuthill-McKee renumbering:
+    // exact, O(n b^2) time and n (b + 1) memory for bandwidth b.
+    const unsigned int     n = matrix.m();
+    DynamicSparsityPattern dsp(n, n);
+    for (unsigned int i = 0; i < n; ++i)
+      for (auto e = sparsity.begin(i); e != sparsity.end(i); ++e)
+        dsp.add(i, e->column());
+    std::vector<types::global_dof_index> renumbered(n);
+    SparsityTools::reorder_Cuthill_McKee(dsp, renumbered);
+    types::global_dof_index band = 0;
+    for (unsigned int i = 0; i < n; ++i)
+      for (auto e = sparsity.begin(i); e != sparsity.end(i); ++e)
+        band = std::max<types::global_dof_index>(
+          band,
+          std::abs(static_cast<long long>(renumbered[i]) -
+                   static_cast<long long>(renumbered[e->column()])));
+    const double entries = double(n) * (band + 1);
+    if (entries > parameters.definiteness_check_limit)
+      return Definiteness::not_checked;
+
+    // Lower band storage: ab(i - j, j) = K(i, j) for i >= j.
+    const int           kd = band, ldab = band + 1, size = n;
+    std::vector<double> ab(static_cast<std::size_t>(entries), 0.);
+    for (unsigned int i = 0; i < n; ++i)
+      for (auto e = matrix.begin(i); e != matrix.end(i); ++e)
+        {
+          const auto r = renumbered[i], c = renumbered[e->column()];
+          if (r >= c)
+            ab[(r - c) + static_cast<std::size_t>(c) * ldab] = e->value();
+        }
+    const char uplo = 'L';
+    int        info = 0;
+    dpbtrf_(&uplo, &size, &kd, ab.data(), &ldab, &info);
+    return info == 0 ? Definiteness::positive_definite :
+                       Definiteness::not_positive_definite;
+  }
+
+
+
+  template <int dim>
+  Definiteness
+  System<dim>::settle_penalty(const double t)
+  {
+    penalty_doublings = 0;
+    if (is_continuous)
+      {
+        assemble(0, t);
+        return check_definiteness();
+      }
+    if (!parameters.automatic_penalty())
+      {
+        assemble(parameters.penalty, t);
+        const Definiteness d = check_definiteness();
+        std::ostringstream eta;
+        eta << parameters.penalty;
+        AssertThrow(d != Definiteness::not_positive_definite,
+                    ExcMessage(
+                      "DG/Penalty = " + eta.str() +
+                      " is too small: the stiffness matrix is not positive "
+                      "definite (or the Dirichlet conditions do not prevent "
+                      "rigid motions). Use a larger penalty or 'automatic'."));
+        return d;
+      }
+    double eta = 1;
+    for (; penalty_doublings <= 30; ++penalty_doublings, eta *= 2)
+      {
+        assemble(eta, t);
+        const Definiteness d = check_definiteness();
+        std::ostringstream limit;
+        limit << parameters.definiteness_check_limit;
+        AssertThrow(
+          d != Definiteness::not_checked,
+          ExcMessage(
+            "DG/Penalty = automatic checks positive definiteness by a banded "
+            "Cholesky factorization, but the band of this system (" +
+            std::to_string(dof_handler.n_dofs()) +
+            " DoFs) holds more entries than DG/Definiteness check limit = " +
+            limit.str() +
+            ". Give a fixed DG/Penalty (found automatically on a smaller "
+            "grid: eq. 7 scales it with the mesh) or raise the limit."));
+        if (d == Definiteness::positive_definite)
+          return d;
+      }
+    AssertThrow(false,
+                ExcMessage("DG/Penalty = automatic: no penalty up to 2^30 "
+                           "gives a positive definite stiffness matrix; do "
+                           "the Dirichlet conditions prevent rigid motions?"));
+    return Definiteness::not_positive_definite;
+  }
+
+
+
+  template <int dim>
+  void
+  System<dim>::solve()
+  {
+    Timer               timer;
+    SparseDirectUMFPACK direct;
+    direct.initialize(matrix);
+    direct.vmult(solution, rhs);
+    constraints.distribute(solution);
+    solve_time = timer.wall_time();
+  }
+
+
+
+  template <int dim>
+  unsigned int
+  System<dim>::run()
+  {
+    if (parameters.formulation == Parameters::Formulation::linear)
+      {
+        solve();
+        return 1;
+      }
+    unsigned int solves = 0;
+    solution            = 0;
+    Vector<double> previous;
+    for (unsigned int step = 1; step <= parameters.load_steps; ++step)
+      {
+        const double t = double(step) / parameters.load_steps;
+        for (unsigned int it = 1;; ++it)
+          {
+            previous = solution;
+            assemble(eta_used, t, &solution);
+            solve();
+            ++solves;
+            previous -= solution;
+            if (previous.l2_norm() <= parameters.corotation_tolerance *
+                                        std::max(solution.l2_norm(), 1e-300))
+              break;
+            AssertThrow(it < parameters.corotation_iterations,
+                        ExcMessage(
+                          "The corotated iteration did not converge in "
+                          "DG/Corotation iterations = " +
+                          std::to_string(parameters.corotation_iterations) +
+                          " at load step " + std::to_string(step) +
+                          "; use more DG/Load steps."));
+          }
+      }
+    return solves;
+  }
+
+
+
+  template <int dim>
+  void
+  System<dim>::project_locally(const Function<dim> &function,
+                               Vector<double>      &v) const
+  {
+    AssertThrow(!is_continuous,
+                ExcMessage("A cellwise projection needs a discontinuous "
+                           "element."));
+    AssertDimension(function.n_components, fe.n_components());
+    v.reinit(dof_handler.n_dofs());
+    const unsigned int                   n = fe.n_dofs_per_cell();
+    FEValues<dim>                        fv(mapping,
+                     fe,
+                     quadrature,
+                     update_values | update_quadrature_points |
+                       update_JxW_values);
+    std::vector<types::global_dof_index> dofs(n);
+    FullMatrix<double>                   M(n, n);
+    Vector<double>                       b(n), x(n), values(fe.n_components());
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      {
+        fv.reinit(cell);
+        M = 0;
+        b = 0;
+        for (unsigned int q = 0; q < fv.n_quadrature_points; ++q)
+          {
+            function.vector_value(fv.quadrature_point(q), values);
+            for (unsigned int i = 0; i < n; ++i)
+              {
+                const unsigned int ci = fe.system_to_component_index(i).first;
+                b[i] += values[ci] * fv.shape_value(i, q) * fv.JxW(q);
+                for (unsigned int j = 0; j < n; ++j)
+                  if (fe.system_to_component_index(j).first == ci)
+                    M(i, j) +=
+                      fv.shape_value(i, q) * fv.shape_value(j, q) * fv.JxW(q);
+              }
+          }
+        M.gauss_jordan();
+        M.vmult(x, b);
+        cell->get_dof_indices(dofs);
+        for (unsigned int i = 0; i < n; ++i)
+          v[dofs[i]] = x[i];
+      }
+  }
+
+
+
+  template <int dim>
+  std::vector<Tensor<2, dim>>
+  System<dim>::rotations(const Vector<double> &u) const
+  {
+    std::vector<Tensor<2, dim>> R(
+      dof_handler.get_triangulation().n_active_cells());
+    FEValues<dim>                        fv(mapping,
+                     fe,
+                     quadrature,
+                     update_values | update_quadrature_points |
+                       update_JxW_values);
+    std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      {
+        fv.reinit(cell);
+        cell->get_dof_indices(dofs);
+        // Deformed positions y = x + u at the quadrature points, and the
+        // least-squares affine fit y ~ A x + b.
+        std::vector<Point<dim>> y(fv.get_quadrature_points());
+        Point<dim>              x_mean, y_mean;
+        double                  volume = 0;
+        for (unsigned int q = 0; q < y.size(); ++q)
+          {
+            for (unsigned int i = 0; i < dofs.size(); ++i)
+              y[q][fe.system_to_component_index(i).first] +=
+                u[dofs[i]] * fv.shape_value(i, q);
+            x_mean += fv.JxW(q) * fv.quadrature_point(q);
+            y_mean += fv.JxW(q) * y[q];
+            volume += fv.JxW(q);
+          }
+        x_mean /= volume;
+        y_mean /= volume;
+        Tensor<2, dim> XX, YX;
+        for (unsigned int q = 0; q < y.size(); ++q)
+          {
+            const Tensor<1, dim> dx = fv.quadrature_point(q) - x_mean;
+            const Tensor<1, dim> dy = y[q] - y_mean;
+            XX += fv.JxW(q) * outer_product(dx, dx);
+            YX += fv.JxW(q) * outer_product(dy, dx);
+          }
+        R[cell->active_cell_index()] = polar_rotation(YX * invert(XX));
+      }
+    return R;
+  }
+
+
+
+  template <int dim>
+  double
+  System<dim>::jump_norm(const Vector<double> &u) const
+  {
+    using Iterator = typename DoFHandler<dim>::active_cell_iterator;
+    MeshWorker::ScratchData<dim> scratch(mapping,
+                                         fe,
+                                         quadrature,
+                                         update_values,
+                                         face_quadrature,
+                                         update_values | update_JxW_values);
+    double                       sum         = 0;
+    const auto                   face_worker = [&](const Iterator               &cell,
+                                 const unsigned int            f,
+                                 const unsigned int            sf,
+                                 const Iterator               &ncell,
+                                 const unsigned int            nf,
+                                 const unsigned int            nsf,
+                                 MeshWorker::ScratchData<dim> &s,
+                                 double                       &c) {
+      const FEInterfaceValues<dim> &fiv = s.reinit(cell, f, sf, ncell, nf, nsf);
+      const auto                   &dofs = fiv.get_interface_dof_indices();
+      for (unsigned int q = 0; q < fiv.n_quadrature_points; ++q)
+        {
+          Tensor<1, dim> jump;
+          for (unsigned int i = 0; i < dofs.size(); ++i)
+            {
+              const auto         pair = fiv.interface_dof_to_dof_indices(i);
+              const unsigned int side =
+                pair[0] == numbers::invalid_unsigned_int ? 1 : 0;
+              jump[fe.system_to_component_index(pair[side]).first] +=
+                (side == 0 ? 1. : -1.) * u[dofs[i]] *
+                fiv.get_fe_face_values(side).shape_value(pair[side], q);
+            }
+          c += jump.norm_square() * fiv.JxW(q);
+        }
+    };
+    double copy = 0;
+    MeshWorker::mesh_loop(
+      dof_handler.begin_active(),
+      dof_handler.end(),
+      [](const Iterator &, MeshWorker::ScratchData<dim> &, double &c) {
+        c = 0;
+      },
+      [&](const double &c) { sum += c; },
+      scratch,
+      copy,
+      MeshWorker::assemble_own_cells |
+        MeshWorker::assemble_own_interior_faces_once,
+      {},
+      face_worker);
+    return std::sqrt(sum);
+  }
+
+
+
+  template class System<2>;
+  template class System<3>;
+} // namespace ddfem::dg

@@ -1,0 +1,61 @@
+// A too small fixed penalty must be detected and reported (exit code 1,
+// message naming DG/Penalty, nothing written), not silently solved; and
+// the other DG input errors give clear messages too.
+
+#include <ddfem/app/application.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "../tests.h"
+
+using namespace dealii;
+using namespace ddfem;
+
+namespace
+{
+  const std::string cantilever =
+    testing::cantilever("2, 4, 2", "0; 0; -100") + "set Method = dg\n";
+
+  /// Runs ddfem on @p prm_text plus @p dg settings and reports.
+  void
+  run_case(const std::string &name,
+           const std::string &prm_text,
+           const std::string &dg)
+  {
+    const std::string file = name + ".prm";
+    std::ofstream(file) << prm_text << "subsection DG\n"
+                        << dg << "end\nsubsection Output\n"
+                        << "  set Output directory = out_" << name
+                        << "\n  set Screen timings = false\nend\n";
+    std::ostringstream out, err;
+    const int          code = app::run({file}, out, err);
+    std::cout << "* " << name << ": exit code " << code
+              << ", output written: " << std::boolalpha
+              << std::filesystem::exists("out_" + name) << "\n"
+              << out.str() << err.str() << std::endl;
+  }
+} // namespace
+
+int
+main(int argc, char **argv)
+{
+  dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  run_case("too_small", cantilever, "set Penalty = 0.01\n");
+  run_case("automatic", cantilever, "set Penalty = automatic\n");
+  run_case("negative", cantilever, "set Penalty = -3\n");
+  run_case("word", cantilever, "set Penalty = large\n");
+  run_case("strong_dgp",
+           cantilever,
+           "set Element = FE_DGP\nset Dirichlet = strong\n");
+  run_case("too_large_for_automatic",
+           cantilever,
+           "set Definiteness check limit = 100\n");
+  run_case("bad_flux", cantilever, "set Flux = upwind\n");
+  run_case("point_region_weak",
+           cantilever +
+             "subsection Boundary conditions\n  subsection Condition 3\n"
+             "    set Type = fixed\n    set Region = box 0 0 0 0 0 0\n"
+             "  end\nend\n",
+           "");
+}

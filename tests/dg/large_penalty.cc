@@ -1,0 +1,88 @@
+// With a large penalty the DG solution approaches the CG one on the same
+// mesh (the paper's figure 1 argument): the tip deflection of a cantilever
+// with IP and BZ, FE_DGQ(1), for growing eta, against continuous FE_Q(1).
+// Its relative difference must fall monotonically, below 1e-3 at the end.
+
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/numerics/vector_tools.h>
+
+#include <iostream>
+
+#include "../tests.h"
+#include "dg_tests.h"
+
+using namespace dealii;
+using namespace ddfem;
+
+namespace
+{
+  /// The tip deflection of the cantilever solved with @p p and @p fe.
+  double
+  tip_deflection(const Triangulation<3>   &tria,
+                 const FiniteElement<3>   &fe,
+                 const dg::Parameters     &p,
+                 const dg::ProblemData<3> &data)
+  {
+    dg::System<3> system(tria, fe, 3, p, data);
+    system.settle_penalty(1);
+    system.solve();
+    Vector<double> value(3);
+    VectorTools::point_value(system.mapping,
+                             system.dof_handler,
+                             system.solution,
+                             Point<3>(0.5, 4, 0.5),
+                             value);
+    return value[2];
+  }
+} // namespace
+
+int
+main(int argc, char **argv)
+{
+  dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  Triangulation<3>                         tria;
+  GridGenerator::subdivided_hyper_rectangle(tria,
+                                            {2, 8, 2},
+                                            Point<3>(0, 0, 0),
+                                            Point<3>(1, 4, 1));
+  dg::ProblemData<3> data;
+  data.materials.assign(tria.n_active_cells(), {1e3, 1.5e3});
+  data.dirichlet = [](const Point<3> &p, unsigned int, double, double &v) {
+    v = 0;
+    return p[1] < 1e-12;
+  };
+  data.traction =
+    [](const Point<3> &, const Point<3> &p, const Tensor<1, 3> &) {
+      return p[1] > 4 - 1e-12 ? Tensor<1, 3>({0, 0, -1}) : Tensor<1, 3>();
+    };
+
+  dg::Parameters cg;
+  cg.dirichlet     = dg::Parameters::Dirichlet::strong;
+  const double ref = tip_deflection(tria, FE_Q<3>(1), cg, data);
+  std::cout << "CG Q1 tip deflection: " << std::setprecision(5) << ref
+            << std::endl;
+  for (const auto flux : {dg::Parameters::Flux::interior_penalty,
+                          dg::Parameters::Flux::babuska_zlamal})
+    {
+      dg::Parameters p;
+      p.flux = flux;
+      std::cout << testing::describe(p) << ":" << std::endl;
+      double previous = std::numeric_limits<double>::max();
+      bool   monotone = true;
+      for (const double eta : {10., 1e2, 1e3, 1e4, 1e5})
+        {
+          p.penalty = eta;
+          const double d =
+            std::abs(tip_deflection(tria, *p.make_element<3>(), p, data) -
+                     ref) /
+            std::abs(ref);
+          std::cout << "  eta = " << std::setw(6) << eta
+                    << ": |DG - CG| / |CG| = " << std::setprecision(3) << d
+                    << std::endl;
+          monotone = monotone && d < previous;
+          previous = d;
+        }
+      std::cout << "  decreasing: " << (monotone ? "yes" : "NO") << "\n  ";
+      testing::check_below("last difference", previous, 1e-3);
+    }
+}

@@ -1,0 +1,101 @@
+// Near incompressibility: the tip deflection of a cantilever (2 x 8 x 2
+// cells, E = 1000, nu = 0.3, 0.49, 0.499) with CG and DG, divided by that
+// of CG Q2 on the twice refined mesh (the reference, nearly free of
+// locking). A locking method's ratio drops as nu -> 0.5; a locking-free
+// one keeps it. The DG penalty is automatic and must end positive
+// definite.
+
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/numerics/vector_tools.h>
+
+#include <iostream>
+
+#include "../tests.h"
+#include "dg_tests.h"
+
+using namespace dealii;
+using namespace ddfem;
+
+namespace
+{
+  /// Tip deflection on the n x 4n x n mesh.
+  double
+  tip(const unsigned int      n,
+      const double            nu,
+      const FiniteElement<3> &fe,
+      const dg::Parameters   &p,
+      std::string            &note)
+  {
+    Triangulation<3> tria;
+    GridGenerator::subdivided_hyper_rectangle(tria,
+                                              {n, 4 * n, n},
+                                              Point<3>(0, 0, 0),
+                                              Point<3>(1, 4, 1));
+    const double       E = 1000;
+    dg::ProblemData<3> data;
+    data.materials.assign(tria.n_active_cells(),
+                          {E / (2 * (1 + nu)),
+                           E * nu / ((1 + nu) * (1 - 2 * nu))});
+    data.dirichlet = [](const Point<3> &x, unsigned int, double, double &v) {
+      v = 0;
+      return x[1] < 1e-12;
+    };
+    data.traction =
+      [](const Point<3> &, const Point<3> &x, const Tensor<1, 3> &) {
+        return x[1] > 4 - 1e-12 ? Tensor<1, 3>({0, 0, -1}) : Tensor<1, 3>();
+      };
+    dg::System<3>          system(tria, fe, 3, p, data);
+    const dg::Definiteness d = system.settle_penalty(1);
+    std::ostringstream     text;
+    if (!system.continuous())
+      text << "eta " << system.penalty() << ", " << dg::to_string(d);
+    note = text.str();
+    system.solve();
+    Vector<double> value(3);
+    VectorTools::point_value(system.mapping,
+                             system.dof_handler,
+                             system.solution,
+                             Point<3>(0.5, 4, 0.5),
+                             value);
+    return value[2];
+  }
+} // namespace
+
+int
+main(int argc, char **argv)
+{
+  dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  dg::Parameters                           cg;
+  cg.dirichlet = dg::Parameters::Dirichlet::strong;
+  dg::Parameters ip, bz;
+  bz.flux    = dg::Parameters::Flux::babuska_zlamal;
+  bz.penalty = 10;
+  std::cout << std::setprecision(4);
+  for (const double nu : {0.3, 0.49, 0.499})
+    {
+      std::string  note;
+      const double reference = tip(4, nu, FE_Q<3>(2), cg, note);
+      std::cout << "nu = " << nu << ": reference deflection " << reference
+                << std::endl;
+      const auto report = [&](const std::string      &name,
+                              const FiniteElement<3> &fe,
+                              const dg::Parameters   &p) {
+        const double ratio = tip(2, nu, fe, p, note) / reference;
+        std::cout << "  " << std::left << std::setw(14) << name << std::right
+                  << " ratio " << std::setw(6) << ratio << "  " << note
+                  << std::endl;
+      };
+      report("CG Q1", FE_Q<3>(1), cg);
+      report("CG Q2", FE_Q<3>(2), cg);
+      for (const unsigned int k : {1u, 2u})
+        for (const auto element :
+             {dg::Parameters::Element::dgq, dg::Parameters::Element::dgp})
+          {
+            ip.degree  = k;
+            ip.element = element;
+            report(testing::describe(ip), *ip.make_element<3>(), ip);
+          }
+      bz.degree = 1;
+      report(testing::describe(bz) + " 10", *bz.make_element<3>(), bz);
+    }
+}

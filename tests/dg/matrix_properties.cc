@@ -1,0 +1,84 @@
+// The stiffness matrix is symmetric for both fluxes (also corotated); the
+// Babuska-Zlamal matrix is positive definite for any penalty > 0; the
+// interior penalty matrix is not for a too small penalty, and the
+// automatic penalty (start at 1, double) ends positive definite. A cube
+// clamped weakly on its x- face, with hanging faces.
+
+#include <deal.II/base/function.h>
+
+#include <iostream>
+
+#include "../tests.h"
+#include "dg_tests.h"
+
+using namespace dealii;
+using namespace ddfem;
+
+namespace
+{
+  /// max |K - K^T| / max |K|.
+  double
+  asymmetry(const SparseMatrix<double> &K)
+  {
+    double a = 0;
+    for (unsigned int i = 0; i < K.m(); ++i)
+      for (auto e = K.begin(i); e != K.end(i); ++e)
+        a = std::max(a, std::abs(e->value() - K.el(e->column(), i)));
+    return a / K.linfty_norm();
+  }
+} // namespace
+
+int
+main(int argc, char **argv)
+{
+  dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  Triangulation<3>                         tria;
+  testing::make_cube_with_hanging_faces(tria);
+  dg::ProblemData<3> data;
+  data.materials.assign(tria.n_active_cells(), {1, 1.5});
+  for (const auto &cell : tria.active_cell_iterators())
+    if (cell->center()[2] > 0.5)
+      data.materials[cell->active_cell_index()] = {1e3, 1.5e3};
+  data.dirichlet = [](const Point<3> &p, unsigned int, double, double &v) {
+    v = 0;
+    return p[0] < 1e-12;
+  };
+
+  for (const unsigned int degree : {1u, 2u})
+    for (const auto flux : {dg::Parameters::Flux::interior_penalty,
+                            dg::Parameters::Flux::babuska_zlamal})
+      {
+        dg::Parameters p;
+        p.degree         = degree;
+        p.flux           = flux;
+        const auto    fe = p.make_element<3>();
+        dg::System<3> system(tria, *fe, 3, p, data);
+        std::cout << testing::describe(p) << ":\n  ";
+        system.assemble(10, 1);
+        testing::check_below("asymmetry", asymmetry(system.matrix), 1e-14);
+        Vector<double> u;
+        system.project_locally(Functions::IdentityFunction<3>(), u);
+        u *= 0.3;
+        system.assemble(10, 1, &u);
+        std::cout << "  corotated ";
+        testing::check_below("asymmetry", asymmetry(system.matrix), 1e-14);
+        for (const double eta : {1e-3, 0.1, 10.})
+          {
+            system.assemble(eta, 1);
+            std::cout << "  eta = " << eta << ": K "
+                      << dg::to_string(system.check_definiteness())
+                      << std::endl;
+          }
+        system.settle_penalty(1);
+        std::cout << "  automatic: eta = " << system.penalty() << " after "
+                  << system.penalty_doublings << " doublings, K "
+                  << dg::to_string(system.check_definiteness()) << std::endl;
+        if (flux == dg::Parameters::Flux::interior_penalty)
+          {
+            system.assemble(system.penalty() / 2, 1);
+            std::cout << "  half of it: K "
+                      << dg::to_string(system.check_definiteness())
+                      << std::endl;
+          }
+      }
+}
