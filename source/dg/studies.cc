@@ -30,6 +30,24 @@ namespace ddfem::dg
       return 0.5 + 0.3 * c + 0.2 * d;
     }
 
+    /// Factor d of component c of the manufactured solution at @p p.
+    template <int dim>
+    double
+    factor(const Point<dim> &p, const unsigned int c, const unsigned int d)
+    {
+      return std::sin(numbers::PI * p[d] + phase(c, d));
+    }
+
+    /// The derivative of factor() in direction d, divided by pi.
+    template <int dim>
+    double
+    factor_derivative(const Point<dim>  &p,
+                      const unsigned int c,
+                      const unsigned int d)
+    {
+      return std::cos(numbers::PI * p[d] + phase(c, d));
+    }
+
     /// The Lame parameters of the elasticity problems (nu = 0.3).
     constexpr double study_mu = 1, study_lambda = 1.5;
   } // namespace
@@ -51,7 +69,7 @@ namespace ddfem::dg
   {
     double u = 1;
     for (unsigned int d = 0; d < dim; ++d)
-      u *= std::sin(numbers::PI * p[d] + phase(c, d));
+      u *= factor(p, c, d);
     return u;
   }
 
@@ -67,8 +85,7 @@ namespace ddfem::dg
       {
         g[i] = numbers::PI;
         for (unsigned int d = 0; d < dim; ++d)
-          g[i] *= d == i ? std::cos(numbers::PI * p[d] + phase(c, d)) :
-                           std::sin(numbers::PI * p[d] + phase(c, d));
+          g[i] *= d == i ? factor_derivative(p, c, d) : factor(p, c, d);
       }
     return g;
   }
@@ -87,8 +104,8 @@ namespace ddfem::dg
           H[i][j] = numbers::PI * numbers::PI * (i == j ? -1 : 1);
           for (unsigned int d = 0; d < dim; ++d)
             H[i][j] *= (d == i || d == j) && i != j ?
-                         std::cos(numbers::PI * p[d] + phase(c, d)) :
-                         std::sin(numbers::PI * p[d] + phase(c, d));
+                         factor_derivative(p, c, d) :
+                         factor(p, c, d);
         }
     return H;
   }

@@ -184,6 +184,40 @@ namespace ddfem::dg
         }
       return R;
     }
+
+    /// What MeshWorker::mesh_loop() calls on an interior face.
+    template <int dim, typename CopyDataType>
+    using FaceWorker =
+      std::function<void(const typename DoFHandler<dim>::active_cell_iterator &,
+                         const unsigned int,
+                         const unsigned int,
+                         const typename DoFHandler<dim>::active_cell_iterator &,
+                         const unsigned int,
+                         const unsigned int,
+                         MeshWorker::ScratchData<dim> &,
+                         CopyDataType &)>;
+
+    /**
+     * The face worker of MeshWorker::mesh_loop() that sets up the interface
+     * values of the scratch data on the face between a cell (face f) and
+     * its neighbor (face nf) and calls @p worker(cell, f, neighbor, nf,
+     * interface values, copy data).
+     */
+    template <int dim, typename CopyDataType, typename Worker>
+    FaceWorker<dim, CopyDataType>
+    interface_worker(const Worker &worker)
+    {
+      return [worker](const auto                   &cell,
+                      const unsigned int            f,
+                      const unsigned int            sf,
+                      const auto                   &ncell,
+                      const unsigned int            nf,
+                      const unsigned int            nsf,
+                      MeshWorker::ScratchData<dim> &s,
+                      CopyDataType                 &c) {
+        worker(cell, f, ncell, nf, s.reinit(cell, f, sf, ncell, nf, nsf), c);
+      };
+    }
   } // namespace
 
 
@@ -510,14 +544,11 @@ namespace ddfem::dg
 
     const auto face_worker = [&](const Iterator               &cell,
                                  const unsigned int            f,
-                                 const unsigned int            sf,
                                  const Iterator               &ncell,
                                  const unsigned int            nf,
-                                 const unsigned int            nsf,
-                                 MeshWorker::ScratchData<dim> &s,
+                                 const FEInterfaceValues<dim> &fiv,
                                  CopyData                     &c) {
-      const FEInterfaceValues<dim> &fiv = s.reinit(cell, f, sf, ncell, nf, nsf);
-      const unsigned int            n_if = fiv.n_current_interface_dofs();
+      const unsigned int n_if = fiv.n_current_interface_dofs();
       const std::array<const CellMaterial *, 2> m = {
         {&data.materials[cell->active_cell_index()],
          &data.materials[ncell->active_cell_index()]}};
@@ -668,16 +699,8 @@ namespace ddfem::dg
       MeshWorker::assemble_own_cells | MeshWorker::assemble_boundary_faces;
     if (!is_continuous)
       flags |= MeshWorker::assemble_own_interior_faces_once;
-    // mesh_loop wants a face worker exactly if faces are worked on.
-    using FaceWorker = std::function<void(const Iterator &,
-                                          const unsigned int,
-                                          const unsigned int,
-                                          const Iterator &,
-                                          const unsigned int,
-                                          const unsigned int,
-                                          MeshWorker::ScratchData<dim> &,
-                                          CopyData &)>;
     CopyData copy;
+    // mesh_loop wants a face worker exactly if faces are worked on.
     MeshWorker::mesh_loop(dof_handler.begin_active(),
                           dof_handler.end(),
                           cell_worker,
@@ -686,8 +709,9 @@ namespace ddfem::dg
                           copy,
                           flags,
                           boundary_worker,
-                          is_continuous ? FaceWorker() :
-                                          FaceWorker(face_worker));
+                          is_continuous ?
+                            FaceWorker<dim, CopyData>() :
+                            interface_worker<dim, CopyData>(face_worker));
     total.stop();
     assembly_time    = copy_timer.wall_time();
     integration_time = total.wall_time() - assembly_time;
@@ -950,16 +974,13 @@ namespace ddfem::dg
                                          face_quadrature,
                                          update_values | update_JxW_values);
     double                       sum         = 0;
-    const auto                   face_worker = [&](const Iterator               &cell,
-                                 const unsigned int            f,
-                                 const unsigned int            sf,
-                                 const Iterator               &ncell,
-                                 const unsigned int            nf,
-                                 const unsigned int            nsf,
-                                 MeshWorker::ScratchData<dim> &s,
+    const auto                   face_worker = [&](const Iterator &,
+                                 const unsigned int,
+                                 const Iterator &,
+                                 const unsigned int,
+                                 const FEInterfaceValues<dim> &fiv,
                                  double                       &c) {
-      const FEInterfaceValues<dim> &fiv = s.reinit(cell, f, sf, ncell, nf, nsf);
-      const auto                   &dofs = fiv.get_interface_dof_indices();
+      const auto &dofs = fiv.get_interface_dof_indices();
       for (unsigned int q = 0; q < fiv.n_quadrature_points; ++q)
         {
           Tensor<1, dim> jump;
@@ -988,7 +1009,7 @@ namespace ddfem::dg
       MeshWorker::assemble_own_cells |
         MeshWorker::assemble_own_interior_faces_once,
       {},
-      face_worker);
+      interface_worker<dim, double>(face_worker));
     return std::sqrt(sum);
   }
 

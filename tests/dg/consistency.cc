@@ -69,9 +69,8 @@ main(int argc, char **argv)
   for (const unsigned int degree : {1u, 2u})
     {
       const Polynomial   exact(degree);
-      dg::ProblemData<3> data;
-      data.materials.assign(tria.n_active_cells(), {mu, lambda});
-      data.body_force = [&](const Point<3> &p) {
+      dg::ProblemData<3> data = testing::uniform_data(tria, {mu, lambda});
+      data.body_force         = [&](const Point<3> &p) {
         return dg::manufactured_load(exact, p, mu, lambda);
       };
       data.dirichlet =
@@ -79,20 +78,15 @@ main(int argc, char **argv)
           v = exact.value(p, c);
           return true;
         };
-      for (const auto element :
-           {dg::Parameters::Element::dgq, dg::Parameters::Element::dgp})
+      for (const auto element : testing::dg_elements)
         for (const auto dirichlet : {dg::Parameters::Dirichlet::weak,
                                      dg::Parameters::Dirichlet::strong})
-          for (const auto flux : {dg::Parameters::Flux::interior_penalty,
-                                  dg::Parameters::Flux::babuska_zlamal})
+          for (const auto flux : testing::dg_fluxes)
             {
               if (element == dg::Parameters::Element::dgp &&
                   dirichlet == dg::Parameters::Dirichlet::strong)
                 continue;
-              dg::Parameters p;
-              p.element        = element;
-              p.degree         = degree;
-              p.flux           = flux;
+              dg::Parameters p = testing::dg_parameters(element, degree, flux);
               p.dirichlet      = dirichlet;
               p.penalty        = 10;
               const auto    fe = p.make_element<3>();

@@ -58,16 +58,15 @@ main(int argc, char **argv)
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   Triangulation<3>                         tria;
   testing::make_cube_with_hanging_faces(tria);
-  dg::ProblemData<3> data;
-  data.materials.assign(tria.n_active_cells(), {1, 1.5});
+  const dg::ProblemData<3> data = testing::uniform_data(tria, {1, 1.5});
 
-  for (const auto element :
-       {dg::Parameters::Element::dgq, dg::Parameters::Element::dgp})
+  for (const auto element : testing::dg_elements)
     for (const unsigned int degree : {1u, 2u})
       {
-        dg::Parameters p;
-        p.element         = element;
-        p.degree          = degree;
+        dg::Parameters p =
+          testing::dg_parameters(element,
+                                 degree,
+                                 dg::Parameters::Flux::interior_penalty);
         p.formulation     = dg::Parameters::Formulation::corotated;
         const auto     fe = p.make_element<3>();
         dg::System<3>  system(tria, *fe, 3, p, data);

@@ -4,7 +4,6 @@
 // Its relative difference must fall monotonically, below 1e-3 at the end.
 
 #include <deal.II/fe/fe_q.h>
-#include <deal.II/numerics/vector_tools.h>
 
 #include <iostream>
 
@@ -26,13 +25,7 @@ namespace
     dg::System<3> system(tria, fe, 3, p, data);
     system.settle_penalty(1);
     system.solve();
-    Vector<double> value(3);
-    VectorTools::point_value(system.mapping,
-                             system.dof_handler,
-                             system.solution,
-                             Point<3>(0.5, 4, 0.5),
-                             value);
-    return value[2];
+    return testing::tip_deflection(system);
   }
 } // namespace
 
@@ -41,28 +34,15 @@ main(int argc, char **argv)
 {
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   Triangulation<3>                         tria;
-  GridGenerator::subdivided_hyper_rectangle(tria,
-                                            {2, 8, 2},
-                                            Point<3>(0, 0, 0),
-                                            Point<3>(1, 4, 1));
-  dg::ProblemData<3> data;
-  data.materials.assign(tria.n_active_cells(), {1e3, 1.5e3});
-  data.dirichlet = [](const Point<3> &p, unsigned int, double, double &v) {
-    v = 0;
-    return p[1] < 1e-12;
-  };
-  data.traction =
-    [](const Point<3> &, const Point<3> &p, const Tensor<1, 3> &) {
-      return p[1] > 4 - 1e-12 ? Tensor<1, 3>({0, 0, -1}) : Tensor<1, 3>();
-    };
+  testing::make_beam(tria, 2);
+  const dg::ProblemData<3> data = testing::cantilever_data(tria, {1e3, 1.5e3});
 
   dg::Parameters cg;
   cg.dirichlet     = dg::Parameters::Dirichlet::strong;
   const double ref = tip_deflection(tria, FE_Q<3>(1), cg, data);
   std::cout << "CG Q1 tip deflection: " << std::setprecision(5) << ref
             << std::endl;
-  for (const auto flux : {dg::Parameters::Flux::interior_penalty,
-                          dg::Parameters::Flux::babuska_zlamal})
+  for (const auto flux : testing::dg_fluxes)
     {
       dg::Parameters p;
       p.flux = flux;

@@ -6,7 +6,6 @@
 // definite.
 
 #include <deal.II/fe/fe_q.h>
-#include <deal.II/numerics/vector_tools.h>
 
 #include <iostream>
 
@@ -27,23 +26,10 @@ namespace
       std::string            &note)
   {
     Triangulation<3> tria;
-    GridGenerator::subdivided_hyper_rectangle(tria,
-                                              {n, 4 * n, n},
-                                              Point<3>(0, 0, 0),
-                                              Point<3>(1, 4, 1));
-    const double       E = 1000;
-    dg::ProblemData<3> data;
-    data.materials.assign(tria.n_active_cells(),
-                          {E / (2 * (1 + nu)),
-                           E * nu / ((1 + nu) * (1 - 2 * nu))});
-    data.dirichlet = [](const Point<3> &x, unsigned int, double, double &v) {
-      v = 0;
-      return x[1] < 1e-12;
-    };
-    data.traction =
-      [](const Point<3> &, const Point<3> &x, const Tensor<1, 3> &) {
-        return x[1] > 4 - 1e-12 ? Tensor<1, 3>({0, 0, -1}) : Tensor<1, 3>();
-      };
+    testing::make_beam(tria, n);
+    const double             E    = 1000;
+    const dg::ProblemData<3> data = testing::cantilever_data(
+      tria, {E / (2 * (1 + nu)), E * nu / ((1 + nu) * (1 - 2 * nu))});
     dg::System<3>          system(tria, fe, 3, p, data);
     const dg::Definiteness d = system.settle_penalty(1);
     std::ostringstream     text;
@@ -51,13 +37,7 @@ namespace
       text << "eta " << system.penalty() << ", " << dg::to_string(d);
     note = text.str();
     system.solve();
-    Vector<double> value(3);
-    VectorTools::point_value(system.mapping,
-                             system.dof_handler,
-                             system.solution,
-                             Point<3>(0.5, 4, 0.5),
-                             value);
-    return value[2];
+    return testing::tip_deflection(system);
   }
 } // namespace
 
@@ -88,8 +68,7 @@ main(int argc, char **argv)
       report("CG Q1", FE_Q<3>(1), cg);
       report("CG Q2", FE_Q<3>(2), cg);
       for (const unsigned int k : {1u, 2u})
-        for (const auto element :
-             {dg::Parameters::Element::dgq, dg::Parameters::Element::dgp})
+        for (const auto element : testing::dg_elements)
           {
             ip.degree  = k;
             ip.element = element;

@@ -34,8 +34,7 @@ main(int argc, char **argv)
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   Triangulation<3>                         tria;
   testing::make_cube_with_hanging_faces(tria);
-  dg::ProblemData<3> data;
-  data.materials.assign(tria.n_active_cells(), {1, 1.5});
+  dg::ProblemData<3> data = testing::uniform_data(tria, {1, 1.5});
   for (const auto &cell : tria.active_cell_iterators())
     if (cell->center()[2] > 0.5)
       data.materials[cell->active_cell_index()] = {1e3, 1.5e3};
@@ -45,12 +44,10 @@ main(int argc, char **argv)
   };
 
   for (const unsigned int degree : {1u, 2u})
-    for (const auto flux : {dg::Parameters::Flux::interior_penalty,
-                            dg::Parameters::Flux::babuska_zlamal})
+    for (const auto flux : testing::dg_fluxes)
       {
-        dg::Parameters p;
-        p.degree         = degree;
-        p.flux           = flux;
+        const dg::Parameters p =
+          testing::dg_parameters(dg::Parameters::Element::dgq, degree, flux);
         const auto    fe = p.make_element<3>();
         dg::System<3> system(tria, *fe, 3, p, data);
         std::cout << testing::describe(p) << ":\n  ";

@@ -7,7 +7,6 @@
 // shear on such cells, which the ratios show.
 
 #include <deal.II/fe/fe_q.h>
-#include <deal.II/numerics/vector_tools.h>
 
 #include <iostream>
 
@@ -27,8 +26,7 @@ main(int argc, char **argv)
                                             {10, 5, 1},
                                             Point<3>(0, 0, 0),
                                             Point<3>(L, 0.5, t));
-  dg::ProblemData<3> data;
-  data.materials.assign(tria.n_active_cells(), {E / 2, 0});
+  dg::ProblemData<3> data = testing::uniform_data(tria, {E / 2, 0});
   data.dirichlet = [](const Point<3> &x, unsigned int, double, double &v) {
     v = 0;
     return x[0] < 1e-12;
@@ -48,23 +46,17 @@ main(int argc, char **argv)
     dg::System<3>          system(tria, fe, 3, p, data);
     const dg::Definiteness d = system.settle_penalty(1);
     system.solve();
-    Vector<double> value(3);
-    VectorTools::point_value(system.mapping,
-                             system.dof_handler,
-                             system.solution,
-                             Point<3>(L, 0.25, t / 2),
-                             value);
     std::cout << std::left << std::setw(14) << name << std::right
               << " deflection / beam theory " << std::setw(7)
-              << -value[2] / beam;
+              << -testing::tip_deflection(system, Point<3>(L, 0.25, t / 2)) /
+                   beam;
     if (!system.continuous())
       std::cout << ", eta " << system.penalty() << ", " << dg::to_string(d);
     std::cout << std::endl;
   };
   report("CG Q1", FE_Q<3>(1), cg);
   report("CG Q2", FE_Q<3>(2), cg);
-  for (const auto flux : {dg::Parameters::Flux::interior_penalty,
-                          dg::Parameters::Flux::babuska_zlamal})
+  for (const auto flux : testing::dg_fluxes)
     for (const unsigned int k : {1u, 2u})
       {
         dg::Parameters p;
