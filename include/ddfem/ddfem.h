@@ -29,6 +29,14 @@ namespace ddfem
   {}
 
   /**
+   * The offline half of data-driven FEM: sampling 2x2x2 blocks, fitting
+   * metamaterials, cube symmetries, compression, the second level and the
+   * HDF5 database.
+   */
+  namespace coarsening
+  {}
+
+  /**
    * Discontinuous Galerkin linear and corotated elasticity: interior
    * penalty and Babuska-Zlamal fluxes, penalty choice, the convergence and
    * cost studies.

@@ -418,9 +418,11 @@ namespace ddfem::coarsening
 
 
   double
-  BlockSampler::linearized_strain(const Vector<double> &u) const
+  BlockSampler::largest_over_points(
+    const Vector<double>                              &u,
+    const std::function<double(const Tensor<2, 3> &)> &measure) const
   {
-    double                    strain = 0;
+    double                    largest = 0;
     Vector<double>            local(fe.n_dofs_per_cell());
     std::vector<Tensor<2, 3>> F;
     for (unsigned int cell = 0; cell < cell_dofs.size(); ++cell)
@@ -429,11 +431,23 @@ namespace ddfem::coarsening
           local(i) = u(cell_dofs[cell][i]);
         solver::deformation_gradients(*fe_values, local, F);
         for (const auto &Fq : F)
-          for (const double e :
-               eigenvalues(symmetrize(Fq - unit_symmetric_tensor<3>())))
-            strain = std::max(strain, std::abs(e));
+          largest = std::max(largest, measure(Fq));
       }
-    return strain;
+    return largest;
+  }
+
+
+
+  double
+  BlockSampler::linearized_strain(const Vector<double> &u) const
+  {
+    return largest_over_points(u, [](const Tensor<2, 3> &F) {
+      double strain = 0;
+      for (const double e :
+           eigenvalues(symmetrize(F - unit_symmetric_tensor<3>())))
+        strain = std::max(strain, std::abs(e));
+      return strain;
+    });
   }
 
 
@@ -441,19 +455,12 @@ namespace ddfem::coarsening
   double
   BlockSampler::finite_strain(const Vector<double> &u) const
   {
-    double                    strain = 0;
-    Vector<double>            local(fe.n_dofs_per_cell());
-    std::vector<Tensor<2, 3>> F;
-    for (unsigned int cell = 0; cell < cell_dofs.size(); ++cell)
-      {
-        for (unsigned int i = 0; i < local.size(); ++i)
-          local(i) = u(cell_dofs[cell][i]);
-        solver::deformation_gradients(*fe_values, local, F);
-        for (const auto &Fq : F)
-          for (const double c : eigenvalues(symmetrize(transpose(Fq) * Fq)))
-            strain = std::max(strain, std::abs(std::sqrt(c) - 1.));
-      }
-    return strain;
+    return largest_over_points(u, [](const Tensor<2, 3> &F) {
+      double strain = 0;
+      for (const double c : eigenvalues(symmetrize(transpose(F) * F)))
+        strain = std::max(strain, std::abs(std::sqrt(c) - 1.));
+      return strain;
+    });
   }
 
 

@@ -17,7 +17,7 @@ namespace ddfem::coarsening
   {
     prm.enter_subsection("Database");
     prm.declare_entry("File",
-                      "metamaterials.h5",
+                      "output/database/metamaterials.h5",
                       Patterns::FileName(Patterns::FileName::output),
                       "The metamaterial database (HDF5). A build extends or "
                       "resumes it if it exists (same palette and settings "

@@ -66,6 +66,20 @@ namespace ddfem::coarsening
 
   namespace hdf5
   {
+    material::MaterialPoint
+    point_from(const double *values)
+    {
+      material::MaterialPoint p;
+      p.mu         = values[0];
+      p.lambda     = values[1];
+      p.anisotropy = values[2];
+      for (unsigned int d = 0; d < 3; ++d)
+        p.direction[d] = values[3 + d];
+      return p;
+    }
+
+
+
     void
     write_entries(const hid_t               file,
                   const std::string        &group,
@@ -145,13 +159,8 @@ namespace ddfem::coarsening
           entry.key = keys[e];
           for (unsigned int q = 0; q < n_points; ++q)
             {
-              const double *v = &parameters[(e * n_points + q) * n_values];
-              material::MaterialPoint p;
-              p.mu         = v[0];
-              p.lambda     = v[1];
-              p.anisotropy = v[2];
-              for (unsigned int d = 0; d < 3; ++d)
-                p.direction[d] = v[3 + d];
+              const material::MaterialPoint p =
+                point_from(&parameters[(e * n_points + q) * n_values]);
               check(std::isfinite(p.mu) && p.mu > 0 &&
                       std::isfinite(p.lambda) && p.lambda >= 0 &&
                       std::isfinite(p.anisotropy) && p.anisotropy >= 0 &&
@@ -677,14 +686,8 @@ namespace ddfem::coarsening
         e.n_dropped    = values[6];
         for (unsigned int q = 0; q < n_points; ++q)
           {
-            const double           *v = &values[n_header + q * n_values];
-            material::MaterialPoint p;
-            p.mu         = v[0];
-            p.lambda     = v[1];
-            p.anisotropy = v[2];
-            for (unsigned int d = 0; d < 3; ++d)
-              p.direction[d] = v[3 + d];
-            e.material.points.push_back(p);
+            e.material.points.push_back(
+              point_from(&values[n_header + q * n_values]));
           }
         entries.push_back(e);
         values.resize(n_header);

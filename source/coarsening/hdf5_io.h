@@ -191,6 +191,10 @@ namespace ddfem::coarsening::hdf5
   /// Number of values stored per metamaterial point: mu, lambda, C, v.
   constexpr unsigned int n_values = 6;
 
+  /// A material record from its n_values stored numbers.
+  material::MaterialPoint
+  point_from(const double *values);
+
   /// Writes metamaterial entries of @p n_points points into @p group.
   void
   write_entries(const hid_t               file,

@@ -190,6 +190,12 @@ namespace ddfem::coarsening
     void
     project_out_rigid(Vector<double> &f) const;
 
+    /// The largest value of @p measure(F) over the block's Gauss points.
+    double
+    largest_over_points(
+      const Vector<double>                              &u,
+      const std::function<double(const Tensor<2, 3> &)> &measure) const;
+
     /// Largest |eigenvalue| of the small strain over the block.
     double
     linearized_strain(const Vector<double> &u) const;
