@@ -33,6 +33,19 @@ namespace ddfem::coarsening
 
 
   std::string
+  palette_hash(const std::string &palette)
+  {
+    std::uint64_t h = 1469598103934665603ULL; // FNV-1a
+    for (const unsigned char c : palette)
+      h = (h ^ c) * 1099511628211ULL;
+    std::ostringstream s;
+    s << std::hex << std::setw(16) << std::setfill('0') << h;
+    return s.str();
+  }
+
+
+
+  std::string
   DatabaseSettings::fingerprint() const
   {
     std::ostringstream s;
@@ -297,6 +310,7 @@ namespace ddfem::coarsening
                       std::to_string(database_format_version));
       write_attribute(h5, "code version", "ddfem 0.1");
       write_attribute(h5, "palette", palette_description);
+      write_attribute(h5, "palette hash", palette_hash(palette_description));
       write_attribute(h5, "with void", index.with_void() ? "1" : "0");
       write_attribute(h5, "settings", settings_fingerprint);
       write_attribute(h5, "representatives", std::to_string(representatives));
@@ -337,7 +351,10 @@ namespace ddfem::coarsening
                 std::to_string(database_format_version));
 
         DatabaseSettings settings;
-        settings.palette              = read_attribute(h5, "palette");
+        settings.palette = read_attribute(h5, "palette");
+        check(read_attribute(h5, "palette hash") ==
+                palette_hash(settings.palette),
+              "has a palette that does not match its hash (corrupt file?)");
         settings.with_void            = read_attribute(h5, "with void") == "1";
         const std::string fingerprint = read_attribute(h5, "settings");
         Database          db(settings, count_materials(settings.palette));

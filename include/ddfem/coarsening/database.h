@@ -37,6 +37,10 @@ namespace ddfem::coarsening
     unsigned int n_samples = 0, n_dropped = 0;
   };
 
+  /// A 64-bit FNV-1a hash of a palette description, in hex.
+  std::string
+  palette_hash(const std::string &palette);
+
   /**
    * The settings a database was built with. Two builds with equal
    * settings give equal entries, so a build resumes or extends a file
