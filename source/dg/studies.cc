@@ -11,7 +11,9 @@
 #include <ddfem/dg/studies.h>
 #include <ddfem/dg/system.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -358,6 +360,10 @@ namespace ddfem::dg
     std::ofstream csv(directory + "/dg_convergence.csv");
     csv << "problem,method,cells,dofs,L2,H1,condition,eta\n";
     csv << std::setprecision(6);
+    // The same numbers as gnuplot data blocks, one per problem and method.
+    std::ofstream dat(directory + "/dg_convergence.dat");
+    dat << std::setprecision(6);
+    std::vector<std::pair<std::string, std::string>> blocks;
     out << "DG convergence study, element " << dg.element_name()
         << ", Dirichlet weak (DG) / strong (CG)\n";
     for (const std::string &problem : problems)
@@ -370,6 +376,9 @@ namespace ddfem::dg
                                          fixed_penalty<2>(dg, method, 1u << lo, 1) :
                                          fixed_penalty<3>(dg, method, 1u << lo, 3);
           ConvergenceTable   table;
+          dat << "# " << problem << ", " << method.name
+              << "\n# cells dofs L2 H1 condition\n";
+          blocks.emplace_back(problem, method.name);
           for (unsigned int l = lo; l <= hi; ++l)
             {
               const Result r = poisson ?
@@ -385,7 +394,10 @@ namespace ddfem::dg
               csv << problem << ',' << method.name << ',' << r.cells << ','
                   << r.dofs << ',' << r.l2 << ',' << r.h1 << ',' << r.condition
                   << ',' << r.eta << '\n';
+              dat << r.cells << ' ' << r.dofs << ' ' << r.l2 << ' ' << r.h1
+                  << ' ' << r.condition << '\n';
             }
+          dat << "\n\n";
           for (const std::string column : {"L2", "H1"})
             {
               table.set_scientific(column, true);
@@ -409,9 +421,73 @@ namespace ddfem::dg
           text << heading.str();
           table.write_text(text);
         }
-    AssertThrow(text && csv,
+    text.close();
+    csv.close();
+    dat.close(); // flushed before gnuplot reads it
+    AssertThrow(text && csv && dat,
                 ExcMessage("Cannot write the convergence tables into \"" +
                            directory + "\" (Output/Output directory)."));
+    plot(directory, blocks);
+  }
+
+
+
+  void
+  ConvergenceStudy::plot(
+    const std::string                                      &directory,
+    const std::vector<std::pair<std::string, std::string>> &blocks)
+  {
+    // One figure per problem: errors (L2 solid, H1 dashed) and condition
+    // numbers against the number of cells, log-log, as the paper's fig. 4.
+    std::ofstream script(directory + "/dg_convergence.gnuplot");
+    script << "set terminal pngcairo size 1500,500\n"
+           << "set logscale xy\nset format y '10^{%L}'\nset key outside\n"
+           << "set xlabel 'cells'\n";
+    std::vector<std::string> problems;
+    for (const auto &block : blocks)
+      if (std::find(problems.begin(), problems.end(), block.first) ==
+          problems.end())
+        problems.push_back(block.first);
+    for (const std::string &problem : problems)
+      {
+        std::string file = "dg_convergence_" + problem + ".png";
+        std::replace(file.begin(), file.end(), ' ', '_');
+        script << "set output '" << file << "'\n"
+               << "set multiplot layout 1,2 title '" << problem << "'\n";
+        for (const auto &[ylabel, columns] :
+             {std::pair<std::string, std::string>{"error", "3 4"},
+              std::pair<std::string, std::string>{"condition number", "5"}})
+          {
+            script << "set ylabel '" << ylabel << "'\nplot ";
+            bool first = true;
+            for (unsigned int b = 0; b < blocks.size(); ++b)
+              if (blocks[b].first == problem)
+                for (const char column : columns)
+                  if (column != ' ')
+                    {
+                      script << (first ? "" : ", \\\n     ")
+                             << "'dg_convergence.dat' index " << b
+                             << " using 1:" << column << " with linespoints"
+                             << (column == '4' ? " dashtype 2" : "") << " lc "
+                             << b + 1 << " title '" << blocks[b].second
+                             << (column == '3' ? " L2" :
+                                 column == '4' ? " H1" :
+                                                 "")
+                             << "'";
+                      first = false;
+                    }
+            script << "\n";
+          }
+        script << "unset multiplot\n";
+      }
+    script.close();
+    AssertThrow(
+      std::system(("cd \"" + directory + "\" && gnuplot dg_convergence.gnuplot")
+                    .c_str()) == 0,
+      ExcMessage("gnuplot could not draw the convergence plots in \"" +
+                 directory +
+                 "\" (gnuplot comes from the Debian package "
+                 "gnuplot-nox, which scripts/setup.sh installs)."));
   }
 
 

@@ -100,13 +100,24 @@ namespace ddfem::dg
     parse_parameters(ParameterHandler &prm);
 
     /**
-     * Runs the study, prints the tables to @p out and writes them to
-     * dg_convergence.txt and dg_convergence.csv in @p directory.
+     * Runs the study, prints the tables to @p out, writes them to
+     * dg_convergence.txt, .csv and .dat in @p directory, and draws them
+     * (plot()).
      */
     void
     run(const std::string &directory, std::ostream &out) const;
 
   private:
+    /**
+     * Writes dg_convergence.gnuplot and runs gnuplot on it: per problem a
+     * PNG with the L2 and H1 errors and the condition numbers of every
+     * method against the number of cells, log-log. @p blocks names the
+     * (problem, method) of each data block of dg_convergence.dat.
+     */
+    static void
+    plot(const std::string                                      &directory,
+         const std::vector<std::pair<std::string, std::string>> &blocks);
+
     Parameters               dg;
     std::vector<StudyMethod> methods;
     std::vector<std::string> problems;
