@@ -3,6 +3,8 @@
 #include <deal.II/base/utilities.h>
 
 #include <ddfem/app/application.h>
+#include <ddfem/app/comparison.h>
+#include <ddfem/app/model_run.h>
 #include <ddfem/base/exceptions.h>
 #include <ddfem/coarsening/builder.h>
 #include <ddfem/dg/parameters.h>
@@ -18,6 +20,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <optional>
 
 namespace ddfem::app
 {
@@ -82,7 +85,6 @@ namespace ddfem::app
       Simulation(std::ostream &out, std::ostream &err)
         : pcout(out)
         , err(err)
-        , timer(pcout, TimerOutput::never, TimerOutput::wall_times)
       {}
 
       void
@@ -92,6 +94,7 @@ namespace ddfem::app
         if (scene_name.empty())
           scene_name = std::filesystem::path(prm_file).stem().string();
         method = prm.get("Method");
+        level  = prm.get_integer("Coarsening levels");
         prm.enter_subsection("Discretization");
         degree = prm.get_integer("Polynomial degree");
         prm.leave_subsection();
@@ -103,13 +106,14 @@ namespace ddfem::app
         linear_solver.parse_parameters(prm);
         vtu.parse_parameters(prm);
         dg_parameters.parse_parameters(prm);
+        database.parse_parameters(prm);
         scene.parse_parameters(prm);
       }
 
       int
       run(const ParameterHandler &prm)
       {
-        return method == "dg" ? run_dg(prm) : run_fine(prm);
+        return method == "dg" ? run_dg(prm) : run_continuous(prm);
       }
 
     private:
@@ -198,150 +202,155 @@ namespace ddfem::app
         return 0;
       }
 
-      /// The fine continuous Neo-Hookean method.
+      /**
+       * The continuous Neo-Hookean models: fine, or coarse (ddfem, naive,
+       * average) at 'Coarsening levels'; then each material edit.
+       */
       int
-      run_fine(const ParameterHandler &prm)
+      run_continuous(const ParameterHandler &prm)
       {
-        Timer                                   total;
-        std::unique_ptr<solver::Discretization> discretization;
-        std::unique_ptr<solver::StaticSolver>   solver;
-        {
-          TimerOutput::Scope scope(timer, "setup");
-          discretization =
-            std::make_unique<solver::Discretization>(scene, degree);
-          solver =
-            std::make_unique<solver::StaticSolver>(*discretization,
-                                                   scene.boundary_conditions,
-                                                   solver_parameters,
-                                                   linear_solver,
-                                                   timer,
-                                                   pcout);
-          solver->setup();
-        }
-        const auto &n = scene.grid.size();
-        pcout << "Scene \"" << scene_name << "\", method " << method << "\n"
+        Timer total;
+        // The coarse material source: the database (completed lazily for
+        // this scene's blocks, in every edited state) or a baseline.
+        std::optional<coarsening::Database>    level1;
+        coarsening::Hierarchy                  level2;
+        std::unique_ptr<coarsening::Coarsener> coarsener;
+        if (method != "fine")
+          {
+            if (method == "ddfem")
+              {
+                const scene::VoxelGrid        original = scene.grid;
+                std::vector<scene::VoxelGrid> grids    = {original};
+                for (unsigned int e = 0; e < scene.n_edits(); ++e)
+                  {
+                    scene.apply_edit(e);
+                    grids.push_back(scene.grid);
+                  }
+                scene.grid = original;
+                level1.emplace(database.prepare(
+                  scene.palette, grids, level, level2, pcout.get_stream()));
+              }
+            coarsener = std::make_unique<coarsening::Coarsener>(
+              coarsening::coarsening_method(method),
+              level,
+              scene.palette,
+              level1 ? &*level1 : nullptr,
+              &level2);
+          }
+        const double database_time = total.wall_time();
+
+        ModelRun    run(scene,
+                     degree,
+                     coarsener.get(),
+                     solver_parameters,
+                     linear_solver,
+                     pcout);
+        const auto &n     = scene.grid.size();
+        const auto &model = run.discretization();
+        pcout << "Scene \"" << scene_name << "\", method " << method;
+        if (coarsener)
+          pcout << ", coarsening level " << level;
+        pcout << "\n"
               << "  grid " << n[0] << " x " << n[1] << " x " << n[2]
               << " voxels of " << scene.grid.voxel_size() << " m, "
               << scene.grid.n_solid_voxels() << " solid\n"
-              << "  " << discretization->triangulation.n_active_cells()
-              << " cells, " << discretization->dof_handler.n_dofs()
-              << " DoFs (FE_Q(" << degree << ")^3), linear solver "
+              << "  " << model.triangulation.n_active_cells() << " cells";
+        if (coarsener)
+          pcout << " (blocks of " << (1u << level) << "^3 voxels, "
+                << model.quadrature.size() << " quadrature points each)";
+        pcout << ", " << model.dof_handler.n_dofs() << " DoFs (FE_Q("
+              << model.fe.degree << ")^3), linear solver "
               << linear_solver.method() << std::endl;
-
-        for (const Point<3> &p : scene.probes)
-          solver->point_value(solver->solution(), p); // throws if outside
 
         // All input is valid: from here on, results are written.
         prepare_output(prm);
-        vtu.initialize(directory, "solution");
-        const auto on_step = [&](const unsigned int step, const double t) {
-          TimerOutput::Scope scope(timer, "output");
-          vtu.write(*discretization,
-                    solver->solution(),
-                    solver->cell_fields(solver->solution()),
-                    step,
-                    t,
-                    t >= 1);
-        };
-        const auto statistics = solver->solve(on_step);
-
-        // Results.
-        const Vector<double>                &u      = solver->solution();
-        const auto                           fields = solver->cell_fields(u);
-        double                               max_u  = 0;
-        const FiniteElement<3>              &fe     = discretization->fe;
-        std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
-        for (const auto &cell :
-             discretization->dof_handler.active_cell_iterators())
-          {
-            cell->get_dof_indices(dofs);
-            for (unsigned int i = 0; i < dofs.size(); ++i)
-              if (fe.system_to_component_index(i).first == 0)
-                {
-                  const unsigned int base =
-                    fe.system_to_component_index(i).second;
-                  Tensor<1, 3> d;
-                  for (unsigned int c = 0; c < 3; ++c)
-                    d[c] = u(dofs[fe.component_to_system_index(c, base)]);
-                  max_u = std::max(max_u, d.norm());
-                }
-          }
-
         nlohmann::json summary;
-        summary["scene"]        = scene_name;
-        summary["method"]       = method;
-        summary["grid"]         = {n[0], n[1], n[2]};
-        summary["voxel_size"]   = scene.grid.voxel_size();
-        summary["solid_voxels"] = scene.grid.n_solid_voxels();
-        summary["cells"]  = discretization->triangulation.n_active_cells();
-        summary["dofs"]   = discretization->dof_handler.n_dofs();
-        summary["degree"] = degree;
-        summary["linear_solver"]          = linear_solver.method();
-        summary["load_steps"]             = statistics.load_steps;
-        summary["step_cuts"]              = statistics.step_cuts;
-        summary["newton_iterations"]      = statistics.newton_iterations;
-        summary["linear_iterations"]      = statistics.linear_iterations;
-        summary["regularized_iterations"] = statistics.regularized_iterations;
-        summary["converged"]              = statistics.converged;
-        if (!statistics.converged)
-          summary["failure"] = statistics.failure;
-        summary["min_J"]            = fields.min_J;
-        summary["max_displacement"] = max_u;
+        summary["scene"]           = scene_name;
+        summary["method"]          = method;
+        summary["level"]           = coarsener ? level : 0;
+        summary["grid"]            = {n[0], n[1], n[2]};
+        summary["voxel_size"]      = scene.grid.voxel_size();
+        summary["solid_voxels"]    = scene.grid.n_solid_voxels();
+        summary["cells"]           = model.triangulation.n_active_cells();
+        summary["dofs"]            = model.dof_handler.n_dofs();
+        summary["degree"]          = model.fe.degree;
+        summary["linear_solver"]   = linear_solver.method();
+        summary["database_time_s"] = database_time;
+        summary["edits"]           = nlohmann::json::array();
 
-        pcout << (statistics.converged ? "Converged" : "NOT converged")
-              << " after " << statistics.load_steps << " load steps and "
-              << statistics.newton_iterations << " Newton iterations\n"
-              << "  min J = " << std::setprecision(4) << fields.min_J
-              << ", max |u| = " << max_u << " m" << std::endl;
-        summary["probes"] = nlohmann::json::array();
-        for (const Point<3> &p : scene.probes)
+        bool converged = true;
+        for (unsigned int state = 0; state <= scene.n_edits(); ++state)
           {
-            const Tensor<1, 3> d = solver->point_value(u, p);
-            summary["probes"].push_back({{"point", {p[0], p[1], p[2]}},
-                                         {"displacement", {d[0], d[1], d[2]}}});
-            pcout << "  probe (" << p << "): u = (" << d << ")" << std::endl;
-          }
-
-        const auto times = timer.get_summary_data(TimerOutput::total_wall_time);
-        const double   wall = total.wall_time();
-        nlohmann::json phases;
-        for (const auto &[section, seconds] : times)
-          phases[section] = seconds;
-        summary["wall_time_s"]       = wall;
-        summary["phase_wall_time_s"] = phases;
-        summary["time_per_newton_iteration_s"] =
-          wall / std::max(1u, statistics.newton_iterations);
-        summary["peak_memory_mb"] = peak_memory_mb();
-        write_summary(summary);
-
-        if (screen_timings)
-          {
-            pcout << "  wall time " << wall << " s";
-            for (const auto &[section, seconds] : times)
-              pcout << ", " << section << " " << seconds << " s";
-            pcout << "\n  peak memory " << peak_memory_mb() << " MB"
+            if (state > 0)
+              {
+                const auto changed = scene.apply_edit(state - 1);
+                run.edit(changed);
+                pcout << "Edit " << state << ": " << changed.size()
+                      << " voxels change material" << std::endl;
+              }
+            vtu.initialize(directory,
+                           state == 0 ? "solution" :
+                                        "edit-" + std::to_string(state));
+            const ModelRun::Result result = run.solve(&vtu);
+            converged              = converged && result.statistics.converged;
+            const auto &statistics = result.statistics;
+            pcout << (statistics.converged ? "Converged" : "NOT converged")
+                  << " after " << statistics.load_steps << " load steps and "
+                  << statistics.newton_iterations << " Newton iterations\n"
+                  << "  min J = " << std::setprecision(4) << result.min_J
+                  << ", max |u| = " << result.max_displacement << " m"
                   << std::endl;
+            for (unsigned int p = 0; p < scene.probes.size(); ++p)
+              pcout << "  probe (" << scene.probes[p] << "): u = ("
+                    << result.probes[p] << ")" << std::endl;
+
+            nlohmann::json json = result.to_json();
+            json["probes"]      = nlohmann::json::array();
+            for (unsigned int p = 0; p < scene.probes.size(); ++p)
+              {
+                const auto &x = scene.probes[p];
+                const auto &d = result.probes[p];
+                json["probes"].push_back(
+                  {{"point", {x[0], x[1], x[2]}},
+                   {"displacement", {d[0], d[1], d[2]}}});
+              }
+            if (state == 0)
+              summary.update(json);
+            else
+              {
+                json["cells_updated"] = result.cells_updated;
+                summary["edits"].push_back(json);
+              }
+            if (screen_timings)
+              {
+                pcout << "  wall time " << result.wall_time << " s";
+                for (const auto &[section, seconds] : result.phases)
+                  pcout << ", " << section << " " << seconds << " s";
+                pcout << std::endl;
+              }
+            if (!statistics.converged)
+              err << "Error: the solve did not converge: " << statistics.failure
+                  << "." << std::endl;
           }
-        if (!statistics.converged)
-          {
-            err << "Error: the solve did not converge: " << statistics.failure
-                << "." << std::endl;
-            return 1;
-          }
-        return 0;
+        summary["total_wall_time_s"] = total.wall_time();
+        summary["peak_memory_mb"]    = peak_memory_mb();
+        write_summary(summary);
+        if (screen_timings)
+          pcout << "  peak memory " << peak_memory_mb() << " MB" << std::endl;
+        return converged ? 0 : 1;
       }
 
       ConditionalOStream               pcout;
       std::ostream                    &err;
-      TimerOutput                      timer;
       std::string                      scene_name, method, directory;
-      unsigned int                     degree;
+      unsigned int                     degree, level;
       bool                             screen_timings;
       scene::Scene                     scene;
       solver::StaticSolver::Parameters solver_parameters;
       solver::LinearSolver             linear_solver;
       report::VtuWriter                vtu;
       dg::Parameters                   dg_parameters;
+      coarsening::DatabaseBuilder      database;
     };
   } // namespace
 
@@ -365,11 +374,12 @@ namespace ddfem::app
       prm.leave_subsection();
 
       coarsening::Database database = builder.open(scene.palette, out);
+      const std::vector<scene::VoxelGrid> grids = {scene.grid};
       builder.build(scene.palette,
                     database,
                     builder.scope() == coarsening::DatabaseBuilder::Scope::all ?
                       nullptr :
-                      &scene.grid,
+                      &grids,
                     out,
                     show_timings);
       return 0;
@@ -408,6 +418,31 @@ namespace ddfem::app
 
 
 
+  namespace
+  {
+    /// Run type "compare": see Comparison.
+    int
+    run_comparison(ParameterHandler  &prm,
+                   const std::string &prm_file,
+                   std::ostream      &out)
+    {
+      scene::Scene scene;
+      scene.parse_parameters(prm);
+      std::string scene_name = prm.get("Scene name");
+      if (scene_name.empty())
+        scene_name = std::filesystem::path(prm_file).stem().string();
+      prm.enter_subsection("Output");
+      const std::string directory = prm.get("Output directory");
+      const bool        timings   = prm.get_bool("Screen timings");
+      prm.leave_subsection();
+      Comparison comparison;
+      comparison.parse_parameters(prm);
+      return comparison.run(scene, scene_name, directory, timings, out);
+    }
+  } // namespace
+
+
+
   void
   declare_parameters(ParameterHandler &prm)
   {
@@ -420,8 +455,10 @@ namespace ddfem::app
     prm.declare_entry(
       "Run type",
       "simulation",
-      Patterns::Selection("simulation|database|dg convergence|dg cost"),
+      Patterns::Selection("simulation|compare|database|dg convergence|dg cost"),
       "What to run: 'simulation' solves the scene with the 'Method'; "
+      "'compare' solves it with the fine model and every coarse method and "
+      "level of subsection 'Comparison' and reports error against run time; "
       "'database' builds (or extends, or resumes) the metamaterial database "
       "of the scene's palette described in subsection 'Database' and "
       "solves nothing; 'dg convergence' is the convergence study of "
@@ -430,11 +467,22 @@ namespace ddfem::app
     prm.declare_entry(
       "Method",
       "fine",
-      Patterns::Selection("fine|dg"),
+      Patterns::Selection("fine|ddfem|naive|average|dg"),
       "Discretization: 'fine' is the continuous Neo-Hookean model on the "
-      "voxel grid, one hexahedron per solid voxel; 'dg' is discontinuous "
-      "Galerkin linear (or corotated) elasticity on the same mesh, "
-      "configured in subsection 'DG'.");
+      "voxel grid, one hexahedron per solid voxel. 'ddfem', 'naive' and "
+      "'average' are coarse models, one trilinear hexahedron per block of "
+      "2x2x2 (or 4x4x4, see 'Coarsening levels') voxels with a solid voxel, "
+      "whose quadrature points get the block's metamaterial from the "
+      "database of subsection 'Database' (fitted lazily if missing), the "
+      "unfitted materials of the voxels they lie in, or the block's average "
+      "material. 'dg' is discontinuous Galerkin linear (or corotated) "
+      "elasticity on the voxel mesh, configured in subsection 'DG'.");
+    prm.declare_entry(
+      "Coarsening levels",
+      "1",
+      Patterns::Integer(1, 2),
+      "Method = ddfem, naive or average: 1 for coarse elements of 2x2x2 "
+      "voxels (8 quadrature points), 2 for 4x4x4 voxels (64 points).");
     prm.enter_subsection("Discretization");
     prm.declare_entry("Polynomial degree",
                       "1",
@@ -461,6 +509,7 @@ namespace ddfem::app
     solver::StaticSolver::Parameters::declare_parameters(prm);
     solver::LinearSolver::declare_parameters(prm);
     coarsening::DatabaseBuilder::declare_parameters(prm);
+    Comparison::declare_parameters(prm);
     dg::Parameters::declare_parameters(prm);
     dg::ConvergenceStudy::declare_parameters(prm);
     dg::CostStudy::declare_parameters(prm);
@@ -515,6 +564,8 @@ namespace ddfem::app
           return build_database(prm, out);
         if (run_type == "dg convergence" || run_type == "dg cost")
           return run_dg_study(run_type, prm, out);
+        if (run_type == "compare")
+          return run_comparison(prm, prm_file, out);
         Simulation simulation(out, err);
         simulation.parse_parameters(prm, prm_file);
         return simulation.run(prm);

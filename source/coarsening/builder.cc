@@ -2,6 +2,7 @@
 #include <deal.II/base/timer.h>
 
 #include <ddfem/coarsening/builder.h>
+#include <ddfem/coarsening/coarsener.h>
 
 #include <algorithm>
 #include <atomic>
@@ -170,14 +171,7 @@ namespace ddfem::coarsening
     for (unsigned int k = 0; k < n[2]; k += 2)
       for (unsigned int j = 0; j < n[1]; j += 2)
         for (unsigned int i = 0; i < n[0]; i += 2)
-          {
-            Combination c;
-            for (unsigned int child = 0; child < 8; ++child)
-              c[child] = grid(i + (child & 1),
-                              j + ((child >> 1) & 1),
-                              k + ((child >> 2) & 1));
-            result.push_back(c);
-          }
+          result.push_back(Coarsener::combination(grid, i, j, k));
     return result;
   }
 
@@ -373,16 +367,22 @@ namespace ddfem::coarsening
 
 
   void
-  DatabaseBuilder::build(const scene::Palette   &palette,
-                         Database               &database,
-                         const scene::VoxelGrid *scene_grid,
-                         std::ostream           &out,
-                         const bool              show_progress) const
+  DatabaseBuilder::build(const scene::Palette                &palette,
+                         Database                            &database,
+                         const std::vector<scene::VoxelGrid> *scene_grids,
+                         std::ostream                        &out,
+                         const bool                           show_progress,
+                         Hierarchy *level2_result) const
   {
-    Timer                          timer;
-    const std::vector<Combination> todo =
-      database.missing(scene_grid == nullptr ? all_combinations(database) :
-                                               scene_combinations(*scene_grid));
+    Timer                    timer;
+    std::vector<Combination> wanted;
+    if (scene_grids == nullptr)
+      wanted = all_combinations(database);
+    else
+      for (const scene::VoxelGrid &grid : *scene_grids)
+        for (const Combination &c : scene_combinations(grid))
+          wanted.push_back(c);
+    const std::vector<Combination> todo = database.missing(wanted);
     out << "Metamaterial database '" << database_file
         << "', level 1: " << database.combinations().size() << " combinations, "
         << database.entries().size() << " entries present, " << todo.size()
@@ -394,6 +394,8 @@ namespace ddfem::coarsening
     const CoarseElement element(1);
     if (!todo.empty())
       {
+        std::filesystem::create_directories(
+          std::filesystem::absolute(database_file).parent_path());
         Journal journal(database_file, database.fingerprint());
         fit_in_parallel(
           todo.size(),
@@ -417,7 +419,9 @@ namespace ddfem::coarsening
       }
     const double level1_time = timer.wall_time();
 
-    if (n_representatives > 0 && database.n_representatives() == 0)
+    const bool compressed_now =
+      (n_representatives > 0 && database.n_representatives() == 0);
+    if (compressed_now)
       {
         database.compress(n_representatives,
                           element,
@@ -429,22 +433,32 @@ namespace ddfem::coarsening
 
     // Level 2: the staged tables first (saved before any fit, so a
     // resumed build finds them), then the representatives' fits.
+    // Tables built before the level-1 entries this build needs (lazy mode)
+    // are built anew; their fits go with them.
     Hierarchy level2;
+    bool      new_tables = false;
     if (levels == 2)
       {
         if (std::filesystem::exists(database_file))
           Database::load(database_file, &level2);
         if (level2.empty() ||
-            level2.settings.fingerprint() != hierarchy.fingerprint())
+            level2.settings.fingerprint() != hierarchy.fingerprint() ||
+            !level2.covers(database, wanted))
           {
             level2 = Hierarchy();
             level2.build_tables(database, hierarchy);
+            Journal::remove(database_file + ".level2");
+            new_tables = true;
           }
       }
-    std::filesystem::create_directories(
-      std::filesystem::absolute(database_file).parent_path());
-    database.save(database_file, levels == 2 ? &level2 : nullptr);
-    Journal::remove(database_file);
+    if (!todo.empty() || compressed_now || new_tables ||
+        !std::filesystem::exists(database_file))
+      {
+        std::filesystem::create_directories(
+          std::filesystem::absolute(database_file).parent_path());
+        database.save(database_file, levels == 2 ? &level2 : nullptr);
+        Journal::remove(database_file);
+      }
     report(database.entries(), out);
     if (show_progress)
       out << "  level 1 fitting time: " << level1_time << " s ("
@@ -454,13 +468,14 @@ namespace ddfem::coarsening
     if (levels == 2)
       {
         std::vector<unsigned int> needed;
-        if (scene_grid == nullptr)
+        if (scene_grids == nullptr)
           for (unsigned int r = 0; r < level2.n_representatives(); ++r)
             needed.push_back(r);
         else
-          for (const auto &blocks : scene_blocks(*scene_grid))
-            if (const int r = level2.find(database, blocks); r >= 0)
-              needed.push_back(r);
+          for (const scene::VoxelGrid &grid : *scene_grids)
+            for (const auto &blocks : scene_blocks(grid))
+              if (const int r = level2.find(database, blocks); r >= 0)
+                needed.push_back(r);
         const std::string level2_journal = database_file + ".level2";
         const std::string fingerprint =
           database.fingerprint() + " | " + hierarchy.fingerprint();
@@ -507,18 +522,40 @@ namespace ddfem::coarsening
         std::sort(level2.entries.begin(),
                   level2.entries.end(),
                   [](const Entry &a, const Entry &b) { return a.key < b.key; });
-        database.save(database_file, &level2);
-        Journal::remove(level2_journal);
+        if (!needed.empty())
+          {
+            database.save(database_file, &level2);
+            Journal::remove(level2_journal);
+          }
         report(level2.entries, out);
         if (show_progress)
           out << "  level 2 fitting time: " << timer2.wall_time() << " s ("
               << (needed.empty() ? 0. : timer2.wall_time() / needed.size())
               << " s per representative)" << std::endl;
       }
+    if (level2_result != nullptr)
+      *level2_result = std::move(level2);
     if (show_progress)
       out << "  total time: " << timer.wall_time() << " s, file size: "
           << std::filesystem::file_size(database_file) / 1024. << " KiB"
           << std::endl;
+  }
+
+
+
+  Database
+  DatabaseBuilder::prepare(const scene::Palette                &palette,
+                           const std::vector<scene::VoxelGrid> &grids,
+                           const unsigned int                   level,
+                           Hierarchy                           &level2,
+                           std::ostream                        &out) const
+  {
+    DatabaseBuilder lazy(*this);
+    lazy.levels       = level;
+    lazy.run_scope    = Scope::scene;
+    Database database = lazy.open(palette, out);
+    lazy.build(palette, database, &grids, out, false, &level2);
+    return database;
   }
 
 
@@ -536,16 +573,7 @@ namespace ddfem::coarsening
     for (unsigned int k = 0; k < n[2]; k += 4)
       for (unsigned int j = 0; j < n[1]; j += 4)
         for (unsigned int i = 0; i < n[0]; i += 4)
-          {
-            std::array<Combination, 8> blocks;
-            for (unsigned int b = 0; b < 8; ++b)
-              for (unsigned int child = 0; child < 8; ++child)
-                blocks[b][child] =
-                  grid(i + 2 * (b & 1) + (child & 1),
-                       j + 2 * ((b >> 1) & 1) + ((child >> 1) & 1),
-                       k + 2 * ((b >> 2) & 1) + ((child >> 2) & 1));
-            result.push_back(blocks);
-          }
+          result.push_back(Coarsener::sub_blocks(grid, i, j, k));
     return result;
   }
 } // namespace ddfem::coarsening

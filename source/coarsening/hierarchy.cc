@@ -226,6 +226,23 @@ namespace ddfem::coarsening
 
 
 
+  bool
+  Hierarchy::covers(const Database                 &level1,
+                    const std::vector<Combination> &combinations) const
+  {
+    return std::all_of(combinations.begin(),
+                       combinations.end(),
+                       [&](const Combination &c) {
+                         return std::all_of(c.begin(),
+                                            c.end(),
+                                            [](auto id) { return id == 0; }) ||
+                                std::size_t(class_of[level1.combinations().key(c)]) <
+                                  class_key.size();
+                       });
+  }
+
+
+
   int
   Hierarchy::find(const Database                   &level1,
                   const std::array<Combination, 8> &blocks) const
@@ -238,6 +255,11 @@ namespace ddfem::coarsening
                                          [](auto id) { return id == 0; });
         c[p]               = is_void ? class_key.size() :
                                        class_of[level1.combinations().key(blocks[p])];
+        AssertThrow(is_void || c[p] < std::int32_t(class_key.size()),
+                    ExcMessage("The level-2 tables of the metamaterial "
+                               "database predate a level-1 entry this "
+                               "block needs; run the scene's database build "
+                               "again (Run type = database) to renew them."));
       }
     // Pair along x, then y, then z.
     std::size_t n = class_key.size() + 1;

@@ -5,6 +5,7 @@
 
 #include <ddfem/coarsening/metamaterial.h>
 #include <ddfem/solver/cell_kernel.h>
+#include <ddfem/solver/discretization.h>
 
 namespace ddfem::coarsening
 {
@@ -78,12 +79,8 @@ namespace ddfem::coarsening
 
   CoarseElement::CoarseElement(const unsigned int level)
     : fe(FE_Q<3>(1), 3)
-    , quadrature(level == 1 ? Quadrature<3>(QGauss<3>(2)) :
-                              Quadrature<3>(QIterated<3>(QGauss<1>(2), 2)))
+    , quadrature(solver::coarse_quadrature(level))
   {
-    AssertThrow(level == 1 || level == 2,
-                ExcMessage("Coarsening levels must be 1 or 2, not " +
-                           std::to_string(level) + "."));
     GridGenerator::hyper_cube(triangulation, 0., 1.);
     dof_handler.reinit(triangulation);
     dof_handler.distribute_dofs(fe);

@@ -10,6 +10,7 @@
 
 #include <ddfem/dg/studies.h>
 #include <ddfem/dg/system.h>
+#include <ddfem/report/output.h>
 
 #include <algorithm>
 #include <cmath>
@@ -481,13 +482,7 @@ namespace ddfem::dg
         script << "unset multiplot\n";
       }
     script.close();
-    AssertThrow(
-      std::system(("cd \"" + directory + "\" && gnuplot dg_convergence.gnuplot")
-                    .c_str()) == 0,
-      ExcMessage("gnuplot could not draw the convergence plots in \"" +
-                 directory +
-                 "\" (gnuplot comes from the Debian package "
-                 "gnuplot-nox, which scripts/setup.sh installs)."));
+    report::run_gnuplot(directory, "dg_convergence.gnuplot");
   }
 
 

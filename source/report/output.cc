@@ -3,10 +3,26 @@
 
 #include <ddfem/report/output.h>
 
+#include <cstdlib>
 #include <fstream>
 
 namespace ddfem::report
 {
+  void
+  run_gnuplot(const std::string &directory, const std::string &script)
+  {
+    AssertThrow(
+      std::system(
+        ("cd \"" + directory + "\" && gnuplot \"" + script + "\"").c_str()) ==
+        0,
+      ExcMessage("gnuplot could not draw the plots of \"" + directory + "/" +
+                 script +
+                 "\" (gnuplot comes from the Debian package "
+                 "gnuplot-nox, which scripts/setup.sh installs)."));
+  }
+
+
+
   void
   VtuWriter::declare_parameters(ParameterHandler &prm)
   {

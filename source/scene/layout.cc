@@ -78,6 +78,16 @@ namespace ddfem::scene
         "'cylinder ax ay az bx by bz r : id' (a cylinder of radius r around the "
         "segment from a to b). Coordinates in meters; a voxel takes the id if its "
         "center lies inside.");
+      prm.declare_entry(
+        "Edits",
+        "",
+        Patterns::Anything(),
+        "Material edits applied after the layout, in sequence, separated by "
+        "'|': each is a list of primitives in the syntax of 'Shapes'. An edit "
+        "may only change which material a solid voxel has (never make a "
+        "voxel void or solid), so the mesh stays the same and coarse models "
+        "re-coarsen only the blocks it touched. A simulation solves the "
+        "scene before the first edit and after each one.");
 
       prm.enter_subsection("Layers");
       prm.declare_entry("Axis",
@@ -192,7 +202,16 @@ namespace ddfem::scene
       type = prm.get("Type");
       material =
         checked_id(prm.get_integer("Material"), n_materials, "Layout/Material");
-      shapes = parse_shapes(prm.get("Shapes"), n_materials);
+      shapes = parse_shapes(prm.get("Shapes"), n_materials, "Layout/Shapes");
+      edits.clear();
+      const std::string edit_text = prm.get("Edits");
+      if (!Utilities::trim(edit_text).empty())
+        for (const std::string &edit :
+             Utilities::split_string_list(edit_text, '|'))
+          edits.push_back(parse_shapes(edit,
+                                       n_materials,
+                                       "Layout/Edits, edit " +
+                                         std::to_string(edits.size() + 1)));
 
       prm.enter_subsection("Layers");
       layer_axis      = axis_index(prm.get("Axis"));
@@ -260,12 +279,14 @@ namespace ddfem::scene
 
 
   std::vector<Layout::Shape>
-  Layout::parse_shapes(const std::string &text, const unsigned int n_materials)
+  Layout::parse_shapes(const std::string &text,
+                       const unsigned int n_materials,
+                       const std::string &parameter)
   {
     std::vector<Shape> result;
     for (const std::string &entry : Utilities::split_string_list(text, ';'))
       {
-        const std::string where = "Layout/Shapes, entry \"" + entry + "\"";
+        const std::string where = parameter + ", entry \"" + entry + "\"";
         const auto        parts = Utilities::split_string_list(entry, ':');
         AssertThrow(
           parts.size() == 2,
@@ -409,12 +430,48 @@ namespace ddfem::scene
               }
       }
 
-    if (!shapes.empty())
+    paint(shapes, grid);
+  }
+
+
+
+  void
+  Layout::paint(const std::vector<Shape> &list, VoxelGrid &grid)
+  {
+    const auto &n = grid.size();
+    if (!list.empty())
       for (unsigned int k = 0; k < n[2]; ++k)
         for (unsigned int j = 0; j < n[1]; ++j)
           for (unsigned int i = 0; i < n[0]; ++i)
-            for (const Shape &shape : shapes)
+            for (const Shape &shape : list)
               if (shape.contains(grid.center(i, j, k)))
                 grid(i, j, k) = shape.material;
+  }
+
+
+
+  std::vector<std::size_t>
+  Layout::apply_edit(const unsigned int e, VoxelGrid &grid) const
+  {
+    AssertIndexRange(e, edits.size());
+    const VoxelGrid before = grid;
+    paint(edits[e], grid);
+    std::vector<std::size_t> changed;
+    for (std::size_t v = 0; v < grid.n_voxels(); ++v)
+      if (grid[v] != before[v])
+        {
+          const auto ijk = grid.coordinates(v);
+          AssertThrow(grid[v] != void_id && before[v] != void_id,
+                      ExcMessage(
+                        "Layout/Edits, edit " + std::to_string(e + 1) +
+                        ": the voxel (" + std::to_string(ijk[0]) + ", " +
+                        std::to_string(ijk[1]) + ", " + std::to_string(ijk[2]) +
+                        ") would change from id " + std::to_string(before[v]) +
+                        " to " + std::to_string(grid[v]) +
+                        "; edits may only change the material of solid "
+                        "voxels (ids 1 and up), not add or remove them."));
+          changed.push_back(v);
+        }
+    return changed;
   }
 } // namespace ddfem::scene

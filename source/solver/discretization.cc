@@ -2,25 +2,74 @@
 
 #include <ddfem/solver/discretization.h>
 
+#include <algorithm>
+
 namespace ddfem::solver
 {
+  Quadrature<3>
+  coarse_quadrature(const unsigned int level)
+  {
+    AssertThrow(level == 1 || level == 2,
+                ExcMessage("Coarsening levels must be 1 or 2, not " +
+                           std::to_string(level) + "."));
+    return level == 1 ? Quadrature<3>(QGauss<3>(2)) :
+                        Quadrature<3>(QIterated<3>(QGauss<1>(2), 2));
+  }
+
+
+
   Discretization::Discretization(const scene::Scene &scene,
-                                 const unsigned int  degree)
+                                 const unsigned int  degree,
+                                 const unsigned int  level)
     : fe(FE_Q<3>(degree), 3)
     , dof_handler(triangulation)
-    , quadrature(QGauss<3>(degree + 1))
+    , quadrature(level == 0 ? Quadrature<3>(QGauss<3>(degree + 1)) :
+                              coarse_quadrature(level))
+    , level(level)
     , extent(scene.grid.extent())
   {
-    cell_blocks = scene::make_voxel_mesh(scene.grid, 0, triangulation);
+    AssertThrow(level == 0 || degree == 1,
+                ExcMessage("Coarse elements are trilinear: "
+                           "Discretization/Polynomial degree must be 1 for "
+                           "Method = ddfem, naive or average, not " +
+                           std::to_string(degree) + "."));
+    cell_blocks = scene::make_voxel_mesh(scene.grid, level, triangulation);
     dof_handler.distribute_dofs(fe);
 
     material_points.resize(triangulation.n_active_cells() * quadrature.size());
-    for (const auto &cell : triangulation.active_cell_iterators())
+    if (level == 0)
+      for (std::size_t c = 0; c < cell_blocks.size(); ++c)
+        copy_voxel_material(scene, c);
+  }
+
+
+
+  void
+  Discretization::copy_voxel_material(const scene::Scene &scene,
+                                      const std::size_t   c)
+  {
+    const auto point =
+      scene.palette[scene.grid[cell_blocks[c]]].material_point();
+    std::fill(material_points.begin() + c * quadrature.size(),
+              material_points.begin() + (c + 1) * quadrature.size(),
+              point);
+  }
+
+
+
+  void
+  Discretization::update_voxel_materials(
+    const scene::Scene             &scene,
+    const std::vector<std::size_t> &changed)
+  {
+    Assert(level == 0, ExcMessage("Coarse models are updated by a Coarsener."));
+    // Cells are numbered in increasing voxel order.
+    for (const std::size_t v : changed)
       {
-        const auto point = scene.palette[cell->material_id()].material_point();
-        for (unsigned int q = 0; q < quadrature.size(); ++q)
-          material_points[cell->active_cell_index() * quadrature.size() + q] =
-            point;
+        const auto cell =
+          std::lower_bound(cell_blocks.begin(), cell_blocks.end(), v);
+        Assert(cell != cell_blocks.end() && *cell == v, ExcInternalError());
+        copy_voxel_material(scene, cell - cell_blocks.begin());
       }
   }
 } // namespace ddfem::solver

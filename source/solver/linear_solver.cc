@@ -63,6 +63,16 @@ namespace ddfem::solver
 
 
   void
+  LinearSolver::set_type(const std::string &type)
+  {
+    Assert(type == "auto" || type == "direct" || type == "cg-amg",
+           ExcMessage("Unknown linear solver type " + type));
+    requested = type;
+  }
+
+
+
+  void
   LinearSolver::initialize(const DoFHandler<3> &dof_handler,
                            TimerOutput         &timer_output)
   {

@@ -298,7 +298,8 @@ main()
     std::ostringstream    log;
     const DatabaseBuilder lazy = builder("lazy.h5", false, "scene");
     Database              ldb  = lazy.open(palette(), log);
-    lazy.build(palette(), ldb, &grid, log, false);
+    const std::vector<scene::VoxelGrid> grids = {grid};
+    lazy.build(palette(), ldb, &grids, log, false);
     Database again = lazy.open(palette(), log);
     std::cout << "lazy build fitted "
               << Database::load("lazy.h5").entries().size()

@@ -75,20 +75,39 @@ namespace ddfem::coarsening
 
     /**
      * Fits the missing orbit representatives of every combination (or, if
-     * @p scene_grid is given, of its 2x2x2 blocks) into @p database, in
+     * @p scene_grids is given, of their 2x2x2 blocks) into @p database, in
      * parallel and journaled, compresses if asked, saves to file(); with
      * Levels = 2 then builds the staged level-2 tables and fits the
-     * level-2 representatives (all, or those of @p scene_grid's 4x4x4
+     * level-2 representatives (all, or those of @p scene_grids' 4x4x4
      * blocks), journaled too. Prints a report to @p out; with
      * @p show_progress a progress bar with the estimated time left, and
-     * timings.
+     * timings. The file is written only if something was added. With
+     * Levels = 2 the level-2 tables and entries end up in @p level2_result
+     * if given. Level-2 tables that do not know a combination the build
+     * covers (built before lazy builds extended level 1) are built anew.
      */
     void
-    build(const scene::Palette   &palette,
-          Database               &database,
-          const scene::VoxelGrid *scene_grid,
-          std::ostream           &out,
-          const bool              show_progress) const;
+    build(const scene::Palette                &palette,
+          Database                            &database,
+          const std::vector<scene::VoxelGrid> *scene_grids,
+          std::ostream                        &out,
+          const bool                           show_progress,
+          Hierarchy                           *level2_result = nullptr) const;
+
+    /**
+     * Lazy mode for a coarse simulation at coarsening @p level (1 or 2):
+     * opens the database, fits the metamaterials the blocks of @p grids
+     * (the states of a scene) need at that level if they are missing
+     * (appending them to the file), and
+     * returns the database, with the level-2 tables and entries in
+     * @p level2 at level 2.
+     */
+    Database
+    prepare(const scene::Palette                &palette,
+            const std::vector<scene::VoxelGrid> &grids,
+            const unsigned int                   level,
+            Hierarchy                           &level2,
+            std::ostream                        &out) const;
 
     /// Every combination of the palette (Scope = all).
     static std::vector<Combination>

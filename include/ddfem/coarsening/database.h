@@ -176,10 +176,11 @@ namespace ddfem::coarsening
              const std::vector<CornerDisplacements> &deformations);
 
     /**
-     * The compression features (paper eq. 5) of every combination but the
-     * all-void one: the log-energies of its metamaterial under
-     * @p deformations. @p keys receives the combinations' keys. Throws
-     * ExcMessage if the database is incomplete.
+     * The compression features (paper eq. 5) of every combination the
+     * database has an entry for (all of them after a full build; those of
+     * the scenes seen so far in lazy mode), but the all-void one: the
+     * log-energies of its metamaterial under @p deformations. @p keys
+     * receives the combinations' keys.
      */
     std::vector<std::vector<double>>
     features(const CoarseElement                    &element,

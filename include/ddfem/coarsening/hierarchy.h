@@ -90,8 +90,19 @@ namespace ddfem::coarsening
     composition(const Database &level1, const unsigned int r) const;
 
     /**
+     * Whether the tables know every non-void combination of
+     * @p combinations: the tables are built from the level-1 entries
+     * present at the time, so a database extended later (lazy mode) needs
+     * new tables.
+     */
+    bool
+    covers(const Database                 &level1,
+           const std::vector<Combination> &combinations) const;
+
+    /**
      * The representative of a 4x4x4 block given as its eight 2x2x2
-     * sub-blocks (child order), or -1 if all are void.
+     * sub-blocks (child order), or -1 if all are void. Throws ExcMessage if
+     * a sub-block is not covered() by the tables.
      */
     int
     find(const Database                   &level1,

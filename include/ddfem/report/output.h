@@ -16,6 +16,14 @@ namespace ddfem::report
   using namespace dealii;
 
   /**
+   * Runs gnuplot on the script @p script in @p directory (where the script
+   * reads and writes its files). Throws ExcMessage naming the directory and
+   * the Debian package if gnuplot fails.
+   */
+  void
+  run_gnuplot(const std::string &directory, const std::string &script);
+
+  /**
    * Writes the states of a solve as VTU files, one per load step, and a
    * .pvd record over them: displacement, material id, det F and the von
    * Mises Cauchy stress (cell averages). Declared in the prm subsection

@@ -38,6 +38,21 @@ namespace ddfem::scene
     void
     fill(VoxelGrid &grid) const;
 
+    /// Number of material edits ('Edits').
+    unsigned int
+    n_edits() const
+    {
+      return edits.size();
+    }
+
+    /**
+     * Applies material edit @p e (from 0) to @p grid and returns the linear
+     * indices of the voxels whose id changed. Throws ExcMessage, naming the
+     * edit and the voxel, if the edit would make a voxel void or solid.
+     */
+    std::vector<std::size_t>
+    apply_edit(const unsigned int e, VoxelGrid &grid) const;
+
   private:
     /// A primitive painted over the base layout.
     struct Shape
@@ -60,7 +75,13 @@ namespace ddfem::scene
 
     /// Parses the "Shapes" list.
     static std::vector<Shape>
-    parse_shapes(const std::string &text, const unsigned int n_materials);
+    parse_shapes(const std::string &text,
+                 const unsigned int n_materials,
+                 const std::string &parameter);
+
+    /// Paints @p list over @p grid in order.
+    static void
+    paint(const std::vector<Shape> &list, VoxelGrid &grid);
 
     /// 'Type' and 'Material' (also core, matrix and inside material).
     std::string type;
@@ -95,6 +116,8 @@ namespace ddfem::scene
 
     /// 'Shapes', painted in this order.
     std::vector<Shape> shapes;
+    /// 'Edits': lists of shapes applied one after the other.
+    std::vector<std::vector<Shape>> edits;
   };
 } // namespace ddfem::scene
 

@@ -36,6 +36,23 @@ namespace ddfem::scene
     void
     parse_parameters(ParameterHandler &prm);
 
+    /// Number of material edits in 'Layout/Edits'.
+    unsigned int
+    n_edits() const
+    {
+      return layout.n_edits();
+    }
+
+    /**
+     * Applies material edit @p e (from 0) to the grid; returns the linear
+     * indices of the changed voxels (see Layout::apply_edit()).
+     */
+    std::vector<std::size_t>
+    apply_edit(const unsigned int e)
+    {
+      return layout.apply_edit(e, grid);
+    }
+
     /// The voxel grid with one material id per voxel.
     VoxelGrid grid;
     /// The materials voxel ids refer to.

@@ -18,22 +18,51 @@ namespace ddfem::solver
   using namespace dealii;
 
   /**
-   * A continuous finite element discretization of a scene: the voxel mesh,
-   * an FE_Q(p)^3 element, its degrees of freedom, a quadrature rule and the
-   * material record of every quadrature point. The material records are
-   * what distinguishes the fine model (each point copies its voxel's
-   * palette material) from coarse ones (each point carries fitted data);
-   * everything downstream only sees the records.
+   * The quadrature rule of a coarse element of coarsening level 1 or 2,
+   * the points metamaterials are defined at: the 2-point Gauss rule (8
+   * points, point k in child octant k) at level 1, the same rule iterated
+   * twice (64 points, one in each voxel of the 4x4x4 block) at level 2.
+   * Throws ExcMessage for other levels.
+   */
+  Quadrature<3>
+  coarse_quadrature(const unsigned int level);
+
+  /**
+   * A continuous finite element discretization of a scene: the voxel mesh
+   * (or the mesh of its 2x2x2 or 4x4x4 blocks), an FE_Q(p)^3 element, its
+   * degrees of freedom, a quadrature rule and the material record of every
+   * quadrature point. The material records are what distinguishes the fine
+   * model (each point copies its voxel's palette material) from coarse ones
+   * (each point carries a metamaterial's or a baseline's data); everything
+   * downstream only sees the records.
    */
   class Discretization
   {
   public:
     /**
-     * The fine discretization: one cell per solid voxel, FE_Q(@p degree)^3,
-     * Gauss quadrature with degree+1 points per direction, every
-     * quadrature point carrying its voxel's palette material.
+     * The discretization of @p scene at coarsening @p level.
+     *
+     * Level 0 is the fine model: one cell per solid voxel, FE_Q(@p degree)^3,
+     * Gauss quadrature with degree+1 points per direction, every quadrature
+     * point carrying its voxel's palette material.
+     *
+     * Levels 1 and 2 are coarse models: one cell per block of 2^level voxels
+     * per direction that holds a solid voxel, FE_Q(1)^3 (@p degree must be
+     * 1) and coarse_quadrature(level). Their material records are allocated
+     * but left zero: a coarsening::Coarsener fills them.
      */
-    Discretization(const scene::Scene &scene, const unsigned int degree);
+    Discretization(const scene::Scene &scene,
+                   const unsigned int  degree,
+                   const unsigned int  level = 0);
+
+    /**
+     * The fine model only: the voxels @p changed (linear indices, all
+     * solid) of @p scene's grid have new materials; their cells' records
+     * copy them.
+     */
+    void
+    update_voxel_materials(const scene::Scene             &scene,
+                           const std::vector<std::size_t> &changed);
 
     /// The material record of quadrature point @p q of the cell with
     /// active index @p cell_index.
@@ -55,10 +84,18 @@ namespace ddfem::solver
     MappingQ1<3> mapping;
     /// Material record per cell and quadrature point, cell-major.
     std::vector<material::MaterialPoint> material_points;
-    /// Lexicographic voxel (block) index of each active cell.
+    /// Coarsening level: 0 for the fine mesh, 1 or 2 for blocks of 2^level
+    /// voxels per direction.
+    unsigned int level;
+    /// Lexicographic voxel (level 0) or block index of each active cell.
     std::vector<std::size_t> cell_blocks;
     /// The bounding box size of the voxel grid (m).
     Point<3> extent;
+
+  private:
+    /// Gives every point of the fine cell @p c its voxel's palette material.
+    void
+    copy_voxel_material(const scene::Scene &scene, const std::size_t c);
   };
 } // namespace ddfem::solver
 

@@ -70,6 +70,11 @@ namespace ddfem::solver
           const Vector<double>       &b,
           const double                forcing = 1);
 
+    /// Overrides 'Type' ("auto", "direct" or "cg-amg") for the next
+    /// initialize().
+    void
+    set_type(const std::string &type);
+
     /// The method in use: "direct" or "cg-amg".
     const std::string &
     method() const

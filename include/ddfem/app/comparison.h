@@ -1,0 +1,82 @@
+#ifndef ddfem_app_comparison_h
+#define ddfem_app_comparison_h
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <ddfem/coarsening/builder.h>
+#include <ddfem/coarsening/coarsener.h>
+#include <ddfem/report/output.h>
+#include <ddfem/scene/scene.h>
+#include <ddfem/solver/linear_solver.h>
+#include <ddfem/solver/static_solver.h>
+
+#include <memory>
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace ddfem::app
+{
+  using namespace dealii;
+
+  /**
+   * Run type "compare": error against run time (DDFEM paper, section 6).
+   * Solves one scene in one process with the fine model (with multigrid
+   * CG and, up to a size limit, with the direct solver) and with every
+   * coarse method at every coarsening level asked for; measures each
+   * coarse solution's vertex error against the fine one and every run's
+   * wall time; writes comparison.csv, comparison.json, error_vs_time.png
+   * (gnuplot) and VTU files of every solution, and prints the table. With
+   * material edits in the scene, every state (before the first edit and
+   * after each) is compared, the models re-coarsening only the changed
+   * blocks. Declared in the prm subsection "Comparison".
+   */
+  class Comparison
+  {
+  public:
+    /// Declares the subsection "Comparison".
+    static void
+    declare_parameters(ParameterHandler &prm);
+
+    /// Reads "Comparison" and everything the runs need from @p prm.
+    void
+    parse_parameters(ParameterHandler &prm);
+
+    /**
+     * Runs the comparison of @p scene (named @p scene_name) and writes its
+     * results to @p directory. Logs to @p out; timings on screen only if
+     * @p screen_timings (files always have them). Returns 0 if every
+     * solve converged, 1 otherwise.
+     */
+    int
+    run(scene::Scene      &scene,
+        const std::string &scene_name,
+        const std::string &directory,
+        const bool         screen_timings,
+        std::ostream      &out);
+
+  private:
+    /// One model compared: the fine one (with a given linear solver) or a
+    /// coarse method at a level.
+    struct Configuration
+    {
+      /// "fine", "fine-direct", "ddfem", "naive" or "average".
+      std::string name;
+      /// Coarsening level (0 for fine).
+      unsigned int level = 0;
+      /// Its linear solver.
+      std::unique_ptr<solver::LinearSolver> linear_solver;
+    };
+    std::vector<Configuration> configurations;
+    /// Largest fine system also solved with the direct solver.
+    unsigned int direct_limit = 0;
+    /// Degree of the fine model.
+    unsigned int degree = 1;
+
+    solver::StaticSolver::Parameters solver_parameters;
+    report::VtuWriter                vtu;
+    coarsening::DatabaseBuilder      database;
+  };
+} // namespace ddfem::app
+
+#endif

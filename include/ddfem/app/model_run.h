@@ -1,0 +1,119 @@
+#ifndef ddfem_app_model_run_h
+#define ddfem_app_model_run_h
+
+#include <deal.II/base/conditional_ostream.h>
+#include <deal.II/base/timer.h>
+#include <deal.II/lac/vector.h>
+
+#include <ddfem/coarsening/coarsener.h>
+#include <ddfem/report/output.h>
+#include <ddfem/scene/scene.h>
+#include <ddfem/solver/discretization.h>
+#include <ddfem/solver/linear_solver.h>
+#include <ddfem/solver/static_solver.h>
+#include <nlohmann/json.hpp>
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace ddfem::app
+{
+  using namespace dealii;
+
+  /**
+   * One continuous model of a scene and its solves: the fine model
+   * (level 0) or a coarse one (a Coarsener fills its material records),
+   * with one Newton solver and linear solver. The model is set up once;
+   * after a material edit only the touched cells get new materials
+   * (re-coarsening only the changed blocks) before the next solve.
+   */
+  class ModelRun
+  {
+  public:
+    /// What one solve produced.
+    struct Result
+    {
+      /// Newton solver statistics.
+      solver::StaticSolver::Statistics statistics;
+      /// Wall time of coarsening (lookups) or, after an edit,
+      /// re-coarsening (s); 0 for the fine model.
+      double coarsening_time = 0;
+      /// Coarse blocks (fine cells) given new materials by an edit.
+      unsigned int cells_updated = 0;
+      /// Wall time of setup, coarsening and solve, without output (s).
+      double wall_time = 0;
+      /// Wall time per timer section (s).
+      std::map<std::string, double> phases;
+      /// Smallest det F at any quadrature point.
+      double min_J = 1;
+      /// Largest vertex displacement (m).
+      double max_displacement = 0;
+      /// Displacement at each probe point (m).
+      std::vector<Tensor<1, 3>> probes;
+
+      /// The result as JSON (times in seconds, lengths in meters).
+      nlohmann::json
+      to_json() const;
+    };
+
+    /**
+     * The model of @p scene at coarsening level @p coarsener->level(), or
+     * the fine model of degree @p degree if @p coarsener is null. Builds
+     * the discretization, coarsens (timed) and sets the solver up with
+     * @p linear_solver. Throws ExcMessage on invalid input (e.g. probes
+     * outside the solid). The arguments must outlive the object.
+     */
+    ModelRun(const scene::Scene                     &scene,
+             const unsigned int                      degree,
+             const coarsening::Coarsener            *coarsener,
+             const solver::StaticSolver::Parameters &parameters,
+             solver::LinearSolver                   &linear_solver,
+             ConditionalOStream                     &log);
+
+    /**
+     * The scene's voxels @p changed were given new (solid) materials: the
+     * cells holding them get new material records.
+     */
+    void
+    edit(const std::vector<std::size_t> &changed);
+
+    /**
+     * Solves the current state; writes the final state with @p vtu if
+     * given (output is not timed).
+     */
+    Result
+    solve(report::VtuWriter *vtu);
+
+    /// The discretization.
+    const solver::Discretization &
+    discretization() const
+    {
+      return *model;
+    }
+
+    /// The displacement of the last solve (m).
+    const Vector<double> &
+    solution() const
+    {
+      return solver->solution();
+    }
+
+    /// The timer receiving this model's sections.
+    TimerOutput timer;
+
+  private:
+    const scene::Scene                     &scene;
+    const coarsening::Coarsener            *coarsener;
+    std::unique_ptr<solver::Discretization> model;
+    std::unique_ptr<solver::StaticSolver>   solver;
+    /// Wall time of setup (and coarsening) not yet charged to a solve.
+    double pending_time = 0;
+    /// Coarsening time and updated cells not yet reported by a solve.
+    double       pending_coarsening = 0;
+    unsigned int pending_cells      = 0;
+  };
+} // namespace ddfem::app
+
+#endif

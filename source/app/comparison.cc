@@ -1,0 +1,449 @@
+#include <deal.II/base/timer.h>
+
+#include <ddfem/app/comparison.h>
+#include <ddfem/app/model_run.h>
+#include <ddfem/report/vertex_error.h>
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <optional>
+#include <sstream>
+
+namespace ddfem::app
+{
+  namespace
+  {
+    /// One row of the comparison: a model's solve of one state.
+    struct Row
+    {
+      std::string         state, method, grid, linear_solver;
+      unsigned int        level = 0;
+      std::size_t         cells = 0, dofs = 0;
+      ModelRun::Result    result;
+      report::VertexError error;
+      double              speedup = 0, speedup_direct = 0;
+
+      /// "fine", "fine-direct" or "<method> L<level>".
+      std::string
+      label() const
+      {
+        return level == 0 ? method : method + " L" + std::to_string(level);
+      }
+    };
+
+    /// "nx x ny x nz" of @p grid coarsened @p level times.
+    std::string
+    grid_text(const scene::VoxelGrid &grid, const unsigned int level)
+    {
+      const auto &n = grid.size();
+      return std::to_string(n[0] >> level) + "x" +
+             std::to_string(n[1] >> level) + "x" +
+             std::to_string(n[2] >> level);
+    }
+
+    /// The paper-style table of @p rows (timings only if @p timings).
+    void
+    print_table(const std::vector<Row> &rows,
+                const bool              timings,
+                std::ostream           &out)
+    {
+      std::string state;
+      for (const Row &row : rows)
+        {
+          if (row.state != state)
+            {
+              state = row.state;
+              out << "\nState: " << state << "\n"
+                  << std::left << std::setw(13) << "method" << std::setw(10)
+                  << "grid" << std::right << std::setw(7) << "cells"
+                  << std::setw(8) << "DoFs" << std::setw(8) << "Newton"
+                  << std::setw(12) << "mean error" << std::setw(12)
+                  << "max error";
+              if (timings)
+                out << std::setw(10) << "wall [s]" << std::setw(12)
+                    << "s/Newton" << std::setw(13) << "coarsen [ms]"
+                    << std::setw(9) << "speedup" << std::setw(15)
+                    << "vs fine-direct";
+              out << "\n";
+            }
+          out << std::left << std::setw(13) << row.label() << std::setw(10)
+              << row.grid << std::right << std::setw(7) << row.cells
+              << std::setw(8) << row.dofs << std::setw(8)
+              << row.result.statistics.newton_iterations;
+          if (row.level == 0)
+            out << std::setw(12) << "-" << std::setw(12) << "-";
+          else
+            out << std::scientific << std::setprecision(3) << std::setw(12)
+                << row.error.mean << std::setw(12) << row.error.max
+                << std::defaultfloat;
+          if (timings)
+            {
+              out << std::fixed << std::setprecision(3) << std::setw(10)
+                  << row.result.wall_time << std::setw(12)
+                  << row.result.wall_time /
+                       std::max(1u, row.result.statistics.newton_iterations)
+                  << std::setw(13) << 1e3 * row.result.coarsening_time
+                  << std::setprecision(1) << std::setw(9) << row.speedup
+                  << std::setw(15);
+              if (row.speedup_direct > 0)
+                out << row.speedup_direct;
+              else
+                out << "-";
+              out << std::defaultfloat << std::setprecision(6);
+            }
+          if (!row.result.statistics.converged)
+            out << "  NOT CONVERGED";
+          out << "\n";
+        }
+      out << std::flush;
+    }
+
+    /// Writes comparison.csv.
+    void
+    write_csv(const std::vector<Row> &rows, const std::string &file)
+    {
+      std::ofstream csv(file);
+      csv << "state,method,level,grid,cells,dofs,newton_iterations,"
+             "time_per_iteration_s,wall_time_s,coarsening_time_s,"
+             "speedup_vs_fine,speedup_vs_fine_direct,mean_vertex_error,"
+             "max_vertex_error,linear_solver,converged\n"
+          << std::setprecision(6);
+      for (const Row &r : rows)
+        csv << r.state << ',' << r.method << ',' << r.level << ',' << r.grid
+            << ',' << r.cells << ',' << r.dofs << ','
+            << r.result.statistics.newton_iterations << ','
+            << r.result.wall_time /
+                 std::max(1u, r.result.statistics.newton_iterations)
+            << ',' << r.result.wall_time << ',' << r.result.coarsening_time
+            << ',' << r.speedup << ','
+            << (r.speedup_direct > 0 ? std::to_string(r.speedup_direct) : "")
+            << ',' << r.error.mean << ',' << r.error.max << ','
+            << r.linear_solver << ','
+            << (r.result.statistics.converged ? "true" : "false") << '\n';
+      AssertThrow(csv, ExcMessage("Cannot write \"" + file + "\"."));
+    }
+
+    /**
+     * Draws error_vs_time.png: the mean vertex error of each coarse model
+     * of the first state against its wall time, log-log, one marker per
+     * method and level; the fine runs' times as vertical lines.
+     */
+    void
+    plot(const std::vector<Row> &rows,
+         const std::string      &scene_name,
+         const std::string      &directory)
+    {
+      std::ofstream dat(directory + "/error_vs_time.dat");
+      std::ofstream script(directory + "/error_vs_time.gnuplot");
+      script << "set terminal pngcairo size 900,650\n"
+             << "set output 'error_vs_time.png'\n"
+             << "set logscale xy\nset format y '10^{%L}'\n"
+             << "set xlabel 'wall time (s)'\n"
+             << "set ylabel 'mean vertex error / longest side'\n"
+             << "set key outside right\nset grid\n"
+             << "set title 'Error against run time: " << scene_name << "'\n";
+      std::vector<std::string> curves;
+      unsigned int             block  = 0;
+      double                   lowest = 1e300, highest = 0;
+      for (const Row &r : rows)
+        if (r.state == rows.front().state && r.level > 0 && r.error.mean > 0)
+          {
+            dat << "# " << r.label() << "\n"
+                << std::setprecision(6) << r.result.wall_time << " "
+                << r.error.mean << "\n\n\n";
+            lowest  = std::min(lowest, r.error.mean);
+            highest = std::max(highest, r.error.mean);
+            curves.push_back(
+              "'error_vs_time.dat' index " + std::to_string(block) +
+              " using 1:2 with points pt " +
+              std::to_string(5 + 2 * (block % 4)) + " ps 2 lc " +
+              std::to_string(block + 1) + " title '" + r.label() + "'");
+            ++block;
+          }
+      for (const Row &r : rows)
+        if (r.state == rows.front().state && r.level == 0)
+          script << "set arrow from " << r.result.wall_time << ", graph 0 to "
+                 << r.result.wall_time << ", graph 1 nohead dashtype 2\n"
+                 << "set label '" << r.label() << "' at " << r.result.wall_time
+                 << ", graph 0.95 rotate by 90 right offset -1,0\n";
+      dat.close();
+      if (curves.empty())
+        return;
+      script << "set yrange [" << lowest / 3 << ":" << highest * 3 << "]\n"
+             << "set xrange [*:*]\nplot ";
+      for (unsigned int c = 0; c < curves.size(); ++c)
+        script << (c == 0 ? "" : ", \\\n     ") << curves[c];
+      script << "\n";
+      script.close();
+      report::run_gnuplot(directory, "error_vs_time.gnuplot");
+    }
+  } // namespace
+
+
+
+  void
+  Comparison::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Comparison");
+    prm.declare_entry(
+      "Methods",
+      "ddfem, naive, average",
+      Patterns::List(Patterns::Selection("ddfem|naive|average")),
+      "Run type = compare: the coarse methods compared with the fine "
+      "model (which always runs).");
+    prm.declare_entry("Levels",
+                      "1, 2",
+                      Patterns::List(Patterns::Integer(1, 2)),
+                      "Run type = compare: the coarsening levels each coarse "
+                      "method runs at (1: 2x2x2 voxel blocks, 2: 4x4x4).");
+    prm.declare_entry(
+      "Fine direct solver limit",
+      "200000",
+      Patterns::Integer(0),
+      "Run type = compare: the fine model is solved with multigrid CG, "
+      "and, if it has at most this many unknowns, with the direct solver "
+      "too (the solver class of the paper's timings).");
+    prm.leave_subsection();
+  }
+
+
+
+  void
+  Comparison::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Comparison");
+    const auto method_names = Utilities::split_string_list(prm.get("Methods"));
+    const auto level_list =
+      Utilities::string_to_int(Utilities::split_string_list(prm.get("Levels")));
+    direct_limit = prm.get_integer("Fine direct solver limit");
+    prm.leave_subsection();
+    prm.enter_subsection("Discretization");
+    degree = prm.get_integer("Polynomial degree");
+    prm.leave_subsection();
+    solver_parameters.parse_parameters(prm);
+    vtu.parse_parameters(prm);
+    database.parse_parameters(prm);
+
+    const auto add = [&](const std::string &name,
+                         const unsigned int level,
+                         const std::string &linear_solver) {
+      Configuration c;
+      c.name          = name;
+      c.level         = level;
+      c.linear_solver = std::make_unique<solver::LinearSolver>();
+      c.linear_solver->parse_parameters(prm);
+      if (!linear_solver.empty())
+        c.linear_solver->set_type(linear_solver);
+      configurations.push_back(std::move(c));
+    };
+    configurations.clear();
+    add("fine", 0, "cg-amg");
+    add("fine-direct", 0, "direct");
+    for (const int level : level_list)
+      for (const std::string &name : method_names)
+        add(name, level, "");
+  }
+
+
+
+  int
+  Comparison::run(scene::Scene      &scene,
+                  const std::string &scene_name,
+                  const std::string &directory,
+                  const bool         screen_timings,
+                  std::ostream      &out)
+  {
+    const auto &n = scene.grid.size();
+    out << "Comparison of scene \"" << scene_name << "\": grid " << n[0]
+        << " x " << n[1] << " x " << n[2] << " voxels of "
+        << scene.grid.voxel_size() << " m, " << scene.grid.n_solid_voxels()
+        << " solid, " << scene.n_edits() << " material edit"
+        << (scene.n_edits() == 1 ? "" : "s") << std::endl;
+
+    // The database, completed lazily for this scene's blocks.
+    unsigned int ddfem_level = 0;
+    for (const Configuration &c : configurations)
+      if (c.name == "ddfem")
+        ddfem_level = std::max(ddfem_level, c.level);
+    std::optional<coarsening::Database> level1;
+    coarsening::Hierarchy               level2;
+    if (ddfem_level > 0)
+      {
+        // Every state's blocks must be in the database.
+        const scene::VoxelGrid        original = scene.grid;
+        std::vector<scene::VoxelGrid> grids    = {original};
+        for (unsigned int e = 0; e < scene.n_edits(); ++e)
+          {
+            scene.apply_edit(e);
+            grids.push_back(scene.grid);
+          }
+        scene.grid = original;
+        Timer preparation;
+        level1.emplace(
+          database.prepare(scene.palette, grids, ddfem_level, level2, out));
+        if (screen_timings)
+          out << "  database preparation " << preparation.wall_time() << " s"
+              << std::endl;
+      }
+
+    // The models, set up in order (the fine one first).
+    std::vector<std::unique_ptr<coarsening::Coarsener>> coarseners;
+    std::vector<std::unique_ptr<ModelRun>>              models;
+    ConditionalOStream                                  quiet(out, false);
+    std::vector<Row>                                    rows;
+    bool                                                all_converged = true;
+    std::filesystem::create_directories(directory);
+    for (unsigned int state = 0; state <= scene.n_edits(); ++state)
+      {
+        const std::string state_name =
+          state == 0 ? "base" : "edit " + std::to_string(state);
+        std::vector<std::size_t> changed;
+        if (state > 0)
+          {
+            changed = scene.apply_edit(state - 1);
+            out << "Edit " << state << ": " << changed.size()
+                << " voxels change material" << std::endl;
+          }
+        const std::size_t first_row = rows.size();
+        for (unsigned int c = 0; c < configurations.size(); ++c)
+          {
+            Configuration &config = configurations[c];
+            if (state == 0)
+              {
+                coarseners.emplace_back(
+                  config.level == 0 ?
+                    nullptr :
+                    std::make_unique<coarsening::Coarsener>(
+                      coarsening::coarsening_method(config.name),
+                      config.level,
+                      scene.palette,
+                      level1 ? &*level1 : nullptr,
+                      &level2));
+                const bool skip =
+                  config.name == "fine-direct" &&
+                  models[0]->discretization().dof_handler.n_dofs() >
+                    direct_limit;
+                models.emplace_back(
+                  skip ? nullptr :
+                         std::make_unique<ModelRun>(scene,
+                                                    degree,
+                                                    coarseners.back().get(),
+                                                    solver_parameters,
+                                                    *config.linear_solver,
+                                                    quiet));
+                if (skip)
+                  out << "  fine-direct skipped: more than " << direct_limit
+                      << " unknowns (Comparison/Fine direct solver limit)"
+                      << std::endl;
+              }
+            if (!models[c])
+              continue;
+            ModelRun &model = *models[c];
+            if (state > 0)
+              model.edit(changed);
+
+            Row row;
+            row.state  = state_name;
+            row.method = config.name;
+            row.level  = config.level;
+            row.grid   = grid_text(scene.grid, config.level);
+            row.cells  = model.discretization().triangulation.n_active_cells();
+            row.dofs   = model.discretization().dof_handler.n_dofs();
+            std::string run_directory = directory + "/" + config.name;
+            if (config.level > 0)
+              run_directory += "-L" + std::to_string(config.level);
+            report::VtuWriter writer = vtu;
+            writer.initialize(run_directory,
+                              state == 0 ? "solution" :
+                                           "edit-" + std::to_string(state));
+            if (writer.enabled())
+              std::filesystem::create_directories(run_directory);
+            row.result        = model.solve(&writer);
+            row.linear_solver = config.linear_solver->method();
+            all_converged = all_converged && row.result.statistics.converged;
+            out << "  " << std::left << std::setw(12) << row.label()
+                << std::right << row.cells << " cells, " << row.dofs
+                << " DoFs, " << row.linear_solver << ": "
+                << (row.result.statistics.converged ? "converged" :
+                                                      "NOT converged")
+                << " in " << row.result.statistics.load_steps << " load steps, "
+                << row.result.statistics.newton_iterations
+                << " Newton iterations, max |u| = " << std::setprecision(4)
+                << row.result.max_displacement << " m" << std::setprecision(6)
+                << std::endl;
+            rows.push_back(std::move(row));
+          }
+
+        // Errors against the fine (multigrid) solution; speedups against
+        // the fastest fine run and against the direct one.
+        const ModelRun &fine         = *models[0];
+        double          fastest_fine = rows[first_row].result.wall_time;
+        double          direct_time  = 0;
+        for (std::size_t r = first_row, c = 0; r < rows.size(); ++c)
+          {
+            if (!models[c])
+              continue;
+            if (rows[r].method == "fine-direct")
+              {
+                direct_time  = rows[r].result.wall_time;
+                fastest_fine = std::min(fastest_fine, direct_time);
+              }
+            rows[r].error = report::vertex_error(scene.grid,
+                                                 fine.discretization(),
+                                                 fine.solution(),
+                                                 models[c]->discretization(),
+                                                 models[c]->solution());
+            ++r;
+          }
+        for (std::size_t r = first_row; r < rows.size(); ++r)
+          {
+            rows[r].speedup = fastest_fine / rows[r].result.wall_time;
+            if (direct_time > 0)
+              rows[r].speedup_direct = direct_time / rows[r].result.wall_time;
+          }
+      }
+
+    print_table(rows, screen_timings, out);
+    if (screen_timings)
+      out << "Speedups are against the faster of the fine runs (fine: CG "
+             "with algebraic multigrid; fine-direct: UMFPACK); wall times "
+             "include setup and coarsening, not output."
+          << std::endl;
+
+    nlohmann::json json;
+    json["scene"] = scene_name;
+    json["grid"]  = {n[0], n[1], n[2]};
+    json["runs"]  = nlohmann::json::array();
+    for (const Row &r : rows)
+      {
+        nlohmann::json run            = r.result.to_json();
+        run["state"]                  = r.state;
+        run["method"]                 = r.method;
+        run["level"]                  = r.level;
+        run["grid"]                   = r.grid;
+        run["cells"]                  = r.cells;
+        run["dofs"]                   = r.dofs;
+        run["linear_solver"]          = r.linear_solver;
+        run["speedup_vs_fine"]        = r.speedup;
+        run["speedup_vs_fine_direct"] = r.speedup_direct;
+        run["mean_vertex_error"]      = r.error.mean;
+        run["max_vertex_error"]       = r.error.max;
+        json["runs"].push_back(run);
+      }
+    Utilities::System::MemoryStats memory;
+    Utilities::System::get_memory_stats(memory);
+    json["peak_memory_mb"] = memory.VmHWM / 1024.;
+    std::ofstream file(directory + "/comparison.json");
+    file << json.dump(2) << std::endl;
+    AssertThrow(file,
+                ExcMessage("Cannot write \"" + directory +
+                           "/comparison.json\" (Output/Output directory)."));
+    write_csv(rows, directory + "/comparison.csv");
+    plot(rows, scene_name, directory);
+    if (screen_timings)
+      out << "Peak memory " << memory.VmHWM / 1024. << " MB" << std::endl;
+    return all_converged ? 0 : 1;
+  }
+} // namespace ddfem::app

@@ -1,0 +1,165 @@
+#include <ddfem/app/model_run.h>
+
+namespace ddfem::app
+{
+  namespace
+  {
+    /// The largest displacement of any node (support point) in @p u (m).
+    double
+    max_node_displacement(const solver::Discretization &model,
+                          const Vector<double>         &u)
+    {
+      double                               max_u = 0;
+      const FiniteElement<3>              &fe    = model.fe;
+      std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
+      for (const auto &cell : model.dof_handler.active_cell_iterators())
+        {
+          cell->get_dof_indices(dofs);
+          for (unsigned int i = 0; i < dofs.size(); ++i)
+            if (fe.system_to_component_index(i).first == 0)
+              {
+                const unsigned int node =
+                  fe.system_to_component_index(i).second;
+                Tensor<1, 3> d;
+                for (unsigned int c = 0; c < 3; ++c)
+                  d[c] = u(dofs[fe.component_to_system_index(c, node)]);
+                max_u = std::max(max_u, d.norm());
+              }
+        }
+      return max_u;
+    }
+  } // namespace
+
+
+  nlohmann::json
+  ModelRun::Result::to_json() const
+  {
+    nlohmann::json json;
+    json["converged"]              = statistics.converged;
+    json["load_steps"]             = statistics.load_steps;
+    json["step_cuts"]              = statistics.step_cuts;
+    json["newton_iterations"]      = statistics.newton_iterations;
+    json["linear_iterations"]      = statistics.linear_iterations;
+    json["regularized_iterations"] = statistics.regularized_iterations;
+    if (!statistics.converged)
+      json["failure"] = statistics.failure;
+    json["min_J"]             = min_J;
+    json["max_displacement"]  = max_displacement;
+    json["coarsening_time_s"] = coarsening_time;
+    json["wall_time_s"]       = wall_time;
+    json["time_per_newton_iteration_s"] =
+      wall_time / std::max(1u, statistics.newton_iterations);
+    json["phase_wall_time_s"] = phases;
+    json["probes"]            = nlohmann::json::array();
+    for (const auto &d : probes)
+      json["probes"].push_back({d[0], d[1], d[2]});
+    return json;
+  }
+
+
+
+  ModelRun::ModelRun(const scene::Scene                     &scene,
+                     const unsigned int                      degree,
+                     const coarsening::Coarsener            *coarsener,
+                     const solver::StaticSolver::Parameters &parameters,
+                     solver::LinearSolver                   &linear_solver,
+                     ConditionalOStream                     &log)
+    : timer(log, TimerOutput::never, TimerOutput::wall_times)
+    , scene(scene)
+    , coarsener(coarsener)
+  {
+    Timer total;
+    {
+      TimerOutput::Scope scope(timer, "setup");
+      model = std::make_unique<solver::Discretization>(
+        scene, degree, coarsener == nullptr ? 0 : coarsener->level());
+    }
+    if (coarsener != nullptr)
+      {
+        TimerOutput::Scope scope(timer, "coarsening");
+        Timer              lookups;
+        coarsener->coarsen(scene.grid, *model);
+        pending_coarsening = lookups.wall_time();
+        pending_cells      = model->triangulation.n_active_cells();
+      }
+    {
+      TimerOutput::Scope scope(timer, "setup");
+      solver = std::make_unique<solver::StaticSolver>(*model,
+                                                      scene.boundary_conditions,
+                                                      parameters,
+                                                      linear_solver,
+                                                      timer,
+                                                      log);
+      solver->setup();
+    }
+    for (const Point<3> &p : scene.probes)
+      solver->point_value(solver->solution(), p); // throws if outside
+    pending_time = total.wall_time();
+  }
+
+
+
+  void
+  ModelRun::edit(const std::vector<std::size_t> &changed)
+  {
+    Timer total;
+    if (coarsener != nullptr)
+      {
+        TimerOutput::Scope scope(timer, "coarsening");
+        Timer              lookups;
+        pending_cells      = coarsener->recoarsen(scene.grid, changed, *model);
+        pending_coarsening = lookups.wall_time();
+      }
+    else
+      {
+        model->update_voxel_materials(scene, changed);
+        pending_cells = changed.size();
+      }
+    {
+      // The solver's stiffness scale depends on the materials.
+      TimerOutput::Scope scope(timer, "setup");
+      solver->setup();
+    }
+    pending_time += total.wall_time();
+  }
+
+
+
+  ModelRun::Result
+  ModelRun::solve(report::VtuWriter *vtu)
+  {
+    Result result;
+    Timer  total;
+    double output_time = 0;
+    result.statistics =
+      solver->solve([&](const unsigned int step, const double t) {
+        if (vtu != nullptr && vtu->enabled())
+          {
+            Timer output;
+            vtu->write(*model,
+                       solver->solution(),
+                       solver->cell_fields(solver->solution()),
+                       step,
+                       t,
+                       t >= 1);
+            output_time += output.wall_time();
+          }
+      });
+    result.wall_time       = pending_time + total.wall_time() - output_time;
+    result.coarsening_time = pending_coarsening;
+    result.cells_updated   = pending_cells;
+    pending_time = pending_coarsening = 0;
+    pending_cells                     = 0;
+    for (const auto &[section, seconds] :
+         timer.get_summary_data(TimerOutput::total_wall_time))
+      result.phases[section] = seconds;
+    timer.reset();
+
+    const Vector<double> &u = solver->solution();
+    result.min_J            = solver->cell_fields(u).min_J;
+    result.max_displacement = max_node_displacement(*model, u);
+    for (const Point<3> &p : scene.probes)
+      result.probes.push_back(solver->point_value(u, p));
+    return result;
+  }
+} // namespace ddfem::app

@@ -1,0 +1,200 @@
+#include <ddfem/coarsening/coarsener.h>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+namespace ddfem::coarsening
+{
+  std::string
+  to_string(const CoarseningMethod method)
+  {
+    switch (method)
+      {
+        case CoarseningMethod::ddfem:
+          return "ddfem";
+        case CoarseningMethod::naive:
+          return "naive";
+        case CoarseningMethod::average:
+          return "average";
+      }
+    return "";
+  }
+
+
+
+  CoarseningMethod
+  coarsening_method(const std::string &name)
+  {
+    for (const auto m : {CoarseningMethod::ddfem,
+                         CoarseningMethod::naive,
+                         CoarseningMethod::average})
+      if (to_string(m) == name)
+        return m;
+    AssertThrow(false,
+                ExcMessage("Unknown coarsening method '" + name +
+                           "'; allowed are ddfem, naive, average."));
+    return CoarseningMethod::ddfem;
+  }
+
+
+
+  Coarsener::Coarsener(const CoarseningMethod method,
+                       const unsigned int     level,
+                       const scene::Palette  &palette,
+                       const Database        *level1,
+                       const Hierarchy       *level2)
+    : coarsening(method)
+    , coarsening_level(level)
+    , palette(palette)
+    , level1(level1)
+    , level2(level2)
+  {
+    const Quadrature<3> quadrature = solver::coarse_quadrature(level);
+    Assert(method != CoarseningMethod::ddfem ||
+             (level1 != nullptr && (level == 1 || level2 != nullptr)),
+           ExcMessage("The ddfem coarsener needs the database."));
+    const unsigned int n = 1u << level;
+    for (const Point<3> &x : quadrature.get_points())
+      point_voxel.push_back({{static_cast<unsigned int>(x[0] * n),
+                              static_cast<unsigned int>(x[1] * n),
+                              static_cast<unsigned int>(x[2] * n)}});
+  }
+
+
+
+  Combination
+  Coarsener::combination(const scene::VoxelGrid &grid,
+                         const unsigned int      i,
+                         const unsigned int      j,
+                         const unsigned int      k)
+  {
+    Combination c;
+    for (unsigned int child = 0; child < 8; ++child)
+      c[child] =
+        grid(i + (child & 1), j + ((child >> 1) & 1), k + ((child >> 2) & 1));
+    return c;
+  }
+
+
+
+  std::array<Combination, 8>
+  Coarsener::sub_blocks(const scene::VoxelGrid &grid,
+                        const unsigned int      i,
+                        const unsigned int      j,
+                        const unsigned int      k)
+  {
+    std::array<Combination, 8> blocks;
+    for (unsigned int b = 0; b < 8; ++b)
+      blocks[b] = combination(grid,
+                              i + 2 * (b & 1),
+                              j + 2 * ((b >> 1) & 1),
+                              k + 2 * ((b >> 2) & 1));
+    return blocks;
+  }
+
+
+
+  Metamaterial
+  Coarsener::block_material(const scene::VoxelGrid &grid,
+                            const std::size_t       block) const
+  {
+    const unsigned int width = 1u << coarsening_level;
+    const auto        &n     = grid.size();
+    const unsigned int m0 = n[0] / width, m1 = n[1] / width;
+    const unsigned int i = width * (block % m0),
+                       j = width * ((block / m0) % m1),
+                       k = width * (block / (std::size_t(m0) * m1));
+
+    if (coarsening == CoarseningMethod::ddfem)
+      return coarsening_level == 1 ?
+               level1->lookup(combination(grid, i, j, k)) :
+               level2->lookup(*level1, sub_blocks(grid, i, j, k));
+
+    // The baselines: the palette materials of the block's voxels.
+    Metamaterial result;
+    result.points.resize(point_voxel.size());
+    double max_mu = 0;
+    for (unsigned int q = 0; q < point_voxel.size(); ++q)
+      {
+        const auto &o = point_voxel[q];
+        if (const auto id = grid(i + o[0], j + o[1], k + o[2]); id != 0)
+          {
+            result.points[q] = palette[id].material_point();
+            max_mu           = std::max(max_mu, result.points[q].mu);
+          }
+      }
+    if (coarsening == CoarseningMethod::naive)
+      for (auto &p : result.points)
+        p.mu = std::max(p.mu, void_stiffness * max_mu);
+    else
+      {
+        material::MaterialPoint mean;
+        for (const auto &p : result.points)
+          {
+            mean.mu += p.mu / result.points.size();
+            mean.lambda += p.lambda / result.points.size();
+          }
+        std::fill(result.points.begin(), result.points.end(), mean);
+      }
+    return result;
+  }
+
+
+
+  void
+  Coarsener::coarsen(const scene::VoxelGrid &grid,
+                     solver::Discretization &coarse) const
+  {
+    AssertDimension(coarse.level, coarsening_level);
+    const std::size_t n_q = coarse.quadrature.size();
+    for (std::size_t c = 0; c < coarse.cell_blocks.size(); ++c)
+      {
+        const Metamaterial m = block_material(grid, coarse.cell_blocks[c]);
+        std::copy(m.points.begin(),
+                  m.points.end(),
+                  coarse.material_points.begin() + c * n_q);
+      }
+  }
+
+
+
+  unsigned int
+  Coarsener::recoarsen(const scene::VoxelGrid         &grid,
+                       const std::vector<std::size_t> &changed,
+                       solver::Discretization         &coarse) const
+  {
+    AssertDimension(coarse.level, coarsening_level);
+    const unsigned int    width = 1u << coarsening_level;
+    const auto           &n     = grid.size();
+    std::set<std::size_t> blocks;
+    for (const std::size_t v : changed)
+      {
+        const auto ijk = grid.coordinates(v);
+        blocks.insert(
+          ijk[0] / width +
+          n[0] / width *
+            (ijk[1] / width + std::size_t(n[1] / width) * (ijk[2] / width)));
+      }
+    // Cells are numbered in increasing block order.
+    const std::size_t n_q   = coarse.quadrature.size();
+    unsigned int      count = 0;
+    for (const std::size_t block : blocks)
+      {
+        const auto cell = std::lower_bound(coarse.cell_blocks.begin(),
+                                           coarse.cell_blocks.end(),
+                                           block);
+        AssertThrow(cell != coarse.cell_blocks.end() && *cell == block,
+                    ExcMessage("A material edit touched a block without "
+                               "solid voxels; edits may only change the "
+                               "material of solid voxels."));
+        const Metamaterial m = block_material(grid, block);
+        std::copy(m.points.begin(),
+                  m.points.end(),
+                  coarse.material_points.begin() +
+                    (cell - coarse.cell_blocks.begin()) * n_q);
+        ++count;
+      }
+    return count;
+  }
+} // namespace ddfem::coarsening
