@@ -141,7 +141,7 @@ namespace ddfem::app
                        solver->cell_fields(solver->solution()),
                        step,
                        t,
-                       t >= 1);
+                       t >= 1 - 1e-12);
             output_time += output.wall_time();
           }
       });

@@ -1,0 +1,245 @@
+// Coarse models (DDFEM paper, section 5):
+// - a homogeneous cantilever in the small-load limit: ddfem, naive and
+//   fine agree within the discretization error, and ddfem is closer to the
+//   fine solution than naive, at both levels;
+// - material edits: re-coarsening only the touched blocks gives the same
+//   material records and the same solution as coarsening from scratch;
+// - an edit that would add or remove solid voxels is a clear error.
+
+#include <ddfem/app/model_run.h>
+#include <ddfem/base/exceptions.h>
+#include <ddfem/coarsening/builder.h>
+#include <ddfem/report/vertex_error.h>
+
+#include <filesystem>
+#include <optional>
+
+#include "../tests.h"
+
+using namespace ddfem;
+using namespace dealii;
+using coarsening::CoarseningMethod;
+
+namespace
+{
+  /// Cheap sampling into the database @p file.
+  std::string
+  database_prm(const std::string &file)
+  {
+    return "subsection Database\n  set File = " + file +
+           "\n  subsection Sampling\n    set Force patterns = 60\n"
+           "    set Stretch directions = 60\n  end\nend\n";
+  }
+
+  /// Everything the models of one scene need, parsed from @p text.
+  struct Setup
+  {
+    Setup(const std::string &text, const std::string &database_file)
+      : log(std::cout, false)
+    {
+      for (const std::string suffix : {"", ".journal", ".level2"})
+        std::filesystem::remove(database_file + suffix);
+      app::declare_parameters(prm);
+      prm.parse_input_from_string(text + database_prm(database_file));
+      scene.parse_parameters(prm);
+      parameters.parse_parameters(prm);
+      builder.parse_parameters(prm);
+    }
+
+    /// The database for @p grids, prepared lazily at @p level.
+    void
+    prepare(const std::vector<scene::VoxelGrid> &grids,
+            const unsigned int                   level)
+    {
+      std::ostringstream quiet;
+      level1.emplace(
+        builder.prepare(scene.palette, grids, level, level2, quiet));
+    }
+
+    /// A coarsener for @p method at @p level.
+    std::unique_ptr<coarsening::Coarsener>
+    coarsener(const CoarseningMethod method, const unsigned int level) const
+    {
+      return std::make_unique<coarsening::Coarsener>(
+        method, level, scene.palette, level1 ? &*level1 : nullptr, &level2);
+    }
+
+    ParameterHandler                    prm;
+    ConditionalOStream                  log;
+    scene::Scene                        scene;
+    solver::StaticSolver::Parameters    parameters;
+    coarsening::DatabaseBuilder         builder;
+    std::optional<coarsening::Database> level1;
+    coarsening::Hierarchy               level2;
+  };
+
+  /// Solves @p setup's scene with @p coarsener (fine if null).
+  std::unique_ptr<app::ModelRun>
+  solve(Setup &setup, const coarsening::Coarsener *coarsener)
+  {
+    static std::vector<std::unique_ptr<solver::LinearSolver>> solvers;
+    solvers.push_back(std::make_unique<solver::LinearSolver>());
+    solvers.back()->parse_parameters(setup.prm);
+    auto run = std::make_unique<app::ModelRun>(
+      setup.scene, 1, coarsener, setup.parameters, *solvers.back(), setup.log);
+    const auto result = run->solve(nullptr);
+    AssertThrow(result.statistics.converged, ExcInternalError());
+    return run;
+  }
+
+
+
+  void
+  homogeneous_small_load()
+  {
+    std::cout << "Homogeneous cantilever, 4 x 16 x 4 voxels, small load"
+              << std::endl;
+    Setup setup(testing::cantilever("4, 16, 4", "0; 0; -20") +
+                  "subsection Materials\n set Palette = E=1e6 nu=0.45\nend\n"
+                  "subsection Geometry\n set Voxel size = 0.01\nend\n"
+                  "subsection Nonlinear solver\n set Load steps = 1\nend\n",
+                "homogeneous.h5");
+    setup.prepare({setup.scene.grid}, 2);
+    const auto fine = solve(setup, nullptr);
+    // Tip deflection: the largest |u| of the fine model.
+    double tip = 0;
+    for (const auto &d :
+         report::vertex_displacements(fine->discretization(), fine->solution()))
+      tip = std::max(tip, d.norm());
+    std::cout << "  fine tip deflection / length: " << std::setprecision(3)
+              << tip / 0.16 << std::endl;
+
+    for (const unsigned int level : {1u, 2u})
+      {
+        double error[2];
+        for (const auto method :
+             {CoarseningMethod::ddfem, CoarseningMethod::naive})
+          {
+            const auto coarsener = setup.coarsener(method, level);
+            const auto run       = solve(setup, coarsener.get());
+            const auto e         = report::vertex_error(setup.scene.grid,
+                                                fine->discretization(),
+                                                fine->solution(),
+                                                run->discretization(),
+                                                run->solution());
+            // Relative to the tip deflection: the discretization error.
+            error[method == CoarseningMethod::naive] = e.mean * 0.16 / tip;
+            std::cout << "  level " << level << " "
+                      << coarsening::to_string(method)
+                      << ": mean vertex error / tip deflection "
+                      << std::setprecision(2)
+                      << error[method == CoarseningMethod::naive] << std::endl;
+          }
+        testing::check_below("  naive within the discretization error",
+                             error[1],
+                             level == 1 ? 0.3 : 0.7);
+        std::cout << "  ddfem closer to fine than naive: "
+                  << (error[0] < error[1] ? "yes" : "NO") << std::endl;
+      }
+  }
+
+
+
+  void
+  edit_and_recoarsen()
+  {
+    std::cout << "Material edits, 8 x 8 x 8 voxels in x layers of ids 1, 2"
+              << std::endl;
+    const std::string scene_text =
+      testing::cantilever("8, 8, 8", "0; 0; -200") +
+      "subsection Geometry\n set Voxel size = 1\nend\n"
+      "subsection Materials\n"
+      " set Palette = E=1e5 nu=0.45; E=1e6 nu=0.45; E=1e7 nu=0.45\nend\n"
+      "subsection Layout\n set Type = layers\n"
+      " subsection Layers\n  set Axis = x\n  set Materials = 1, 2\n"
+      "  set Thickness = 1\n end\n"
+      " set Edits = box 0 0 0 2 2.5 2 : 3 | sphere 6 6 6 1.5 : 1\nend\n";
+    Setup edited(scene_text, "edits.h5");
+    // The states: base, after edit 1, after edit 2.
+    std::vector<scene::VoxelGrid> grids = {edited.scene.grid};
+    for (unsigned int e = 0; e < edited.scene.n_edits(); ++e)
+      {
+        edited.scene.apply_edit(e);
+        grids.push_back(edited.scene.grid);
+      }
+    edited.scene.grid = grids[0];
+    edited.prepare(grids, 2);
+
+    for (const unsigned int level : {1u, 2u})
+      for (const auto method : {CoarseningMethod::ddfem,
+                                CoarseningMethod::naive,
+                                CoarseningMethod::average})
+        {
+          scene::Scene &scene              = edited.scene;
+          scene.grid                       = grids[0];
+          const auto             coarsener = edited.coarsener(method, level);
+          solver::Discretization model(scene, 1, level);
+          coarsener->coarsen(scene.grid, model);
+          std::cout << "  level " << level << " "
+                    << coarsening::to_string(method) << ": blocks re-coarsened";
+          bool same = true;
+          for (unsigned int e = 0; e < scene.n_edits(); ++e)
+            {
+              const auto changed = scene.apply_edit(e);
+              std::cout << " "
+                        << coarsener->recoarsen(scene.grid, changed, model);
+              solver::Discretization fresh(scene, 1, level);
+              coarsener->coarsen(scene.grid, fresh);
+              for (std::size_t p = 0; p < fresh.material_points.size(); ++p)
+                {
+                  const auto &a = fresh.material_points[p];
+                  const auto &b = model.material_points[p];
+                  same = same && a.mu == b.mu && a.lambda == b.lambda &&
+                         a.anisotropy == b.anisotropy &&
+                         a.direction == b.direction;
+                }
+            }
+          std::cout << ", records equal to coarsening from scratch: "
+                    << (same ? "yes" : "NO") << std::endl;
+        }
+
+    // Whole runs: edited in place vs set up on the edited grid.
+    for (const unsigned int level : {0u, 1u})
+      {
+        edited.scene.grid = grids[0];
+        const auto coarsener =
+          level == 0 ? nullptr : edited.coarsener(CoarseningMethod::ddfem, 1);
+        const auto run = solve(edited, coarsener.get());
+        for (unsigned int e = 0; e < edited.scene.n_edits(); ++e)
+          run->edit(edited.scene.apply_edit(e));
+        run->solve(nullptr);
+        const auto     fresh      = solve(edited, coarsener.get());
+        Vector<double> difference = run->solution();
+        difference -= fresh->solution();
+        std::cout << "  " << (level == 0 ? "fine" : "ddfem L1")
+                  << " solution after two edits, max |difference| to a "
+                     "fresh model: "
+                  << difference.linfty_norm() << std::endl;
+      }
+
+    // An edit that makes a solid voxel void.
+    Setup bad(testing::cantilever("4, 4, 4", "0; 0; -200") +
+                "subsection Geometry\n set Voxel size = 1\nend\n"
+                "subsection Layout\n set Edits = box 0 0 0 1 1 1 : 0\nend\n",
+              "bad.h5");
+    try
+      {
+        bad.scene.apply_edit(0);
+        std::cout << "  no error for an edit that removes voxels" << std::endl;
+      }
+    catch (ExceptionBase &e)
+      {
+        std::cout << "  error: " << message_of(e) << std::endl;
+      }
+  }
+} // namespace
+
+
+
+int
+main(int argc, char **argv)
+{
+  dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  homogeneous_small_load();
+  edit_and_recoarsen();
+}

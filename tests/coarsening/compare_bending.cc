@@ -1,0 +1,86 @@
+// Run type = compare on a small version of the bending scene: fine (with
+// multigrid CG and with the direct solver), ddfem, naive and average at
+// coarsening levels 1 and 2, the metamaterials fitted lazily into a fresh
+// database. The screen table (without timings) is compared; the files the
+// run writes are checked for their columns.
+
+#include <filesystem>
+#include <fstream>
+
+#include "../tests.h"
+
+int
+main(int argc, char **argv)
+{
+  dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  for (const char *file :
+       {"compare.h5", "compare.h5.journal", "compare.h5.level2"})
+    std::filesystem::remove(file);
+  std::filesystem::remove_all("compare");
+
+  // prm/bending.prm with half the voxels per direction.
+  std::ofstream prm("compare_bending.prm");
+  prm << "set Run type = compare\n"
+         "set Scene name = bending\n"
+         "subsection Geometry\n"
+         "  set Grid size = 4, 16, 4\n"
+         "  set Voxel size = 0.02\n"
+         "  set Probe points = 0.04, 0.32, 0.04\n"
+         "end\n"
+         "subsection Materials\n"
+         "  set Palette = E=1e5 nu=0.45; E=1e6 nu=0.45; E=1e7 nu=0.45\n"
+         "end\n"
+         "subsection Layout\n"
+         "  set Type = layers\n"
+         "  subsection Layers\n"
+         "    set Axis = y\n"
+         "    set Materials = 1, 2, 3\n"
+         "    set Thickness = 0.04\n"
+         "  end\n"
+         "end\n"
+         "subsection Boundary conditions\n"
+         "  subsection Condition 1\n"
+         "    set Type = fixed\n"
+         "    set Region = y-\n"
+         "  end\n"
+         "  subsection Condition 2\n"
+         "    set Type = traction\n"
+         "    set Region = y+\n"
+         "    set Value = 0; 0; -2000\n"
+         "  end\n"
+         "end\n"
+         "subsection Database\n"
+         "  set File = compare.h5\n"
+         "  subsection Sampling\n"
+         "    set Force patterns = 60\n"
+         "    set Stretch directions = 60\n"
+         "  end\n"
+         "end\n"
+         "subsection Output\n"
+         "  set Output directory = compare\n"
+         "  set Screen timings = false\n"
+         "  set Write VTU = last step\n"
+         "end\n";
+  prm.close();
+
+  const int status =
+    ddfem::app::run({"compare_bending.prm"}, std::cout, std::cout);
+  std::cout << "exit status " << status << std::endl;
+
+  std::ifstream csv("compare/comparison.csv");
+  std::string   header;
+  std::getline(csv, header);
+  std::cout << "comparison.csv header: " << header << std::endl;
+  unsigned int lines = 0;
+  for (std::string line; std::getline(csv, line);)
+    ++lines;
+  std::cout << "comparison.csv rows: " << lines << std::endl;
+  for (const char *file : {"compare/comparison.json",
+                           "compare/error_vs_time.png",
+                           "compare/fine/solution.pvd",
+                           "compare/ddfem-L1/solution.pvd",
+                           "compare/naive-L2/solution.pvd"})
+    std::cout << file << ": "
+              << (std::filesystem::exists(file) ? "written" : "MISSING")
+              << std::endl;
+}
