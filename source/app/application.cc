@@ -219,16 +219,11 @@ namespace ddfem::app
           {
             if (method == "ddfem")
               {
-                const scene::VoxelGrid        original = scene.grid;
-                std::vector<scene::VoxelGrid> grids    = {original};
-                for (unsigned int e = 0; e < scene.n_edits(); ++e)
-                  {
-                    scene.apply_edit(e);
-                    grids.push_back(scene.grid);
-                  }
-                scene.grid = original;
-                level1.emplace(database.prepare(
-                  scene.palette, grids, level, level2, pcout.get_stream()));
+                level1.emplace(database.prepare(scene.palette,
+                                                scene.states(),
+                                                level,
+                                                level2,
+                                                pcout.get_stream()));
               }
             coarsener = std::make_unique<coarsening::Coarsener>(
               coarsening::coarsening_method(method),

@@ -272,17 +272,10 @@ namespace ddfem::app
     if (ddfem_level > 0)
       {
         // Every state's blocks must be in the database.
-        const scene::VoxelGrid        original = scene.grid;
-        std::vector<scene::VoxelGrid> grids    = {original};
-        for (unsigned int e = 0; e < scene.n_edits(); ++e)
-          {
-            scene.apply_edit(e);
-            grids.push_back(scene.grid);
-          }
-        scene.grid = original;
         Timer preparation;
         level1.emplace(
-          database.prepare(scene.palette, grids, ddfem_level, level2, out));
+          database.prepare(
+            scene.palette, scene.states(), ddfem_level, level2, out));
         if (screen_timings)
           out << "  database preparation " << preparation.wall_time() << " s"
               << std::endl;

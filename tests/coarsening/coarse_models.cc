@@ -156,13 +156,7 @@ namespace
       " set Edits = box 0 0 0 2 2.5 2 : 3 | sphere 6 6 6 1.5 : 1\nend\n";
     Setup edited(scene_text, "edits.h5");
     // The states: base, after edit 1, after edit 2.
-    std::vector<scene::VoxelGrid> grids = {edited.scene.grid};
-    for (unsigned int e = 0; e < edited.scene.n_edits(); ++e)
-      {
-        edited.scene.apply_edit(e);
-        grids.push_back(edited.scene.grid);
-      }
-    edited.scene.grid = grids[0];
+    const std::vector<scene::VoxelGrid> grids = edited.scene.states();
     edited.prepare(grids, 2);
 
     for (const unsigned int level : {1u, 2u})

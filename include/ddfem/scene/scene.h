@@ -53,6 +53,22 @@ namespace ddfem::scene
       return layout.apply_edit(e, grid);
     }
 
+    /**
+     * The grids of every state of the scene: as laid out, then after each
+     * material edit in turn (the grid itself is not changed).
+     */
+    std::vector<VoxelGrid>
+    states() const
+    {
+      std::vector<VoxelGrid> result = {grid};
+      for (unsigned int e = 0; e < n_edits(); ++e)
+        {
+          result.push_back(result.back());
+          layout.apply_edit(e, result.back());
+        }
+      return result;
+    }
+
     /// The voxel grid with one material id per voxel.
     VoxelGrid grid;
     /// The materials voxel ids refer to.
