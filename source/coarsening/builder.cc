@@ -496,7 +496,9 @@ namespace ddfem::coarsening
             << " to fit" << std::endl;
 
         const CoarseElement element2(2);
-        Timer               timer2;
+        FitSettings         fitting2 = fitting;
+        fitting2.regularization      = hierarchy.regularization;
+        Timer timer2;
         if (!needed.empty())
           {
             Journal journal(level2_journal, fingerprint);
@@ -507,7 +509,7 @@ namespace ddfem::coarsening
                                         level2,
                                         needed[i],
                                         sampling,
-                                        fitting,
+                                        fitting2,
                                         element2,
                                         0x2545F4914F6CDD1DULL *
                                           (needed[i] + 1));

@@ -28,6 +28,15 @@ namespace ddfem::coarsening
                       Patterns::Integer(1),
                       "Second-level metamaterials (after the 1x1x2 stage); "
                       "each one is sampled and fitted with 64 points.");
+    prm.declare_entry(
+      "Regularization",
+      "1",
+      Patterns::Double(0),
+      "Weight of the regularization of the 64-point fits toward the "
+      "children's records (Fitting/Regularization is the level-1 weight). "
+      "A 64-point fit has 192 parameters; with less weight it makes the "
+      "element too soft in deformations the samples do not cover "
+      "(doc/coarsening.md).");
     prm.leave_subsection();
   }
 
@@ -40,6 +49,7 @@ namespace ddfem::coarsening
     n_classes         = prm.get_integer("Level-1 classes");
     n_intermediate    = prm.get_integer("Intermediate representatives");
     n_representatives = prm.get_integer("Representatives");
+    regularization    = prm.get_double("Regularization");
     prm.leave_subsection();
   }
 
@@ -50,7 +60,8 @@ namespace ddfem::coarsening
   {
     return "level-1 classes: " + std::to_string(n_classes) +
            ", intermediate: " + std::to_string(n_intermediate) +
-           ", representatives: " + std::to_string(n_representatives);
+           ", representatives: " + std::to_string(n_representatives) +
+           ", regularization: " + std::to_string(regularization);
   }
 
 
@@ -230,15 +241,14 @@ namespace ddfem::coarsening
   Hierarchy::covers(const Database                 &level1,
                     const std::vector<Combination> &combinations) const
   {
-    return std::all_of(combinations.begin(),
-                       combinations.end(),
-                       [&](const Combination &c) {
-                         return std::all_of(c.begin(),
-                                            c.end(),
-                                            [](auto id) { return id == 0; }) ||
-                                std::size_t(class_of[level1.combinations().key(c)]) <
-                                  class_key.size();
-                       });
+    return std::all_of(
+      combinations.begin(), combinations.end(), [&](const Combination &c) {
+        return std::all_of(c.begin(),
+                           c.end(),
+                           [](auto id) { return id == 0; }) ||
+               std::size_t(class_of[level1.combinations().key(c)]) <
+                 class_key.size();
+      });
   }
 
 
@@ -338,7 +348,8 @@ namespace ddfem::coarsening
     std::string        word;
     char               comma;
     in >> word >> word >> settings.n_classes >> comma >> word >>
-      settings.n_intermediate >> comma >> word >> settings.n_representatives;
+      settings.n_intermediate >> comma >> word >> settings.n_representatives >>
+      comma >> word >> settings.regularization;
     check(settings.fingerprint() == text,
           "has unreadable level-2 settings '" + text + "'");
 

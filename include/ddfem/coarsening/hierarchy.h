@@ -26,6 +26,9 @@ namespace ddfem::coarsening
     unsigned int n_intermediate = 400;
     /// Second-level metamaterials fitted (after the 1x1x2 stage).
     unsigned int n_representatives = 400;
+    /// Weight of the regularization of second-level fits toward the
+    /// children's records (replaces Fitting/Regularization at level 2).
+    double regularization = 1;
 
     /// Declares the subsection "Level 2".
     static void
