@@ -312,10 +312,7 @@ namespace ddfem::app
             if (state == 0)
               summary.update(json);
             else
-              {
-                json["cells_updated"] = result.cells_updated;
-                summary["edits"].push_back(json);
-              }
+              summary["edits"].push_back(json);
             if (screen_timings)
               {
                 pcout << "  wall time " << result.wall_time << " s";

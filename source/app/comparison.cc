@@ -273,9 +273,8 @@ namespace ddfem::app
       {
         // Every state's blocks must be in the database.
         Timer preparation;
-        level1.emplace(
-          database.prepare(
-            scene.palette, scene.states(), ddfem_level, level2, out));
+        level1.emplace(database.prepare(
+          scene.palette, scene.states(), ddfem_level, level2, out));
         if (screen_timings)
           out << "  database preparation " << preparation.wall_time() << " s"
               << std::endl;

@@ -46,6 +46,7 @@ namespace ddfem::app
     json["min_J"]             = min_J;
     json["max_displacement"]  = max_displacement;
     json["coarsening_time_s"] = coarsening_time;
+    json["cells_updated"]     = cells_updated;
     json["wall_time_s"]       = wall_time;
     json["time_per_newton_iteration_s"] =
       wall_time / std::max(1u, statistics.newton_iterations);
