@@ -147,6 +147,13 @@ namespace ddfem::app
       std::vector<std::string> curves;
       unsigned int             block  = 0;
       double                   lowest = 1e300, highest = 0;
+      double                   fastest = 1e300, slowest = 0;
+      for (const Row &r : rows)
+        if (r.state == rows.front().state)
+          {
+            fastest = std::min(fastest, r.result.wall_time);
+            slowest = std::max(slowest, r.result.wall_time);
+          }
       for (const Row &r : rows)
         if (r.state == rows.front().state && r.level > 0 && r.error.mean > 0)
           {
@@ -172,7 +179,8 @@ namespace ddfem::app
       if (curves.empty())
         return;
       script << "set yrange [" << lowest / 3 << ":" << highest * 3 << "]\n"
-             << "set xrange [*:*]\nplot ";
+             << "set xrange [" << fastest / 2 << ":" << slowest * 2
+             << "]\nplot ";
       for (unsigned int c = 0; c < curves.size(); ++c)
         script << (c == 0 ? "" : ", \\\n     ") << curves[c];
       script << "\n";
