@@ -362,6 +362,12 @@ namespace ddfem::app
               std::filesystem::create_directories(run_directory);
             row.result        = model.solve(&writer);
             row.linear_solver = config.linear_solver->method();
+            // Against the fine (multigrid) model, which runs first.
+            row.error     = report::vertex_error(scene.grid,
+                                             models[0]->discretization(),
+                                             models[0]->solution(),
+                                             model.discretization(),
+                                             model.solution());
             all_converged = all_converged && row.result.statistics.converged;
             out << "  " << std::left << std::setw(12) << row.label()
                 << std::right << row.cells << " cells, " << row.dofs
@@ -376,27 +382,15 @@ namespace ddfem::app
             rows.push_back(std::move(row));
           }
 
-        // Errors against the fine (multigrid) solution; speedups against
-        // the fastest fine run and against the direct one.
-        const ModelRun &fine         = *models[0];
-        double          fastest_fine = rows[first_row].result.wall_time;
-        double          direct_time  = 0;
-        for (std::size_t r = first_row, c = 0; r < rows.size(); ++c)
-          {
-            if (!models[c])
-              continue;
-            if (rows[r].method == "fine-direct")
-              {
-                direct_time  = rows[r].result.wall_time;
-                fastest_fine = std::min(fastest_fine, direct_time);
-              }
-            rows[r].error = report::vertex_error(scene.grid,
-                                                 fine.discretization(),
-                                                 fine.solution(),
-                                                 models[c]->discretization(),
-                                                 models[c]->solution());
-            ++r;
-          }
+        // Speedups against the fastest fine run and against the direct one.
+        double fastest_fine = rows[first_row].result.wall_time;
+        double direct_time  = 0;
+        for (std::size_t r = first_row; r < rows.size(); ++r)
+          if (rows[r].method == "fine-direct")
+            {
+              direct_time  = rows[r].result.wall_time;
+              fastest_fine = std::min(fastest_fine, direct_time);
+            }
         for (std::size_t r = first_row; r < rows.size(); ++r)
           {
             rows[r].speedup = fastest_fine / rows[r].result.wall_time;

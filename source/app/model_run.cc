@@ -157,7 +157,7 @@ namespace ddfem::app
     timer.reset();
 
     const Vector<double> &u = solver->solution();
-    result.min_J            = solver->cell_fields(u).min_J;
+    result.min_J            = result.statistics.min_J;
     result.max_displacement = max_node_displacement(*model, u);
     for (const Point<3> &p : scene.probes)
       result.probes.push_back(solver->point_value(u, p));

@@ -161,12 +161,8 @@ namespace ddfem::coarsening
   std::vector<Combination>
   DatabaseBuilder::scene_combinations(const scene::VoxelGrid &grid)
   {
-    const auto &n = grid.size();
-    AssertThrow(n[0] % 2 == 0 && n[1] % 2 == 0 && n[2] % 2 == 0,
-                ExcMessage("Coarsening needs even grid sizes; Geometry/Grid "
-                           "size is " +
-                           std::to_string(n[0]) + " " + std::to_string(n[1]) +
-                           " " + std::to_string(n[2]) + "."));
+    scene::check_coarsenable(grid, 1);
+    const auto              &n = grid.size();
     std::vector<Combination> result;
     for (unsigned int k = 0; k < n[2]; k += 2)
       for (unsigned int j = 0; j < n[1]; j += 2)
@@ -565,12 +561,8 @@ namespace ddfem::coarsening
   std::vector<std::array<Combination, 8>>
   DatabaseBuilder::scene_blocks(const scene::VoxelGrid &grid)
   {
-    const auto &n = grid.size();
-    AssertThrow(n[0] % 4 == 0 && n[1] % 4 == 0 && n[2] % 4 == 0,
-                ExcMessage("Two coarsening levels need grid sizes divisible "
-                           "by 4; Geometry/Grid size is " +
-                           std::to_string(n[0]) + " " + std::to_string(n[1]) +
-                           " " + std::to_string(n[2]) + "."));
+    scene::check_coarsenable(grid, 2);
+    const auto                             &n = grid.size();
     std::vector<std::array<Combination, 8>> result;
     for (unsigned int k = 0; k < n[2]; k += 4)
       for (unsigned int j = 0; j < n[1]; j += 4)

@@ -165,36 +165,24 @@ namespace ddfem::coarsening
                        solver::Discretization         &coarse) const
   {
     AssertDimension(coarse.level, coarsening_level);
-    const unsigned int    width = 1u << coarsening_level;
-    const auto           &n     = grid.size();
-    std::set<std::size_t> blocks;
+    std::set<unsigned int> cells;
     for (const std::size_t v : changed)
       {
-        const auto ijk = grid.coordinates(v);
-        blocks.insert(
-          ijk[0] / width +
-          n[0] / width *
-            (ijk[1] / width + std::size_t(n[1] / width) * (ijk[2] / width)));
-      }
-    // Cells are numbered in increasing block order.
-    const std::size_t n_q   = coarse.quadrature.size();
-    unsigned int      count = 0;
-    for (const std::size_t block : blocks)
-      {
-        const auto cell = std::lower_bound(coarse.cell_blocks.begin(),
-                                           coarse.cell_blocks.end(),
-                                           block);
-        AssertThrow(cell != coarse.cell_blocks.end() && *cell == block,
+        const unsigned int cell = coarse.cell_of_voxel(grid, v);
+        AssertThrow(cell != numbers::invalid_unsigned_int,
                     ExcMessage("A material edit touched a block without "
                                "solid voxels; edits may only change the "
                                "material of solid voxels."));
-        const Metamaterial m = block_material(grid, block);
+        cells.insert(cell);
+      }
+    const std::size_t n_q = coarse.quadrature.size();
+    for (const unsigned int cell : cells)
+      {
+        const Metamaterial m = block_material(grid, coarse.cell_blocks[cell]);
         std::copy(m.points.begin(),
                   m.points.end(),
-                  coarse.material_points.begin() +
-                    (cell - coarse.cell_blocks.begin()) * n_q);
-        ++count;
+                  coarse.material_points.begin() + cell * n_q);
       }
-    return count;
+    return cells.size();
   }
 } // namespace ddfem::coarsening

@@ -51,25 +51,16 @@ namespace ddfem::report
     // Each fine vertex once, through the first fine cell that has it; the
     // coarse field is continuous, so any coarse cell holding it will do:
     // the one of that fine cell's block.
-    const unsigned int width = 1u << coarse.level;
-    const auto        &n     = grid.size();
-    std::vector<bool>  done(fine.triangulation.n_vertices(), false);
+    std::vector<bool> done(fine.triangulation.n_vertices(), false);
     for (const auto &cell : fine.triangulation.active_cell_iterators())
       {
-        const auto ijk =
-          grid.coordinates(fine.cell_blocks[cell->active_cell_index()]);
-        const std::size_t block =
-          ijk[0] / width +
-          n[0] / width *
-            (ijk[1] / width + std::size_t(n[1] / width) * (ijk[2] / width));
-        const auto at = std::lower_bound(coarse.cell_blocks.begin(),
-                                         coarse.cell_blocks.end(),
-                                         block);
-        Assert(at != coarse.cell_blocks.end() && *at == block,
-               ExcInternalError());
-        const auto &coarse_cell = coarse_cells[at - coarse.cell_blocks.begin()];
-        const Point<3>     origin = coarse_cell->vertex(0);
-        const Tensor<1, 3> size   = coarse_cell->vertex(7) - origin;
+        const unsigned int c =
+          coarse.cell_of_voxel(grid,
+                               fine.cell_blocks[cell->active_cell_index()]);
+        Assert(c != numbers::invalid_unsigned_int, ExcInternalError());
+        const auto        &coarse_cell = coarse_cells[c];
+        const Point<3>     origin      = coarse_cell->vertex(0);
+        const Tensor<1, 3> size        = coarse_cell->vertex(7) - origin;
 
         for (const unsigned int v : cell->vertex_indices())
           {

@@ -65,10 +65,8 @@ namespace ddfem::scene
 
 
 
-  std::vector<std::size_t>
-  make_voxel_mesh(const VoxelGrid   &grid,
-                  const unsigned int level,
-                  Triangulation<3>  &tria)
+  void
+  check_coarsenable(const VoxelGrid &grid, const unsigned int level)
   {
     const unsigned int b = 1u << level;
     const auto        &n = grid.size();
@@ -79,6 +77,18 @@ namespace ddfem::scene
                              " is not divisible by " + std::to_string(b) +
                              ", the block size of coarsening level " +
                              std::to_string(level) + "."));
+  }
+
+
+
+  std::vector<std::size_t>
+  make_voxel_mesh(const VoxelGrid   &grid,
+                  const unsigned int level,
+                  Triangulation<3>  &tria)
+  {
+    check_coarsenable(grid, level);
+    const unsigned int                b = 1u << level;
+    const auto                       &n = grid.size();
     const std::array<unsigned int, 3> m = {{n[0] / b, n[1] / b, n[2] / b}};
     const double                      H = grid.voxel_size() * b;
 

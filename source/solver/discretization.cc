@@ -57,19 +57,38 @@ namespace ddfem::solver
 
 
 
+  unsigned int
+  Discretization::cell_of_voxel(const scene::VoxelGrid &grid,
+                                const std::size_t       v) const
+  {
+    // Cells are numbered in increasing block order.
+    const unsigned int width = 1u << level;
+    const auto        &n     = grid.size();
+    const auto         ijk   = grid.coordinates(v);
+    const std::size_t  block =
+      ijk[0] / width +
+      n[0] / width *
+        (ijk[1] / width + std::size_t(n[1] / width) * (ijk[2] / width));
+    const auto cell =
+      std::lower_bound(cell_blocks.begin(), cell_blocks.end(), block);
+    return (cell != cell_blocks.end() && *cell == block) ?
+             cell - cell_blocks.begin() :
+             numbers::invalid_unsigned_int;
+  }
+
+
+
   void
   Discretization::update_voxel_materials(
     const scene::Scene             &scene,
     const std::vector<std::size_t> &changed)
   {
     Assert(level == 0, ExcMessage("Coarse models are updated by a Coarsener."));
-    // Cells are numbered in increasing voxel order.
     for (const std::size_t v : changed)
       {
-        const auto cell =
-          std::lower_bound(cell_blocks.begin(), cell_blocks.end(), v);
-        Assert(cell != cell_blocks.end() && *cell == v, ExcInternalError());
-        copy_voxel_material(scene, cell - cell_blocks.begin());
+        const unsigned int cell = cell_of_voxel(scene.grid, v);
+        Assert(cell != numbers::invalid_unsigned_int, ExcInternalError());
+        copy_voxel_material(scene, cell);
       }
   }
 } // namespace ddfem::solver

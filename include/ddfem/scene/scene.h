@@ -83,6 +83,14 @@ namespace ddfem::scene
   };
 
   /**
+   * Throws ExcMessage, naming Geometry/Grid size, unless every size of
+   * @p grid is divisible by 2^@p level, the block size of coarsening level
+   * @p level.
+   */
+  void
+  check_coarsenable(const VoxelGrid &grid, const unsigned int level);
+
+  /**
    * Builds the hexahedral mesh of a voxel grid coarsened @p level times:
    * cells are the 2^level x 2^level x 2^level blocks of voxels that contain
    * at least one solid voxel (level 0: the solid voxels themselves). Void

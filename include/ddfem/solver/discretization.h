@@ -56,6 +56,14 @@ namespace ddfem::solver
                    const unsigned int  level = 0);
 
     /**
+     * The active index of the cell whose voxel or block holds voxel @p v
+     * (linear index) of @p grid, the grid this discretization was built
+     * from; numbers::invalid_unsigned_int if that block has no cell.
+     */
+    unsigned int
+    cell_of_voxel(const scene::VoxelGrid &grid, const std::size_t v) const;
+
+    /**
      * The fine model only: the voxels @p changed (linear indices, all
      * solid) of @p scene's grid have new materials; their cells' records
      * copy them.
