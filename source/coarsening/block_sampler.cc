@@ -19,12 +19,24 @@ namespace ddfem::coarsening
   SamplingSettings::declare_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Sampling");
-    prm.declare_entry("Force patterns",
+    prm.declare_entry("Patterns",
                       "500",
                       Patterns::Integer(1),
-                      "Number of random, self-equilibrated nodal force "
-                      "patterns applied to each 2x2x2 block (the paper "
-                      "uses 500).");
+                      "Number of random deformation patterns per 2x2x2 "
+                      "block (the paper uses 500): self-equilibrated force "
+                      "patterns on a free block, or embedded strains (see "
+                      "Embedded sampling).");
+    prm.declare_entry("Embedded sampling",
+                      "false",
+                      Patterns::Bool(),
+                      "Sample blocks without void voxels as they deform "
+                      "inside a part: a random homogeneous strain that the "
+                      "block's corners follow exactly and its other nodes up "
+                      "to a periodic fluctuation (the block's homogenized "
+                      "energy). False (the paper's sampling) samples them, "
+                      "like the blocks with void voxels, by force patterns "
+                      "on a free block, which softens the stiff children of "
+                      "mixed blocks. doc/coarsening.md compares the two.");
     prm.declare_entry("Magnitudes",
                       "5",
                       Patterns::Integer(1),
@@ -64,7 +76,8 @@ namespace ddfem::coarsening
   SamplingSettings::parse_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Sampling");
-    n_directions         = prm.get_integer("Force patterns");
+    n_directions         = prm.get_integer("Patterns");
+    embedded             = prm.get_bool("Embedded sampling");
     n_magnitudes         = prm.get_integer("Magnitudes");
     min_strain           = prm.get_double("Minimum strain");
     max_strain           = prm.get_double("Maximum strain");
@@ -218,6 +231,25 @@ namespace ddfem::coarsening
           if (support_points[i].distance(corner) < 1e-12)
             corner_dofs[v][dof_component[i]] = i;
       }
+
+    // Periodic classes of nodes (embedded samples): a node's class is the
+    // set of its coordinates at mid-block, so opposite faces and edges
+    // share one; corners (the empty set) follow the field exactly.
+    has_void = grid.n_solid_voxels() < 8;
+    std::map<unsigned int, unsigned int> class_number;
+    periodic_dof.assign(dof_handler.n_dofs(), -1);
+    for (unsigned int i = 0; i < dof_handler.n_dofs(); ++i)
+      {
+        unsigned int key = 0;
+        for (unsigned int d = 0; d < 3; ++d)
+          if (std::abs(support_points[i][d] - 0.5) < 1e-12)
+            key |= 1u << d;
+        if (key == 0)
+          continue;
+        const auto inserted = class_number.emplace(key, class_number.size());
+        periodic_dof[i]     = 3 * inserted.first->second + dof_component[i];
+      }
+    n_periodic = 3 * class_number.size();
 
     double             E;
     Vector<double>     r;
@@ -417,6 +449,93 @@ namespace ddfem::coarsening
 
 
 
+  Vector<double>
+  BlockSampler::add_fluctuation(const Vector<double> &u_base,
+                                const Vector<double> &w) const
+  {
+    Vector<double> u = u_base;
+    for (unsigned int i = 0; i < u.size(); ++i)
+      if (periodic_dof[i] >= 0)
+        u(i) += w(periodic_dof[i]);
+    return u;
+  }
+
+
+
+  bool
+  BlockSampler::relax(const Vector<double> &u_base, Vector<double> &w) const
+  {
+    Assert(!has_void, ExcInternalError());
+    double             E;
+    Vector<double>     r;
+    FullMatrix<double> K;
+    for (unsigned int it = 0; it < 40; ++it)
+      {
+        if (!assemble(add_fluctuation(u_base, w), true, E, r, K))
+          return false;
+        // Gradient and Hessian with respect to w (gathered over classes).
+        Vector<double>           g(n_periodic);
+        LAPACKFullMatrix<double> H(n_periodic);
+        for (unsigned int i = 0; i < r.size(); ++i)
+          if (periodic_dof[i] >= 0)
+            {
+              g(periodic_dof[i]) += r(i);
+              for (unsigned int j = 0; j < r.size(); ++j)
+                if (periodic_dof[j] >= 0)
+                  H(periodic_dof[i], periodic_dof[j]) += K(i, j);
+            }
+        // Converged when the unbalanced forces are negligible against the
+        // forces on the prescribed nodes.
+        const double residual = g.l2_norm() / r.l2_norm();
+        if (!(residual > 1e-9))
+          return true;
+
+        // Newton's direction; where the Hessian is indefinite (the soft
+        // children buckle under compression), shift it until it descends.
+        double largest = 0;
+        for (unsigned int i = 0; i < n_periodic; ++i)
+          largest = std::max(largest, H(i, i));
+        Vector<double> dw;
+        double         slope = 0;
+        for (double shift = 0; shift < 1e3 * largest;
+             shift        = std::max(2 * shift, 1e-3 * largest))
+          {
+                   LAPACKFullMatrix<double> A = H;
+                   for (unsigned int i = 0; i < n_periodic; ++i)
+              A(i, i) += shift;
+            A.compute_lu_factorization();
+                   dw = g;
+                   A.solve(dw);
+                   dw *= -1.;
+                   slope = g * dw;
+                   if (slope < 0)
+              break;
+          }
+        // Past round-off level the energy cannot resolve the decrease.
+        if (!(slope < -1e-12 * std::abs(E)))
+          return residual <= 1e-6;
+
+        double alpha = 1;
+        for (unsigned int ls = 0;; ++ls, alpha *= 0.5)
+          {
+            if (ls == 30)
+              return residual <= 1e-6;
+            Vector<double> trial = w;
+            trial.add(alpha, dw);
+            double trial_energy;
+            if (energy(add_fluctuation(u_base, trial), trial_energy) &&
+                trial_energy <= E + 1e-4 * alpha * slope)
+              {
+                w = trial;
+                break;
+              }
+          }
+      }
+    return false;
+  }
+
+
+
   double
   BlockSampler::largest_over_points(
     const Vector<double>                              &u,
@@ -525,77 +644,153 @@ namespace ddfem::coarsening
 
 
 
+  namespace
+  {
+    /// The linearized strain of magnitude @p j of a pattern (see sample()).
+    double
+    target_strain(const SamplingSettings &settings, const unsigned int j)
+    {
+      return settings.n_magnitudes == 1 ?
+               settings.max_strain :
+               settings.min_strain +
+                 (settings.max_strain - settings.min_strain) * j /
+                   (settings.n_magnitudes - 1);
+    }
+  } // namespace
+
+
+
   std::vector<Sample>
   BlockSampler::sample(const SamplingSettings &settings,
                        const std::uint64_t     seed,
                        unsigned int           &n_dropped) const
   {
-    const unsigned int               n = dof_handler.n_dofs();
     std::mt19937_64                  generator(seed);
-    std::normal_distribution<double> normal;
-    std::vector<Sample>              samples;
+    std::normal_distribution<double> distribution;
+    const std::function<double()>    normal = [&]() {
+      return distribution(generator);
+    };
+    std::vector<Sample> samples;
     n_dropped = 0;
     for (unsigned int p = 0; p < settings.n_directions; ++p)
-      {
-        Tensor<2, 3>                constant;
-        std::array<Tensor<2, 3>, 3> gradient;
-        for (unsigned int i = 0; i < 3; ++i)
-          for (unsigned int j = i; j < 3; ++j)
-            {
-              constant[i][j] = constant[j][i] = normal(generator);
-              for (unsigned int d = 0; d < 3; ++d)
-                gradient[d][i][j] = gradient[d][j][i] = normal(generator);
-            }
-        Vector<double> f = boundary_forces([&](const Point<3> &x) {
-          Tensor<2, 3> sigma = constant;
-          for (unsigned int d = 0; d < 3; ++d)
-            sigma += settings.traction_gradient * (2 * x[d] - 1) * gradient[d];
-          return sigma;
-        });
-        project_out_rigid(f);
-        f /= f.l2_norm();
-        const Vector<double> linear   = constrained_solve(initial_saddle, f);
-        const double         strain_1 = linearized_strain(linear);
-
-        Vector<double> u(n);
-        double         previous = 0;
-        for (unsigned int j = 0; j < settings.n_magnitudes; ++j)
-          {
-            const double target =
-              settings.n_magnitudes == 1 ?
-                settings.max_strain :
-                settings.min_strain +
-                  (settings.max_strain - settings.min_strain) * j /
-                    (settings.n_magnitudes - 1);
-            const double magnitude = target / strain_1;
-            // Predictor: the linear response for the first magnitude, the
-            // previous solution scaled for the others.
-            Vector<double> guess = u;
-            if (previous == 0)
-              guess.add(magnitude, linear);
-            else
-              guess *= magnitude / previous;
-            double e;
-            if (!energy(guess, e))
-              guess = u;
-            Vector<double> force = f;
-            force *= magnitude;
-            if (!solve(force, guess))
-              {
-                n_dropped += settings.n_magnitudes - j;
-                break;
-              }
-            u        = guess;
-            previous = magnitude;
-            Sample s;
-            s.corners = corners(u);
-            energy(u, s.energy);
-            s.strain  = finite_strain(u);
-            s.pattern = p;
-            samples.push_back(s);
-          }
-      }
+      if (settings.embedded && !has_void)
+        embedded_pattern(settings, p, normal, samples, n_dropped);
+      else
+        force_pattern(settings, p, normal, samples, n_dropped);
     return samples;
+  }
+
+
+
+  void
+  BlockSampler::force_pattern(const SamplingSettings        &settings,
+                              const unsigned int             p,
+                              const std::function<double()> &normal,
+                              std::vector<Sample>           &samples,
+                              unsigned int                  &n_dropped) const
+  {
+    Tensor<2, 3>                constant;
+    std::array<Tensor<2, 3>, 3> gradient;
+    for (unsigned int i = 0; i < 3; ++i)
+      for (unsigned int j = i; j < 3; ++j)
+        {
+          constant[i][j] = constant[j][i] = normal();
+          for (unsigned int d = 0; d < 3; ++d)
+            gradient[d][i][j] = gradient[d][j][i] = normal();
+        }
+    Vector<double> f = boundary_forces([&](const Point<3> &x) {
+      Tensor<2, 3> sigma = constant;
+      for (unsigned int d = 0; d < 3; ++d)
+        sigma += settings.traction_gradient * (2 * x[d] - 1) * gradient[d];
+      return sigma;
+    });
+    project_out_rigid(f);
+    f /= f.l2_norm();
+    const Vector<double> linear   = constrained_solve(initial_saddle, f);
+    const double         strain_1 = linearized_strain(linear);
+
+    Vector<double> u(dof_handler.n_dofs());
+    double         previous = 0;
+    for (unsigned int j = 0; j < settings.n_magnitudes; ++j)
+      {
+        const double magnitude = target_strain(settings, j) / strain_1;
+        // Predictor: the linear response for the first magnitude, the
+        // previous solution scaled for the others.
+        Vector<double> guess = u;
+        if (previous == 0)
+          guess.add(magnitude, linear);
+        else
+          guess *= magnitude / previous;
+        double e;
+        if (!energy(guess, e))
+          guess = u;
+        Vector<double> force = f;
+        force *= magnitude;
+        if (!solve(force, guess))
+          {
+            n_dropped += settings.n_magnitudes - j;
+            return;
+          }
+        u        = guess;
+        previous = magnitude;
+        Sample s;
+        s.corners = corners(u);
+        energy(u, s.energy);
+        s.strain  = finite_strain(u);
+        s.pattern = p;
+        samples.push_back(s);
+      }
+  }
+
+
+
+  void
+  BlockSampler::embedded_pattern(const SamplingSettings        &settings,
+                                 const unsigned int             p,
+                                 const std::function<double()> &normal,
+                                 std::vector<Sample>           &samples,
+                                 unsigned int                  &n_dropped) const
+  {
+    Tensor<2, 3> H;
+    for (unsigned int i = 0; i < 3; ++i)
+      for (unsigned int j = i; j < 3; ++j)
+        H[i][j] = H[j][i] = normal();
+    const Point<3> center(0.5, 0.5, 0.5);
+    const auto     field = [&](const Point<3> &x) { return H * (x - center); };
+    const Vector<double> linear   = interpolate(field);
+    const double         strain_1 = linearized_strain(linear);
+
+    Vector<double> w(n_periodic);
+    double         previous = 0;
+    for (unsigned int j = 0; j < settings.n_magnitudes; ++j)
+      {
+        const double   magnitude = target_strain(settings, j) / strain_1;
+        Vector<double> u_base    = linear;
+        u_base *= magnitude;
+        // Predictor: the previous fluctuation scaled.
+        Vector<double> guess = w;
+        if (previous > 0)
+          guess *= magnitude / previous;
+        double e;
+        if (!energy(add_fluctuation(u_base, guess), e))
+          guess = w;
+        if (!relax(u_base, guess))
+          {
+            n_dropped += settings.n_magnitudes - j;
+            return;
+          }
+        w                      = guess;
+        previous               = magnitude;
+        const Vector<double> u = add_fluctuation(u_base, w);
+        Sample               s;
+        for (unsigned int v = 0; v < 8; ++v)
+          s.corners[v] =
+            magnitude * field(Point<3>(v & 1, (v >> 1) & 1, (v >> 2) & 1));
+        energy(u, s.energy);
+        s.strain  = finite_strain(u);
+        s.pattern = p;
+        samples.push_back(s);
+      }
   }
 
 

@@ -239,10 +239,18 @@ namespace ddfem::coarsening
           p = child[element.subpoint_of_point(q)];
         prior.points.push_back(p);
       }
+    // A block with void voxels inside lies on a part's surface, even if
+    // none of its eight children is all void: sample it as a free block.
+    SamplingSettings block_sampling = sampling;
+    for (const Combination &block : blocks)
+      block_sampling.embedded &=
+        std::none_of(block.begin(), block.end(), [](auto id) {
+          return id == scene::void_id;
+        });
     const BlockSampler        sampler(children);
     Entry                     entry;
     const std::vector<Sample> samples =
-      sampler.sample(sampling, seed, entry.n_dropped);
+      sampler.sample(block_sampling, seed, entry.n_dropped);
     const FitResult fit = fit_metamaterial(element, samples, prior, fitting);
     entry.key           = r;
     entry.material      = fit.material;

@@ -50,8 +50,8 @@ namespace ddfem::coarsening
   {
     std::ostringstream s;
     s << std::setprecision(17) << "palette: " << palette
-      << " | void: " << with_void
-      << " | force patterns: " << sampling.n_directions
+      << " | void: " << with_void << " | patterns: " << sampling.n_directions
+      << ", embedded: " << sampling.embedded
       << ", magnitudes: " << sampling.n_magnitudes
       << ", strains: " << sampling.min_strain << "-" << sampling.max_strain
       << ", traction gradient: " << sampling.traction_gradient
@@ -431,6 +431,7 @@ namespace ddfem::coarsening
     children.fill(std::vector<material::MaterialPoint>(8, reference));
     SamplingSettings settings;
     settings.n_directions = n;
+    settings.embedded     = false;
     settings.n_magnitudes = 1;
     settings.min_strain   = strain;
     settings.max_strain   = strain;

@@ -27,7 +27,7 @@ namespace
   database_prm(const std::string &file)
   {
     return "subsection Database\n  set File = " + file +
-           "\n  subsection Sampling\n    set Force patterns = 60\n"
+           "\n  subsection Sampling\n    set Patterns = 60\n"
            "    set Stretch directions = 60\n  end\nend\n";
   }
 

@@ -41,7 +41,7 @@ main(int argc, char **argv)
          "subsection Database\n"
          "  set File = compare.h5\n"
          "  subsection Sampling\n"
-         "    set Force patterns = 60\n"
+         "    set Patterns = 60\n"
          "    set Stretch directions = 60\n"
          "  end\n"
          "end\n"

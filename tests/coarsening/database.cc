@@ -46,7 +46,7 @@ namespace
     prm.set("Representatives", "10");
     prm.leave_subsection();
     prm.enter_subsection("Sampling");
-    prm.set("Force patterns", "30");
+    prm.set("Patterns", "30");
     prm.set("Magnitudes", "2");
     prm.set("Stretch directions", "20");
     prm.leave_subsection();

@@ -18,7 +18,7 @@ namespace
                              "end\n"
                              "subsection Database\n"
                              "  subsection Sampling\n"
-                             "    set Force patterns = 40\n"
+                             "    set Patterns = 40\n"
                              "    set Stretch directions = 40\n"
                              "  end\n"
                              "end\n";

@@ -29,8 +29,11 @@ namespace ddfem::coarsening
    */
   struct SamplingSettings
   {
-    /// Number of random force patterns.
+    /// Number of random patterns per block.
     unsigned int n_directions = 500;
+    /// Whether blocks without void are sampled embedded (see
+    /// BlockSampler::sample()) instead of by force patterns.
+    bool embedded = false;
     /// Number of magnitudes per force pattern.
     unsigned int n_magnitudes = 5;
     /// Linearized strain of the smallest and the largest magnitude.
@@ -109,15 +112,30 @@ namespace ddfem::coarsening
     }
 
     /**
-     * Force-space sampling: n_directions random force patterns, each the
-     * traction of a random, linearly varying stress on the block's surface
-     * (boundary_forces()) with its resultant force and moment removed,
-     * drawn from a generator seeded with @p seed, each scaled to
-     * n_magnitudes magnitudes whose linearized strain is spread evenly
-     * over [min_strain, max_strain] (so soft and stiff blocks cover the
-     * same strains), each solved with Newton's method. A magnitude whose
-     * solve fails ends its pattern: it and the larger ones are dropped
-     * and counted in @p n_dropped.
+     * Energy samples of the block: n_directions random patterns, drawn
+     * from a generator seeded with @p seed, each scaled to n_magnitudes
+     * magnitudes whose linearized strain is spread evenly over
+     * [min_strain, max_strain] (so soft and stiff blocks cover the same
+     * strains) and solved with Newton's method. A magnitude whose solve
+     * fails ends its pattern: it and the larger ones are dropped and
+     * counted in @p n_dropped.
+     *
+     * A block with a void child lies on a part's surface and is sampled by
+     * force patterns (paper section 4.2): the traction of a random,
+     * linearly varying stress on the block's surface (boundary_forces())
+     * with its resultant force and moment removed, the deformations of a
+     * free block.
+     *
+     * A block without void children lies inside the part, where its
+     * neighbours hold its boundary. With SamplingSettings::embedded it is
+     * sampled by embedded patterns instead: a random homogeneous strain H
+     * (symmetric, standard normal entries) that the corners follow exactly
+     * and the other nodes follow up to a periodic fluctuation, equal on
+     * opposite faces and edges as in a periodic medium, which minimizes
+     * the fine energy (relax()). The samples are then the block's
+     * homogenized energy. A free block deforms mostly through its soft
+     * children and a fit to it softens the stiff ones; inside a body the
+     * stiff children carry load as well.
      */
     std::vector<Sample>
     sample(const SamplingSettings &settings,
@@ -168,6 +186,27 @@ namespace ddfem::coarsening
     Vector<double>
     interpolate(const std::function<Tensor<1, 3>(const Point<3> &)> &u) const;
 
+    /**
+     * Minimizes the fine energy over the periodic fluctuation @p w added
+     * to the nodal displacements @p u_base (see sample()); @p w is the
+     * initial guess on input. Needs a block without void children.
+     * Returns false if Newton's method fails.
+     */
+    bool
+    relax(const Vector<double> &u_base, Vector<double> &w) const;
+
+    /// @p u_base plus the periodic fluctuation @p w at every node.
+    Vector<double>
+    add_fluctuation(const Vector<double> &u_base,
+                    const Vector<double> &w) const;
+
+    /// Number of fluctuation unknowns (3 per periodic class of nodes).
+    unsigned int
+    n_fluctuation_dofs() const
+    {
+      return n_periodic;
+    }
+
   private:
     /// Energy, internal forces and, if @p tangent, stiffness at @p u.
     bool
@@ -189,6 +228,23 @@ namespace ddfem::coarsening
     /// @p f minus its component along the constraint rows.
     void
     project_out_rigid(Vector<double> &f) const;
+
+    /// The force-space samples of pattern @p p (see sample()), drawing
+    /// standard normal numbers from @p normal.
+    void
+    force_pattern(const SamplingSettings        &settings,
+                  const unsigned int             p,
+                  const std::function<double()> &normal,
+                  std::vector<Sample>           &samples,
+                  unsigned int                  &n_dropped) const;
+
+    /// The embedded samples of pattern @p p (see sample()).
+    void
+    embedded_pattern(const SamplingSettings        &settings,
+                     const unsigned int             p,
+                     const std::function<double()> &normal,
+                     std::vector<Sample>           &samples,
+                     unsigned int                  &n_dropped) const;
 
     /// The largest value of @p measure(F) over the block's Gauss points.
     double
@@ -223,6 +279,12 @@ namespace ddfem::coarsening
     std::array<std::array<int, 3>, 8> corner_dofs;
     /// Least-squares trilinear fit: corner value = sum_n weights(v, n) u_n.
     FullMatrix<double> corner_weights;
+    /// Whether the block has a void child.
+    bool has_void = false;
+    /// Per degree of freedom, its fluctuation unknown, or -1 at corners.
+    std::vector<int> periodic_dof;
+    /// Number of fluctuation unknowns.
+    unsigned int n_periodic = 0;
     /// The stiffness at zero displacement, factorized with constraints.
     LAPACKFullMatrix<double> initial_saddle;
   };

@@ -1,0 +1,184 @@
+// Embedded samples of a 2x2x2 block (BlockSampler::sample() with
+// SamplingSettings::embedded): the corners follow a homogeneous strain and
+// the other nodes follow it up to a periodic fluctuation that minimizes the
+// fine energy, so a sample is the block's homogenized energy.
+// 1. A homogeneous block: the fluctuation vanishes and every sample's
+//    energy is the element's energy of the same affine motion.
+// 2. A laminate (soft children at x < 1/2, stiff ones at x > 1/2) in the
+//    small-strain limit: stretching across the layers gives the harmonic
+//    mean of the P-wave moduli lambda + 2 mu, shearing across them the
+//    harmonic mean of mu (the exact homogenized moduli of a laminate). The
+//    affine motion without fluctuation gives the arithmetic means.
+// 3. A mixed block: no sample exceeds the energy of the naive element
+//    (each child's material, no fluctuation) under the same corners.
+// 4. A block with a void child keeps the force patterns of a free block.
+
+#include <ddfem/coarsening/block_sampler.h>
+
+#include "../tests.h"
+
+using namespace ddfem;
+using namespace ddfem::coarsening;
+
+namespace
+{
+  material::MaterialPoint
+  point(const double E, const double nu)
+  {
+    material::MaterialPoint p;
+    p.mu     = E / (2 * (1 + nu));
+    p.lambda = E * nu / ((1 + nu) * (1 - 2 * nu));
+    return p;
+  }
+
+  /// The naive metamaterial of @p children (void children: all zero).
+  Metamaterial
+  naive(const std::array<std::vector<material::MaterialPoint>, 8> &children)
+  {
+    Metamaterial m;
+    for (const auto &child : children)
+      m.points.push_back(child.empty() ? material::MaterialPoint() : child[0]);
+    return m;
+  }
+
+  /// The energy of the block under u = H (x - centre) after relaxing the
+  /// periodic fluctuation, and the fluctuation's size.
+  double
+  relaxed_energy(const BlockSampler &sampler,
+                 const Tensor<2, 3> &H,
+                 double             &fluctuation)
+  {
+    const Point<3>       center(0.5, 0.5, 0.5);
+    const Vector<double> u_base =
+      sampler.interpolate([&](const Point<3> &x) { return H * (x - center); });
+    Vector<double> w(sampler.n_fluctuation_dofs());
+    AssertThrow(sampler.relax(u_base, w), ExcMessage("relax failed"));
+    fluctuation = w.linfty_norm();
+    double energy;
+    sampler.energy(sampler.add_fluctuation(u_base, w), energy);
+    return energy;
+  }
+} // namespace
+
+int
+main()
+{
+  const CoarseElement element(1);
+  SamplingSettings    sampling;
+  sampling.n_directions = 20;
+  sampling.embedded     = true;
+
+  {
+    std::cout << "Homogeneous block, E = 1e6, nu = 0.45" << std::endl;
+    std::array<std::vector<material::MaterialPoint>, 8> children;
+    children.fill(std::vector<material::MaterialPoint>(8, point(1e6, 0.45)));
+    const BlockSampler sampler(children);
+    unsigned int       dropped;
+    const auto         samples = sampler.sample(sampling, 3, dropped);
+    std::cout << "samples: " << samples.size() << ", dropped: " << dropped
+              << ", fluctuation unknowns: " << sampler.n_fluctuation_dofs()
+              << std::endl;
+    double largest = 0;
+    for (const Sample &s : samples)
+      {
+        double e;
+        element.energy(s.corners, naive(children), e);
+        largest = std::max(largest, std::abs(e - s.energy) / s.energy);
+      }
+    testing::check_below("largest relative energy difference to the affine "
+                         "element",
+                         largest,
+                         1e-10);
+    Tensor<2, 3> H;
+    H[0][0] = 0.1, H[0][1] = H[1][0] = 0.05, H[2][2] = -0.08;
+    double fluctuation;
+    relaxed_energy(sampler, H, fluctuation);
+    testing::check_below("fluctuation under a homogeneous strain",
+                         fluctuation,
+                         1e-12);
+  }
+
+  {
+    const material::MaterialPoint soft  = point(1e5, 0.3),
+                                  stiff = point(1e7, 0.3);
+    std::cout << "Laminate, E = 1e5 at x < 1/2 and 1e7 at x > 1/2, nu = 0.3"
+              << std::endl;
+    std::array<std::vector<material::MaterialPoint>, 8> children;
+    for (unsigned int k = 0; k < 8; ++k)
+      children[k].assign(8, (k & 1) ? stiff : soft);
+    const BlockSampler sampler(children);
+    const double       delta    = 1e-5;
+    const auto         harmonic = [](const double a, const double b) {
+      return 2. / (1. / a + 1. / b);
+    };
+    const double M_soft  = soft.lambda + 2 * soft.mu,
+                 M_stiff = stiff.lambda + 2 * stiff.mu;
+
+    Tensor<2, 3> stretch;
+    stretch[0][0] = delta;
+    double       fluctuation;
+    const double E_stretch = relaxed_energy(sampler, stretch, fluctuation);
+    const double exact_stretch =
+      0.5 * harmonic(M_soft, M_stiff) * delta * delta;
+    std::cout << "stretch across the layers: energy / harmonic mean "
+              << std::setprecision(6) << E_stretch / exact_stretch
+              << ", arithmetic mean / harmonic mean "
+              << 0.5 * (M_soft + M_stiff) / harmonic(M_soft, M_stiff)
+              << std::endl;
+    testing::check_below("relative error of the stretch energy",
+                         std::abs(E_stretch / exact_stretch - 1),
+                         1e-3);
+
+    Tensor<2, 3> shear;
+    shear[1][0]          = delta; // u_y = delta x
+    const double E_shear = relaxed_energy(sampler, shear, fluctuation);
+    const double exact_shear =
+      0.5 * harmonic(soft.mu, stiff.mu) * delta * delta;
+    std::cout << "shear across the layers: energy / harmonic mean "
+              << E_shear / exact_shear << ", arithmetic mean / harmonic mean "
+              << 0.5 * (soft.mu + stiff.mu) / harmonic(soft.mu, stiff.mu)
+              << std::endl;
+    testing::check_below("relative error of the shear energy",
+                         std::abs(E_shear / exact_shear - 1),
+                         1e-3);
+  }
+
+  {
+    std::cout << "Mixed block: one stiff child (E = 1e7) among soft ones "
+                 "(E = 1e5)"
+              << std::endl;
+    std::array<std::vector<material::MaterialPoint>, 8> children;
+    for (unsigned int k = 0; k < 8; ++k)
+      children[k].assign(8, point(k == 5 ? 1e7 : 1e5, 0.45));
+    const BlockSampler sampler(children);
+    unsigned int       dropped;
+    const auto         samples = sampler.sample(sampling, 5, dropped);
+    unsigned int       above   = 0;
+    for (const Sample &s : samples)
+      {
+        double e;
+        element.energy(s.corners, naive(children), e);
+        above += (s.energy > e * (1 + 1e-12));
+      }
+    std::cout << "samples: " << samples.size() << ", dropped: " << dropped
+              << ", above the naive element's energy: " << above << std::endl;
+  }
+
+  {
+    std::cout << "Block with a void child" << std::endl;
+    std::array<std::vector<material::MaterialPoint>, 8> children;
+    for (unsigned int k = 1; k < 8; ++k)
+      children[k].assign(8, point(1e6, 0.45));
+    const BlockSampler sampler(children);
+    SamplingSettings   free_block = sampling;
+    free_block.embedded           = false;
+    unsigned int dropped_a, dropped_b;
+    const auto   a    = sampler.sample(sampling, 9, dropped_a);
+    const auto   b    = sampler.sample(free_block, 9, dropped_b);
+    bool         same = a.size() == b.size();
+    for (unsigned int s = 0; same && s < a.size(); ++s)
+      same = a[s].energy == b[s].energy;
+    std::cout << "samples equal to the force patterns': "
+              << (same ? "yes" : "no") << std::endl;
+  }
+}
