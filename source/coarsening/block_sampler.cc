@@ -25,18 +25,19 @@ namespace ddfem::coarsening
                       "Number of random deformation patterns per 2x2x2 "
                       "block (the paper uses 500): self-equilibrated force "
                       "patterns on a free block, or embedded strains (see "
-                      "Embedded sampling).");
-    prm.declare_entry("Embedded sampling",
-                      "false",
-                      Patterns::Bool(),
-                      "Sample blocks without void voxels as they deform "
-                      "inside a part: a random homogeneous strain that the "
-                      "block's corners follow exactly and its other nodes up "
-                      "to a periodic fluctuation (the block's homogenized "
-                      "energy). False (the paper's sampling) samples them, "
-                      "like the blocks with void voxels, by force patterns "
-                      "on a free block, which softens the stiff children of "
-                      "mixed blocks. doc/coarsening.md compares the two.");
+                      "Embedded fraction).");
+    prm.declare_entry("Embedded fraction",
+                      "0",
+                      Patterns::Double(0, 1),
+                      "Fraction of the patterns of a block without void "
+                      "voxels that sample it as it deforms inside a part: a "
+                      "random homogeneous strain that the block's corners "
+                      "follow exactly and its other nodes up to a periodic "
+                      "fluctuation (the block's homogenized energy). The "
+                      "other patterns, and all patterns of blocks with void "
+                      "voxels, are force patterns on a free block (the "
+                      "paper's sampling, 0), which soften the stiff children "
+                      "of mixed blocks. doc/coarsening.md compares them.");
     prm.declare_entry("Magnitudes",
                       "5",
                       Patterns::Integer(1),
@@ -77,7 +78,7 @@ namespace ddfem::coarsening
   {
     prm.enter_subsection("Sampling");
     n_directions         = prm.get_integer("Patterns");
-    embedded             = prm.get_bool("Embedded sampling");
+    embedded             = prm.get_double("Embedded fraction");
     n_magnitudes         = prm.get_integer("Magnitudes");
     min_strain           = prm.get_double("Minimum strain");
     max_strain           = prm.get_double("Maximum strain");
@@ -378,6 +379,40 @@ namespace ddfem::coarsening
 
 
 
+  namespace
+  {
+    /**
+     * Armijo backtracking: halves the step along @p dx from @p x until
+     * @p merit (false where inadmissible) decreases by at least 1e-4 of
+     * the linear prediction @p slope (negative) from @p merit0, and moves
+     * @p x there. Returns false after 30 halvings.
+     */
+    bool
+    backtrack(
+      const std::function<bool(const Vector<double> &, double &)> &merit,
+      const double                                                 merit0,
+      const Vector<double>                                        &dx,
+      const double                                                 slope,
+      Vector<double>                                              &x)
+    {
+      double alpha = 1;
+      for (unsigned int ls = 0; ls < 30; ++ls, alpha *= 0.5)
+        {
+          Vector<double> trial = x;
+          trial.add(alpha, dx);
+          double value;
+          if (merit(trial, value) && value <= merit0 + 1e-4 * alpha * slope)
+            {
+              x = trial;
+              return true;
+            }
+        }
+      return false;
+    }
+  } // namespace
+
+
+
   bool
   BlockSampler::solve(const Vector<double> &f, Vector<double> &u) const
   {
@@ -427,22 +462,14 @@ namespace ddfem::coarsening
             return residual <= 1e-6;
           }
 
-        const double potential = E - f * u;
-        double       alpha     = 1;
-        for (unsigned int ls = 0;; ++ls, alpha *= 0.5)
-          {
-            if (ls == 30)
-              return residual <= 1e-6;
-            Vector<double> trial = u;
-            trial.add(alpha, du);
-            double trial_energy;
-            if (energy(trial, trial_energy) &&
-                trial_energy - f * trial <= potential + 1e-4 * alpha * slope)
-              {
-                u = trial;
-                break;
-              }
-          }
+        const auto potential = [&](const Vector<double> &v, double &value) {
+          if (!energy(v, value))
+            return false;
+          value -= f * v;
+          return true;
+        };
+        if (!backtrack(potential, E - f * u, du, slope, u))
+          return residual <= 1e-6;
       }
     return false;
   }
@@ -497,39 +524,29 @@ namespace ddfem::coarsening
           largest = std::max(largest, H(i, i));
         Vector<double> dw;
         double         slope = 0;
-        for (double shift = 0; shift < 1e3 * largest;
-             shift        = std::max(2 * shift, 1e-3 * largest))
+        for (double shift = 0;;)
           {
-                   LAPACKFullMatrix<double> A = H;
-                   for (unsigned int i = 0; i < n_periodic; ++i)
+            LAPACKFullMatrix<double> A = H;
+            for (unsigned int i = 0; i < n_periodic; ++i)
               A(i, i) += shift;
             A.compute_lu_factorization();
-                   dw = g;
-                   A.solve(dw);
-                   dw *= -1.;
-                   slope = g * dw;
-                   if (slope < 0)
+            dw = g;
+            A.solve(dw);
+            dw *= -1.;
+            slope = g * dw;
+            if (slope < 0 || shift > 1e3 * largest)
               break;
+            shift = std::max(2 * shift, 1e-3 * largest);
           }
         // Past round-off level the energy cannot resolve the decrease.
         if (!(slope < -1e-12 * std::abs(E)))
           return residual <= 1e-6;
 
-        double alpha = 1;
-        for (unsigned int ls = 0;; ++ls, alpha *= 0.5)
-          {
-            if (ls == 30)
-              return residual <= 1e-6;
-            Vector<double> trial = w;
-            trial.add(alpha, dw);
-            double trial_energy;
-            if (energy(add_fluctuation(u_base, trial), trial_energy) &&
-                trial_energy <= E + 1e-4 * alpha * slope)
-              {
-                w = trial;
-                break;
-              }
-          }
+        const auto relaxed = [&](const Vector<double> &v, double &value) {
+          return energy(add_fluctuation(u_base, v), value);
+        };
+        if (!backtrack(relaxed, E, dw, slope, w))
+          return residual <= 1e-6;
       }
     return false;
   }
@@ -673,7 +690,8 @@ namespace ddfem::coarsening
     std::vector<Sample> samples;
     n_dropped = 0;
     for (unsigned int p = 0; p < settings.n_directions; ++p)
-      if (settings.embedded && !has_void)
+      if (!has_void && std::floor((p + 1) * settings.embedded) >
+                         std::floor(p * settings.embedded))
         embedded_pattern(settings, p, normal, samples, n_dropped);
       else
         force_pattern(settings, p, normal, samples, n_dropped);

@@ -243,10 +243,10 @@ namespace ddfem::coarsening
     // none of its eight children is all void: sample it as a free block.
     SamplingSettings block_sampling = sampling;
     for (const Combination &block : blocks)
-      block_sampling.embedded &=
-        std::none_of(block.begin(), block.end(), [](auto id) {
-          return id == scene::void_id;
-        });
+      if (std::any_of(block.begin(), block.end(), [](auto id) {
+            return id == scene::void_id;
+          }))
+        block_sampling.embedded = 0;
     const BlockSampler        sampler(children);
     Entry                     entry;
     const std::vector<Sample> samples =

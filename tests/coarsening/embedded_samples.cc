@@ -3,7 +3,8 @@
 // the other nodes follow it up to a periodic fluctuation that minimizes the
 // fine energy, so a sample is the block's homogenized energy.
 // 1. A homogeneous block: the fluctuation vanishes and every sample's
-//    energy is the element's energy of the same affine motion.
+//    energy is the element's energy of the same affine motion; with an
+//    embedded fraction of 1/2, exactly half the samples are embedded.
 // 2. A laminate (soft children at x < 1/2, stiff ones at x > 1/2) in the
 //    small-strain limit: stretching across the layers gives the harmonic
 //    mean of the P-wave moduli lambda + 2 mu, shearing across them the
@@ -66,7 +67,7 @@ main()
   const CoarseElement element(1);
   SamplingSettings    sampling;
   sampling.n_directions = 20;
-  sampling.embedded     = true;
+  sampling.embedded     = 1;
 
   {
     std::cout << "Homogeneous block, E = 1e6, nu = 0.45" << std::endl;
@@ -89,6 +90,18 @@ main()
                          "element",
                          largest,
                          1e-10);
+    SamplingSettings half = sampling;
+    half.embedded         = 0.5;
+    unsigned int affine   = 0;
+    for (const Sample &s : sampler.sample(half, 3, dropped))
+      {
+        double e;
+        element.energy(s.corners, naive(children), e);
+        affine += (std::abs(e - s.energy) < 1e-10 * s.energy);
+      }
+    std::cout << "embedded fraction 0.5: samples equal to the affine element's "
+                 "energy: "
+              << affine << std::endl;
     Tensor<2, 3> H;
     H[0][0] = 0.1, H[0][1] = H[1][0] = 0.05, H[2][2] = -0.08;
     double fluctuation;
@@ -171,7 +184,7 @@ main()
       children[k].assign(8, point(1e6, 0.45));
     const BlockSampler sampler(children);
     SamplingSettings   free_block = sampling;
-    free_block.embedded           = false;
+    free_block.embedded           = 0;
     unsigned int dropped_a, dropped_b;
     const auto   a    = sampler.sample(sampling, 9, dropped_a);
     const auto   b    = sampler.sample(free_block, 9, dropped_b);

@@ -31,9 +31,9 @@ namespace ddfem::coarsening
   {
     /// Number of random patterns per block.
     unsigned int n_directions = 500;
-    /// Whether blocks without void are sampled embedded (see
-    /// BlockSampler::sample()) instead of by force patterns.
-    bool embedded = false;
+    /// The fraction of the patterns of a block without void that are
+    /// embedded (see BlockSampler::sample()) instead of force patterns.
+    double embedded = 0;
     /// Number of magnitudes per force pattern.
     unsigned int n_magnitudes = 5;
     /// Linearized strain of the smallest and the largest magnitude.
@@ -127,8 +127,9 @@ namespace ddfem::coarsening
      * free block.
      *
      * A block without void children lies inside the part, where its
-     * neighbours hold its boundary. With SamplingSettings::embedded it is
-     * sampled by embedded patterns instead: a random homogeneous strain H
+     * neighbours hold its boundary. A fraction SamplingSettings::embedded
+     * of its patterns, spread evenly, are embedded patterns instead: a
+     * random homogeneous strain H
      * (symmetric, standard normal entries) that the corners follow exactly
      * and the other nodes follow up to a periodic fluctuation, equal on
      * opposite faces and edges as in a periodic medium, which minimizes
