@@ -34,7 +34,7 @@ namespace ddfem::coarsening
     /// The fraction of the patterns of a block without void that are
     /// embedded (see BlockSampler::sample()) instead of force patterns.
     double embedded = 0;
-    /// Number of magnitudes per force pattern.
+    /// Number of magnitudes per pattern.
     unsigned int n_magnitudes = 5;
     /// Linearized strain of the smallest and the largest magnitude.
     double min_strain = 0.02;
@@ -129,14 +129,14 @@ namespace ddfem::coarsening
      * A block without void children lies inside the part, where its
      * neighbours hold its boundary. A fraction SamplingSettings::embedded
      * of its patterns, spread evenly, are embedded patterns instead: a
-     * random homogeneous strain H
-     * (symmetric, standard normal entries) that the corners follow exactly
-     * and the other nodes follow up to a periodic fluctuation, equal on
-     * opposite faces and edges as in a periodic medium, which minimizes
-     * the fine energy (relax()). The samples are then the block's
-     * homogenized energy. A free block deforms mostly through its soft
-     * children and a fit to it softens the stiff ones; inside a body the
-     * stiff children carry load as well.
+     * random homogeneous strain H (symmetric, standard normal entries)
+     * that the corners follow exactly and the other nodes follow up to a
+     * periodic fluctuation, equal on opposite faces and edges as in a
+     * periodic medium, which minimizes the fine energy (relax()). The
+     * samples are then the block's homogenized energy. A free block
+     * deforms mostly through its soft children and a fit to it softens
+     * the stiff ones; inside a body the stiff children carry load as
+     * well.
      */
     std::vector<Sample>
     sample(const SamplingSettings &settings,
