@@ -58,6 +58,7 @@ namespace ddfem::coarsening
       << ", stretch directions: " << sampling.n_stretch_directions
       << " | regularization: " << fitting.regularization
       << ", stiffness floor: " << fitting.stiffness_floor
+      << ", point floor: " << fitting.point_floor
       << ", held-out every: " << fitting.held_out_every;
     return s.str();
   }

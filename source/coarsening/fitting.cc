@@ -26,6 +26,14 @@ namespace ddfem::coarsening
                       "slightly stiff so a coarse element never has "
                       "zero-energy modes. Lambda and C are bounded below "
                       "by 0.");
+    prm.declare_entry("Point floor",
+                      "0",
+                      Patterns::Double(0, 1),
+                      "Lower bound of every quadrature point's fitted mu and "
+                      "lambda, as a fraction of the point's own fine values "
+                      "(0: only the stiffness floor). Keeps the points of "
+                      "mixed blocks from trading their stiffness away to "
+                      "their neighbours.");
     prm.declare_entry("Held-out every",
                       "5",
                       Patterns::Integer(0),
@@ -44,6 +52,7 @@ namespace ddfem::coarsening
     prm.enter_subsection("Fitting");
     regularization  = prm.get_double("Regularization");
     stiffness_floor = prm.get_double("Stiffness floor");
+    point_floor     = prm.get_double("Point floor");
     held_out_every  = prm.get_integer("Held-out every");
     prm.leave_subsection();
   }
@@ -170,7 +179,13 @@ namespace ddfem::coarsening
     scale[2] = scale[0];
     if (scale[1] == 0)
       scale[1] = scale[0];
+    // Lower bounds of (mu, lambda, C) per point.
     const double floor = settings.stiffness_floor * scale[0];
+    std::vector<std::array<double, 3>> lower;
+    for (const auto &p0 : prior.points)
+      lower.push_back({{std::max(floor, settings.point_floor * p0.mu),
+                        settings.point_floor * p0.lambda,
+                        0.}});
 
     FitResult           result;
     std::vector<Sample> held_out, fitted;
@@ -197,9 +212,11 @@ namespace ddfem::coarsening
         double lower_energy = 0;
         for (unsigned int q = 0; q < n_points; ++q)
           {
-            lower_energy += floor * terms[q][0];
             for (unsigned int t = 0; t < 3; ++t)
-              row(3 * q + t) = terms[q][t] * scale[t] / s.energy;
+              {
+                lower_energy += lower[q][t] * terms[q][t];
+                row(3 * q + t) = terms[q][t] * scale[t] / s.energy;
+              }
           }
         rows.push_back(row);
         rhs.push_back((s.energy - lower_energy) / s.energy);
@@ -215,9 +232,9 @@ namespace ddfem::coarsening
     for (unsigned int q = 0; q < n_points; ++q)
       {
         const auto  &p0        = prior.points[q];
-        const double target[3] = {(p0.mu - floor) / scale[0],
-                                  p0.lambda / scale[1],
-                                  p0.anisotropy / scale[2]};
+        const double target[3] = {(p0.mu - lower[q][0]) / scale[0],
+                                  (p0.lambda - lower[q][1]) / scale[1],
+                                  (p0.anisotropy - lower[q][2]) / scale[2]};
         for (unsigned int t = 0; t < 3; ++t)
           {
             H(3 * q + t, 3 * q + t) += settings.regularization;
@@ -230,9 +247,9 @@ namespace ddfem::coarsening
     for (unsigned int q = 0; q < n_points; ++q)
       {
         auto &p      = result.material.points[q];
-        p.mu         = floor + scale[0] * x(3 * q);
-        p.lambda     = scale[1] * x(3 * q + 1);
-        p.anisotropy = scale[2] * x(3 * q + 2);
+        p.mu         = lower[q][0] + scale[0] * x(3 * q);
+        p.lambda     = lower[q][1] + scale[1] * x(3 * q + 1);
+        p.anisotropy = lower[q][2] + scale[2] * x(3 * q + 2);
       }
 
     std::vector<double> errors =

@@ -5,7 +5,9 @@
 //    held-out samples and is softer than the naive coarse element, which
 //    copies the fine material to every point;
 // 3. the bounds hold: no fitted parameter is below its floor, even for a
-//    block with void children and a 1000x stiffness contrast.
+//    block with void children and a 1000x stiffness contrast, and with a
+//    point floor of 1/2 no point keeps less than half its fine mu and
+//    lambda.
 
 #include <ddfem/coarsening/block_sampler.h>
 #include <ddfem/coarsening/fitting.h>
@@ -174,6 +176,26 @@ main()
               << (smallest_mu >=
                   settings.stiffness_floor * 1e7 / 2.9 * (1 - 1e-12))
               << ", smallest lambda or C >= 0: " << (smallest_other >= 0)
+              << std::endl;
+    FitSettings bounded;
+    bounded.point_floor   = 0.5;
+    const auto above_half = [&](const Metamaterial &m) {
+      bool result = true;
+      for (unsigned int q = 0; q < 8; ++q)
+        {
+          const auto &p = m.points[q], &p0 = prior.points[q];
+          result &=
+            p.mu >= std::max(0.5 * p0.mu, bounded.stiffness_floor * 1e7 / 2.9) *
+                      (1 - 1e-12) &&
+            p.lambda >= 0.5 * p0.lambda * (1 - 1e-12);
+        }
+      return result;
+    };
+    std::cout << "without a point floor, every mu and lambda >= half its fine "
+                 "value: "
+              << above_half(fit.material) << "; with point floor 0.5: "
+              << above_half(
+                   fit_metamaterial(element, samples, prior, bounded).material)
               << std::endl;
     std::vector<double> naive_errors =
       relative_energy_errors(element, prior, samples);

@@ -25,6 +25,9 @@ namespace ddfem::coarsening
     /// Lower bound of every point's shear modulus, as a fraction of the
     /// block's largest fine shear modulus.
     double stiffness_floor = 1e-3;
+    /// Lower bound of every point's mu and lambda as a fraction of the
+    /// point's own fine values.
+    double point_floor = 0;
     /// Every n-th force pattern is held out of the fit to measure its
     /// error (0: none held out; the error is then measured on the fit's
     /// own samples).
@@ -60,7 +63,8 @@ namespace ddfem::coarsening
    *   1/n sum_s ((E_s - E(p; u_s)) / E_s)^2
    *     + regularization * sum_j ((p_j - p0_j) / s_j)^2
    *
-   * subject to mu >= stiffness_floor * s_mu, lambda >= 0 and C >= 0, with
+   * subject to mu >= max(stiffness_floor * s_mu, point_floor * mu0),
+   * lambda >= point_floor * lambda0 and C >= 0, with
    * p0 the fine parameters in @p prior (C0 = 0), s_j the block's largest
    * fine value of p_j's kind (largest mu for mu and C, largest lambda for
    * lambda), and the directions taken from @p prior. The energy is linear
