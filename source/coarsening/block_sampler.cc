@@ -801,9 +801,7 @@ namespace ddfem::coarsening
         previous               = magnitude;
         const Vector<double> u = add_fluctuation(u_base, w);
         Sample               s;
-        for (unsigned int v = 0; v < 8; ++v)
-          s.corners[v] =
-            magnitude * field(Point<3>(v & 1, (v >> 1) & 1, (v >> 2) & 1));
+        s.corners = corners(u); // the field's values: corners do not relax
         energy(u, s.energy);
         s.strain  = finite_strain(u);
         s.pattern = p;

@@ -432,7 +432,6 @@ namespace ddfem::coarsening
     children.fill(std::vector<material::MaterialPoint>(8, reference));
     SamplingSettings settings;
     settings.n_directions = n;
-    settings.embedded     = 0;
     settings.n_magnitudes = 1;
     settings.min_strain   = strain;
     settings.max_strain   = strain;
