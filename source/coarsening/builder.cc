@@ -439,18 +439,37 @@ namespace ddfem::coarsening
     // resumed build finds them), then the representatives' fits.
     // Tables built before the level-1 entries this build needs (lazy mode)
     // are built anew; their fits go with them.
-    Hierarchy level2;
-    bool      new_tables = false;
+    // A scene's blocks are required in the tables: each is then fitted as
+    // it is. Tables renewed for another scene keep the blocks required
+    // before, and the fits of compositions still represented.
+    Hierarchy                               level2;
+    bool                                    new_tables = false;
+    std::vector<std::array<Combination, 8>> blocks;
+    std::vector<BlockKeys>                  block_keys;
     if (levels == 2)
       {
+        if (scene_grids != nullptr)
+          for (const scene::VoxelGrid &grid : *scene_grids)
+            for (const auto &b : scene_blocks(grid))
+              {
+                blocks.push_back(b);
+                block_keys.push_back(Hierarchy::keys(database, b));
+              }
         if (std::filesystem::exists(database_file))
           Database::load(database_file, &level2);
         if (level2.empty() ||
             level2.settings.fingerprint() != hierarchy.fingerprint() ||
-            !level2.covers(database, wanted))
+            !level2.covers(database, wanted, block_keys))
           {
+            const Hierarchy old = std::move(level2);
+            block_keys.insert(block_keys.end(),
+                              old.required_blocks().begin(),
+                              old.required_blocks().end());
             level2 = Hierarchy();
-            level2.build_tables(database, hierarchy);
+            level2.build_tables(database, hierarchy, block_keys);
+            if (!old.empty() &&
+                old.settings.fingerprint() == hierarchy.fingerprint())
+              level2.keep_entries(database, old);
             Journal::remove(database_file + ".level2");
             new_tables = true;
           }
@@ -476,10 +495,9 @@ namespace ddfem::coarsening
           for (unsigned int r = 0; r < level2.n_representatives(); ++r)
             needed.push_back(r);
         else
-          for (const scene::VoxelGrid &grid : *scene_grids)
-            for (const auto &blocks : scene_blocks(grid))
-              if (const int r = level2.find(database, blocks); r >= 0)
-                needed.push_back(r);
+          for (const auto &block : blocks)
+            if (const int r = level2.find(database, block); r >= 0)
+              needed.push_back(r);
         const std::string level2_journal = database_file + ".level2";
         const std::string fingerprint =
           database.fingerprint() + " | " + hierarchy.fingerprint();
@@ -509,14 +527,20 @@ namespace ddfem::coarsening
             fit_in_parallel(
               needed.size(),
               [&](const std::size_t i) {
+                // A seed per composition: a fit does not depend on the
+                // representative's index in the current tables.
+                std::uint64_t seed = 0x2545F4914F6CDD1DULL;
+                for (const std::int64_t key :
+                     Hierarchy::keys(database,
+                                     level2.composition(database, needed[i])))
+                  seed = (seed ^ std::uint64_t(key + 1)) * 0x100000001B3ULL;
                 return fit_level2_entry(database,
                                         level2,
                                         needed[i],
                                         sampling,
                                         fitting2,
                                         element2,
-                                        0x2545F4914F6CDD1DULL *
-                                          (needed[i] + 1));
+                                        seed);
               },
               [&](const Entry &entry) {
                 journal.append(entry);

@@ -391,7 +391,7 @@ namespace ddfem::coarsening
   std::vector<unsigned int>
   farthest_point_sampling(const std::vector<std::vector<double>> &points,
                           const unsigned int                      k,
-                          const unsigned int                      first)
+                          const std::vector<unsigned int>        &first)
   {
     const auto distance = [&points](const unsigned int a,
                                     const unsigned int b) {
@@ -400,18 +400,18 @@ namespace ddfem::coarsening
         d += (points[a][i] - points[b][i]) * (points[a][i] - points[b][i]);
       return std::sqrt(d);
     };
-    std::vector<unsigned int> picked = {first};
-    std::vector<double>       nearest(points.size());
-    for (unsigned int p = 0; p < points.size(); ++p)
-      nearest[p] = distance(p, first);
+    std::vector<unsigned int> picked;
+    std::vector<double>       nearest(points.size(),
+                                std::numeric_limits<double>::max());
+    const auto                pick = [&](const unsigned int next) {
+      picked.push_back(next);
+      for (unsigned int p = 0; p < points.size(); ++p)
+        nearest[p] = std::min(nearest[p], distance(p, next));
+    };
+    for (const unsigned int p : first)
+      pick(p);
     while (picked.size() < std::min<std::size_t>(k, points.size()))
-      {
-        const unsigned int next =
-          std::max_element(nearest.begin(), nearest.end()) - nearest.begin();
-        picked.push_back(next);
-        for (unsigned int p = 0; p < points.size(); ++p)
-          nearest[p] = std::min(nearest[p], distance(p, next));
-      }
+      pick(std::max_element(nearest.begin(), nearest.end()) - nearest.begin());
     return picked;
   }
 
@@ -487,15 +487,39 @@ namespace ddfem::coarsening
   Clustering
   cluster(const std::vector<std::vector<double>> &features,
           const unsigned int                      k,
-          const std::uint64_t                     seed)
+          const std::uint64_t                     seed,
+          std::vector<unsigned int>               required)
   {
     Assert(!features.empty(), ExcInternalError());
+    std::sort(required.begin(), required.end());
+    required.erase(std::unique(required.begin(), required.end()),
+                   required.end());
+    // Sampling starts from a seeded point of the candidates: all points,
+    // or the required ones if they are too many to keep.
+    const bool        among_required = (required.size() > k);
+    const std::size_t n_candidates =
+      among_required ? required.size() : features.size();
     std::mt19937_64    generator(seed);
     const unsigned int first =
-      std::uniform_int_distribution<std::size_t>(0, features.size() - 1)(
-        generator);
+      std::uniform_int_distribution<std::size_t>(0,
+                                                 n_candidates - 1)(generator);
     Clustering result;
-    result.representatives = farthest_point_sampling(features, k, first);
+    if (among_required)
+      {
+        std::vector<std::vector<double>> subset;
+        for (const unsigned int p : required)
+          subset.push_back(features[p]);
+        for (const unsigned int i : farthest_point_sampling(subset, k, {first}))
+          result.representatives.push_back(required[i]);
+      }
+    else
+      result.representatives =
+        farthest_point_sampling(features,
+                                k,
+                                required.empty() ?
+                                  std::vector<unsigned int>{first} :
+                                  required);
+
     result.nearest.resize(features.size());
     for (unsigned int p = 0; p < features.size(); ++p)
       {
@@ -514,6 +538,9 @@ namespace ddfem::coarsening
               }
           }
       }
+    // Points with equal features stay apart if both are representatives.
+    for (unsigned int r = 0; r < result.representatives.size(); ++r)
+      result.nearest[result.representatives[r]] = r;
     return result;
   }
 

@@ -1,5 +1,6 @@
 #include <ddfem/coarsening/hierarchy.h>
 
+#include <map>
 #include <random>
 #include <sstream>
 
@@ -27,7 +28,10 @@ namespace ddfem::coarsening
                       "400",
                       Patterns::Integer(1),
                       "Second-level metamaterials (after the 1x1x2 stage); "
-                      "each one is sampled and fitted with 64 points.");
+                      "each one is sampled and fitted with 64 points. A "
+                      "scene's 4x4x4 blocks are picked first at every "
+                      "stage, so within these budgets each is fitted as "
+                      "it is.");
     prm.declare_entry(
       "Regularization",
       "1",
@@ -91,19 +95,51 @@ namespace ddfem::coarsening
 
 
 
+  BlockKeys
+  Hierarchy::keys(const Database                   &level1,
+                  const std::array<Combination, 8> &blocks)
+  {
+    BlockKeys result;
+    for (unsigned int p = 0; p < 8; ++p)
+      result[p] = std::all_of(blocks[p].begin(),
+                              blocks[p].end(),
+                              [](auto id) { return id == 0; }) ?
+                    -1 :
+                    std::int64_t(level1.combinations().key(blocks[p]));
+    return result;
+  }
+
+
+
   void
-  Hierarchy::build_tables(const Database          &level1,
-                          const HierarchySettings &new_settings)
+  Hierarchy::build_tables(const Database               &level1,
+                          const HierarchySettings      &new_settings,
+                          const std::vector<BlockKeys> &required_blocks)
   {
     settings = new_settings;
+    required = required_blocks;
+    std::sort(required.begin(), required.end());
+    required.erase(std::unique(required.begin(), required.end()),
+                   required.end());
     const CoarseElement element(1);
 
-    // The second level's palette: clusters of the level-1 metamaterials.
+    // The second level's palette: clusters of the level-1 metamaterials,
+    // the required blocks' sub-blocks first.
     std::vector<std::size_t> keys;
     const auto               level1_features =
       level1.features(element, feature_deformations(32, 0.1, 4711), keys);
+    std::vector<unsigned int> required_classes;
+    for (const BlockKeys &block : required)
+      for (const std::int64_t key : block)
+        if (key >= 0)
+          {
+            const auto at = std::lower_bound(keys.begin(), keys.end(), key);
+            AssertThrow(at != keys.end() && std::int64_t(*at) == key,
+                        ExcInternalError());
+            required_classes.push_back(at - keys.begin());
+          }
     const Clustering classes =
-      cluster(level1_features, settings.n_classes, 20260102);
+      cluster(level1_features, settings.n_classes, 20260102, required_classes);
     const unsigned int n1 = classes.representatives.size();
     class_of.assign(level1.combinations().size(), n1);
     for (unsigned int p = 0; p < keys.size(); ++p)
@@ -115,6 +151,16 @@ namespace ddfem::coarsening
     for (const auto key : class_key)
       class_material.push_back(
         level1.lookup(level1.combinations().combination(key)));
+
+    // The required blocks' classes at the current stage (void = n1).
+    std::vector<std::array<std::int32_t, 8>> required_at;
+    for (const BlockKeys &block : required)
+      {
+        std::array<std::int32_t, 8> c;
+        for (unsigned int p = 0; p < 8; ++p)
+          c[p] = block[p] < 0 ? n1 : class_of[block[p]];
+        required_at.push_back(c);
+      }
 
     std::array<unsigned int, 4> n_classes = {{n1, 0, 0, 0}};
     for (unsigned int s = 0; s < 3; ++s)
@@ -199,10 +245,25 @@ namespace ddfem::coarsening
               features.push_back(feature);
               candidates.push_back(a + (n_previous + 1) * b);
             }
+        // The required blocks' pairs at this stage.
+        const unsigned int        width = 8u >> (s + 1);
+        std::vector<unsigned int> required_pairs;
+        for (const auto &c : required_at)
+          for (unsigned int p = 0; p < width; ++p)
+            {
+              // Candidates are sorted; an all-void pair is none.
+              const std::int32_t pair =
+                c[2 * p] + std::int32_t(n_previous + 1) * c[2 * p + 1];
+              const auto at =
+                std::lower_bound(candidates.begin(), candidates.end(), pair);
+              if (at != candidates.end() && *at == pair)
+                required_pairs.push_back(at - candidates.begin());
+            }
         const unsigned int n_wanted =
           s < 2 ? settings.n_intermediate : settings.n_representatives;
-        const Clustering stage = cluster(features, n_wanted, 20260103 + s);
-        n_classes[s + 1]       = stage.representatives.size();
+        const Clustering stage =
+          cluster(features, n_wanted, 20260103 + s, required_pairs);
+        n_classes[s + 1] = stage.representatives.size();
         table[s].assign((n_previous + 1) * (n_previous + 1), n_classes[s + 1]);
         for (unsigned int p = 0; p < candidates.size(); ++p)
           table[s][candidates[p]] = stage.nearest[p];
@@ -212,6 +273,8 @@ namespace ddfem::coarsening
             pairs[s].push_back(candidates[r] % (n_previous + 1));
             pairs[s].push_back(candidates[r] / (n_previous + 1));
           }
+        for (auto &c : required_at)
+          pair_up(s, c);
       }
     entries.clear();
   }
@@ -239,16 +302,61 @@ namespace ddfem::coarsening
 
   bool
   Hierarchy::covers(const Database                 &level1,
-                    const std::vector<Combination> &combinations) const
+                    const std::vector<Combination> &combinations,
+                    const std::vector<BlockKeys>   &blocks) const
   {
-    return std::all_of(
-      combinations.begin(), combinations.end(), [&](const Combination &c) {
-        return std::all_of(c.begin(),
-                           c.end(),
-                           [](auto id) { return id == 0; }) ||
-               std::size_t(class_of[level1.combinations().key(c)]) <
-                 class_key.size();
-      });
+    const bool knows_combinations =
+      std::all_of(combinations.begin(),
+                  combinations.end(),
+                  [&](const Combination &c) {
+                    return std::all_of(c.begin(),
+                                       c.end(),
+                                       [](auto id) { return id == 0; }) ||
+                           std::size_t(class_of[level1.combinations().key(c)]) <
+                             class_key.size();
+                  });
+    return knows_combinations &&
+           std::all_of(blocks.begin(), blocks.end(), [&](const BlockKeys &b) {
+             return std::all_of(b.begin(),
+                                b.end(),
+                                [](auto key) { return key < 0; }) ||
+                    std::binary_search(required.begin(), required.end(), b);
+           });
+  }
+
+
+
+  void
+  Hierarchy::keep_entries(const Database &level1, const Hierarchy &old)
+  {
+    std::map<BlockKeys, unsigned int> representative;
+    for (unsigned int r = 0; r < n_representatives(); ++r)
+      representative[keys(level1, composition(level1, r))] = r;
+    entries.clear();
+    for (const Entry &e : old.entries)
+      {
+        const auto match =
+          representative.find(keys(level1, old.composition(level1, e.key)));
+        if (match != representative.end())
+          {
+            entries.push_back(e);
+            entries.back().key = match->second;
+          }
+      }
+    std::sort(entries.begin(),
+              entries.end(),
+              [](const Entry &a, const Entry &b) { return a.key < b.key; });
+  }
+
+
+
+  void
+  Hierarchy::pair_up(const unsigned int s, std::array<std::int32_t, 8> &c) const
+  {
+    const std::size_t n =
+      (s == 0 ? class_key.size() : pairs[s - 1].size() / 2) + 1;
+    for (unsigned int p = 0; p < (8u >> (s + 1)); ++p)
+      c[p] = table[s][c[2 * p] + n * c[2 * p + 1]];
   }
 
 
@@ -257,30 +365,21 @@ namespace ddfem::coarsening
   Hierarchy::find(const Database                   &level1,
                   const std::array<Combination, 8> &blocks) const
   {
+    const BlockKeys             block = keys(level1, blocks);
     std::array<std::int32_t, 8> c;
     for (unsigned int p = 0; p < 8; ++p)
       {
-        const bool is_void = std::all_of(blocks[p].begin(),
-                                         blocks[p].end(),
-                                         [](auto id) { return id == 0; });
-        c[p]               = is_void ? class_key.size() :
-                                       class_of[level1.combinations().key(blocks[p])];
-        AssertThrow(is_void || c[p] < std::int32_t(class_key.size()),
+        c[p] = block[p] < 0 ? class_key.size() : class_of[block[p]];
+        AssertThrow(block[p] < 0 || c[p] < std::int32_t(class_key.size()),
                     ExcMessage("The level-2 tables of the metamaterial "
                                "database predate a level-1 entry this "
                                "block needs; run the scene's database build "
                                "again (Run type = database) to renew them."));
       }
     // Pair along x, then y, then z.
-    std::size_t n = class_key.size() + 1;
     for (unsigned int s = 0; s < 3; ++s)
-      {
-        const unsigned int width = 8u >> (s + 1);
-        for (unsigned int p = 0; p < width; ++p)
-          c[p] = table[s][c[2 * p] + n * c[2 * p + 1]];
-        n = pairs[s].size() / 2 + 1;
-      }
-    return c[0] == std::int32_t(n - 1) ? -1 : c[0];
+      pair_up(s, c);
+    return c[0] == std::int32_t(n_representatives()) ? -1 : c[0];
   }
 
 
@@ -333,6 +432,13 @@ namespace ddfem::coarsening
                       {hsize_t(pairs[s].size() / 2), 2},
                       pairs[s]);
       }
+    std::vector<std::int64_t> required_keys;
+    for (const BlockKeys &block : required)
+      required_keys.insert(required_keys.end(), block.begin(), block.end());
+    write_dataset(file,
+                  "level2/required",
+                  {hsize_t(required.size()), 8},
+                  required_keys);
     write_entries(file, "level2/entries", entries, 64);
   }
 
@@ -381,6 +487,20 @@ namespace ddfem::coarsening
                 "has invalid " + stage + " pairs");
         n_previous = n;
       }
+    const hsize_t n_required = dataset_length(file, "level2/required");
+    const std::vector<std::int64_t> required_keys =
+      read_dataset<std::int64_t>(file, "level2/required", {n_required, 8});
+    required.resize(n_required);
+    for (hsize_t b = 0; b < n_required; ++b)
+      for (unsigned int p = 0; p < 8; ++p)
+        {
+          required[b][p] = required_keys[8 * b + p];
+          check(required[b][p] >= -1 &&
+                  required[b][p] < std::int64_t(n_level1_keys),
+                "has an invalid level-2 required block");
+        }
+    check(std::is_sorted(required.begin(), required.end()),
+          "has unsorted level-2 required blocks");
     entries = read_entries(file, "level2/entries", 64);
     for (const Entry &e : entries)
       check(e.key < n_previous, "has a level-2 entry beyond the tables");

@@ -117,6 +117,8 @@ main()
                                  "compressed",
                                  "lazy",
                                  "level2",
+                                 "lazy2",
+                                 "lazy2_both",
                                  "one",
                                  "garbage",
                                  "truncated"})
@@ -243,9 +245,28 @@ main()
     std::cout << "Farthest point sampling" << std::endl;
     const std::vector<std::vector<double>> points = {
       {0}, {1}, {2}, {10}, {11}, {5}};
-    for (const unsigned int i : farthest_point_sampling(points, 4, 0))
+    for (const unsigned int i : farthest_point_sampling(points, 4, {0}))
       std::cout << i << " ";
     std::cout << std::endl;
+    // Required points are representatives of their own, and sampling goes
+    // on from them; more required points than representatives are sampled
+    // among themselves.
+    for (const std::vector<unsigned int> &required :
+         {std::vector<unsigned int>{1, 4}, std::vector<unsigned int>{0, 1, 2}})
+      {
+        const Clustering c =
+          cluster(points, 2 + (required.size() == 2), 1, required);
+        std::cout << "required";
+        for (const unsigned int p : required)
+          std::cout << " " << p;
+        std::cout << ": representatives";
+        for (const unsigned int p : c.representatives)
+          std::cout << " " << p;
+        std::cout << ", nearest";
+        for (const unsigned int r : c.nearest)
+          std::cout << " " << c.representatives[r];
+        std::cout << std::endl;
+      }
   }
 
   {
@@ -331,6 +352,79 @@ main()
       all_found &= (level2.lookup(loaded, blocks).points.size() == 64);
     std::cout << "every block of a random grid has a 64-point metamaterial: "
               << all_found << std::endl;
+  }
+
+  {
+    // Lazy mode at level 2: each block of a scene is the representative of
+    // itself, so it is fitted as it is. A second scene renews the tables
+    // but keeps the first scene's fits, and the fits equal those of one
+    // build for both scenes.
+    std::cout << "Second level, lazy" << std::endl;
+    // Random 2x2x2 sub-blocks of three kinds (soft, stiff, checkerboard),
+    // so that the scenes' parts fit into the test's small budgets.
+    const auto random_grid = [](const unsigned int seed) {
+      scene::VoxelGrid grid({{8, 4, 4}}, 0.01, 1);
+      std::mt19937     generator(seed);
+      for (unsigned int k = 0; k < 4; k += 2)
+        for (unsigned int j = 0; j < 4; j += 2)
+          for (unsigned int i = 0; i < 8; i += 2)
+            {
+              const unsigned int kind = generator() % 3;
+              for (unsigned int v = 0; v < 8; ++v)
+                grid(i + (v & 1), j + ((v >> 1) & 1), k + (v >> 2)) =
+                  kind < 2 ? 1 + kind : 1 + ((v ^ (v >> 1) ^ (v >> 2)) & 1);
+            }
+      return grid;
+    };
+    const std::vector<scene::VoxelGrid> first  = {random_grid(1)},
+                                        second = {random_grid(2)},
+                                        both   = {first[0], second[0]};
+    // The level-2 metamaterial of every block of @p grids, built into @p file.
+    const auto build_lazily = [](const std::string                   &file,
+                                 const std::vector<scene::VoxelGrid> &grids) {
+      std::ostringstream    log;
+      const DatabaseBuilder b  = builder(file, false, "scene", 1, 0, 2);
+      Database              db = b.open(palette(), log);
+      Hierarchy             level2;
+      b.build(palette(), db, &grids, log, false, &level2);
+      std::vector<Metamaterial> result;
+      bool                      exact = true;
+      for (const auto &grid : grids)
+        for (const auto &block : DatabaseBuilder::scene_blocks(grid))
+          {
+            const int r = level2.find(db, block);
+            exact &= (level2.composition(db, r) == block);
+            result.push_back(level2.lookup(db, block));
+          }
+      std::cout << "  " << level2.n_representatives() << " representatives, "
+                << level2.entries.size() << " fitted, every block its own "
+                << "representative: " << exact << std::endl;
+      return result;
+    };
+    const auto same = [](const std::vector<Metamaterial> &a,
+                         const std::vector<Metamaterial> &b) {
+      bool equal = (a.size() == b.size());
+      for (unsigned int m = 0; equal && m < a.size(); ++m)
+        for (unsigned int q = 0; q < 64; ++q)
+          equal &= (a[m].points[q].mu == b[m].points[q].mu &&
+                    a[m].points[q].lambda == b[m].points[q].lambda &&
+                    a[m].points[q].anisotropy == b[m].points[q].anisotropy);
+      return equal;
+    };
+    std::filesystem::remove("lazy2.h5");
+    std::filesystem::remove("lazy2_both.h5");
+    const auto first_alone = build_lazily("lazy2.h5", first);
+    build_lazily("lazy2.h5", second);
+    const auto first_again = build_lazily("lazy2.h5", first);
+    const auto together    = build_lazily("lazy2_both.h5", both);
+    std::cout << "  the first scene's fits survive the second scene: "
+              << same(first_alone, first_again)
+              << "\n  and equal those of one build for both scenes: "
+              << same(first_alone,
+                      std::vector<Metamaterial>(together.begin(),
+                                                together.begin() +
+                                                  first_alone.size()))
+              << std::endl;
   }
 
   {

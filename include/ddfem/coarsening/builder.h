@@ -83,8 +83,11 @@ namespace ddfem::coarsening
      * @p show_progress a progress bar with the estimated time left, and
      * timings. The file is written only if something was added. With
      * Levels = 2 the level-2 tables and entries end up in @p level2_result
-     * if given. Level-2 tables that do not know a combination the build
-     * covers (built before lazy builds extended level 1) are built anew.
+     * if given. Level-2 tables are built anew if they do not know a
+     * combination the build covers (built before lazy builds extended
+     * level 1) or were not built with @p scene_grids' 4x4x4 blocks
+     * required; the new tables require those and the earlier ones, and
+     * keep the fits of compositions they still represent.
      */
     void
     build(const scene::Palette                &palette,

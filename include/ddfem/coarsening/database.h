@@ -16,7 +16,7 @@ namespace ddfem::coarsening
   class Hierarchy;
 
   /// Version of the database file layout; a file with another is rejected.
-  constexpr int database_format_version = 1;
+  constexpr int database_format_version = 2;
 
   /**
    * One fitted first-level metamaterial: the metamaterial of an orbit
@@ -216,23 +216,27 @@ namespace ddfem::coarsening
 
   /**
    * Picks @p k representatives of @p features by farthest point sampling
-   * from a start drawn with @p seed, and assigns every point to its
-   * nearest representative (paper section 4.4).
+   * and assigns every point to its nearest representative (paper section
+   * 4.4); a representative is its own nearest. The points @p required
+   * (indices) are picked first, and sampling goes on from them; without
+   * any, it starts from a point drawn with @p seed. If more than @p k
+   * points are required, the @p k are sampled among those alone.
    */
   Clustering
   cluster(const std::vector<std::vector<double>> &features,
           const unsigned int                      k,
-          const std::uint64_t                     seed);
+          const std::uint64_t                     seed,
+          std::vector<unsigned int>               required = {});
 
   /**
-   * Farthest point sampling: starting from @p first, repeatedly picks the
-   * point farthest (Euclidean) from all picked ones, until @p k are
+   * Farthest point sampling: picks the points @p first, then repeatedly
+   * the point farthest (Euclidean) from all picked ones, until @p k are
    * picked (or all). Returns the picked indices in order.
    */
   std::vector<unsigned int>
   farthest_point_sampling(const std::vector<std::vector<double>> &points,
                           const unsigned int                      k,
-                          const unsigned int                      first);
+                          const std::vector<unsigned int>        &first);
 
   /**
    * The common deformations of compression features: the corner motions

@@ -42,6 +42,12 @@ namespace ddfem::coarsening
   };
 
   /**
+   * A 4x4x4 block of voxels as the level-1 keys of its eight 2x2x2
+   * sub-blocks (child order; -1 for an all-void sub-block).
+   */
+  using BlockKeys = std::array<std::int64_t, 8>;
+
+  /**
    * The second coarsening level (paper section 4.5): a 4x4x4 block of
    * voxels is a 2x2x2 block of level-1 elements. The level-1
    * metamaterials are clustered into n_classes classes (the second
@@ -52,6 +58,11 @@ namespace ddfem::coarsening
    * the lookup table to the next. Features are the log-energies of the
    * composite blocks (sums of their level-1 elements' energies, paper
    * eq. 5) under common deformations.
+   *
+   * Blocks a scene needs are required: every stage picks their parts
+   * first, so, as long as they fit into the budgets, each is the
+   * representative of itself and is fitted as it is, not as the nearest
+   * of other compositions. Sampling then goes on over all compositions.
    *
    * A second-level metamaterial has 64 points (CoarseElement(2)); point q
    * starts from, and is regularized toward, the record of its child's
@@ -65,10 +76,13 @@ namespace ddfem::coarsening
 
     /**
      * Builds the classes and the three stages' lookup tables from the
-     * complete level-1 database @p level1.
+     * level-1 database @p level1 (every entry it has), picking the blocks
+     * @p required first. Drops all entries.
      */
     void
-    build_tables(const Database &level1, const HierarchySettings &settings);
+    build_tables(const Database               &level1,
+                 const HierarchySettings      &settings,
+                 const std::vector<BlockKeys> &required = {});
 
     /// Whether the tables exist.
     bool
@@ -84,6 +98,17 @@ namespace ddfem::coarsening
       return pairs[2].size() / 2;
     }
 
+    /// The blocks the tables were built to represent, sorted.
+    const std::vector<BlockKeys> &
+    required_blocks() const
+    {
+      return required;
+    }
+
+    /// The keys of a 4x4x4 block given as its eight 2x2x2 sub-blocks.
+    static BlockKeys
+    keys(const Database &level1, const std::array<Combination, 8> &blocks);
+
     /**
      * The level-1 blocks (one combination per child, child 0 first; all
      * void for a void child) whose metamaterials make representative
@@ -94,13 +119,23 @@ namespace ddfem::coarsening
 
     /**
      * Whether the tables know every non-void combination of
-     * @p combinations: the tables are built from the level-1 entries
+     * @p combinations and were built with every non-void block of
+     * @p blocks required: the tables are built from the level-1 entries
      * present at the time, so a database extended later (lazy mode) needs
      * new tables.
      */
     bool
     covers(const Database                 &level1,
-           const std::vector<Combination> &combinations) const;
+           const std::vector<Combination> &combinations,
+           const std::vector<BlockKeys>   &blocks) const;
+
+    /**
+     * Keeps the entries of @p old (tables over the same level-1 entries)
+     * whose composition is a representative of these tables, under their
+     * new index: a representative's fit depends on its composition only.
+     */
+    void
+    keep_entries(const Database &level1, const Hierarchy &old);
 
     /**
      * The representative of a 4x4x4 block given as its eight 2x2x2
@@ -135,6 +170,15 @@ namespace ddfem::coarsening
     load(const std::int64_t file, const std::size_t n_level1_keys);
 
   private:
+    /**
+     * Replaces the classes of pairs of stage @p s in @p c (child order,
+     * 8 >> s of them) by their classes at the next stage.
+     */
+    void
+    pair_up(const unsigned int s, std::array<std::int32_t, 8> &c) const;
+
+    /// The blocks picked first, sorted.
+    std::vector<BlockKeys> required;
     /// Per level-1 key, its class (n_classes for the all-void block).
     std::vector<std::int32_t> class_of;
     /// The level-1 key representing each class.
