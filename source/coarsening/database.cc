@@ -431,6 +431,7 @@ namespace ddfem::coarsening
     std::array<std::vector<material::MaterialPoint>, 8> children;
     children.fill(std::vector<material::MaterialPoint>(8, reference));
     SamplingSettings settings;
+    settings.embedded     = 0;
     settings.n_directions = n;
     settings.n_magnitudes = 1;
     settings.min_strain   = strain;

@@ -103,7 +103,10 @@ main()
                          1e-10);
   }
 
+  // The paper's force patterns on a free block; embedded samples are
+  // tested in embedded_samples.cc.
   SamplingSettings sampling;
+  sampling.embedded             = 0;
   sampling.n_directions         = 40;
   sampling.n_stretch_directions = 60;
 
