@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <iomanip>
 #include <mutex>
+#include <set>
 #include <thread>
 
 namespace ddfem::coarsening
@@ -490,14 +491,23 @@ namespace ddfem::coarsening
 
     if (levels == 2)
       {
-        std::vector<unsigned int> needed;
+        // The scene's distinct blocks, and those that are their own
+        // representative (all, unless they exceed the budgets).
+        std::vector<unsigned int>            needed;
+        std::set<std::array<Combination, 8>> distinct;
+        std::size_t                          n_own = 0;
         if (scene_grids == nullptr)
           for (unsigned int r = 0; r < level2.n_representatives(); ++r)
             needed.push_back(r);
         else
           for (const auto &block : blocks)
             if (const int r = level2.find(database, block); r >= 0)
-              needed.push_back(r);
+              {
+                needed.push_back(r);
+                if (distinct.insert(block).second &&
+                    level2.composition(database, r) == block)
+                  ++n_own;
+              }
         const std::string level2_journal = database_file + ".level2";
         const std::string fingerprint =
           database.fingerprint() + " | " + hierarchy.fingerprint();
@@ -516,6 +526,15 @@ namespace ddfem::coarsening
         out << "Level 2: " << level2.n_representatives() << " representatives, "
             << level2.entries.size() << " fitted, " << needed.size()
             << " to fit" << std::endl;
+        if (scene_grids != nullptr)
+          {
+            out << "  " << n_own << " of " << distinct.size()
+                << " distinct 4x4x4 blocks fitted as they are";
+            if (n_own < distinct.size())
+              out << "; the others exceed the Level 2 budgets and share "
+                     "the nearest representative's fit";
+            out << std::endl;
+          }
 
         const CoarseElement element2(2);
         FitSettings         fitting2 = fitting;

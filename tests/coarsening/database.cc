@@ -119,6 +119,7 @@ main()
                                  "level2",
                                  "lazy2",
                                  "lazy2_both",
+                                 "lazy2_over",
                                  "one",
                                  "garbage",
                                  "truncated"})
@@ -417,6 +418,25 @@ main()
     build_lazily("lazy2.h5", second);
     const auto first_again = build_lazily("lazy2.h5", first);
     const auto together    = build_lazily("lazy2_both.h5", both);
+    // A scene with more distinct parts than the budgets allow: the build
+    // says how many blocks share another composition's fit.
+    {
+      scene::VoxelGrid grid({{8, 8, 4}}, 0.01, 1);
+      std::mt19937     generator(3);
+      for (std::size_t v = 0; v < grid.n_voxels(); ++v)
+        grid[v] = 1 + generator() % 2;
+      std::filesystem::remove("lazy2_over.h5");
+      std::ostringstream    log;
+      const DatabaseBuilder b =
+        builder("lazy2_over.h5", false, "scene", 1, 0, 2);
+      Database                            db    = b.open(palette(), log);
+      const std::vector<scene::VoxelGrid> grids = {grid};
+      b.build(palette(), db, &grids, log, false);
+      std::istringstream lines(log.str());
+      for (std::string line; std::getline(lines, line);)
+        if (line.find("distinct 4x4x4 blocks") != std::string::npos)
+          std::cout << "  over the budgets:" << line << std::endl;
+    }
     std::cout << "  the first scene's fits survive the second scene: "
               << same(first_alone, first_again)
               << "\n  and equal those of one build for both scenes: "
