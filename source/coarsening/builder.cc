@@ -438,11 +438,10 @@ namespace ddfem::coarsening
 
     // Level 2: the staged tables first (saved before any fit, so a
     // resumed build finds them), then the representatives' fits.
-    // Tables built before the level-1 entries this build needs (lazy mode)
-    // are built anew; their fits go with them.
     // A scene's blocks are required in the tables: each is then fitted as
-    // it is. Tables renewed for another scene keep the blocks required
-    // before, and the fits of compositions still represented.
+    // it is. Tables that predate a level-1 entry or a block this build
+    // needs (lazy mode) are built anew; they keep the blocks required
+    // before, and the fits of compositions they still represent.
     Hierarchy                               level2;
     bool                                    new_tables = false;
     std::vector<std::array<Combination, 8>> blocks;

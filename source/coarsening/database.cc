@@ -624,18 +624,25 @@ namespace ddfem::coarsening
   Journal::Journal(const std::string &database_file,
                    const std::string &fingerprint)
   {
-    const std::string name  = journal_name(database_file);
-    const bool        fresh = !std::filesystem::exists(name);
-    file                    = std::fopen(name.c_str(), "ab");
+    const std::string name = journal_name(database_file);
+    // A new journal gets its header under another name first: a reader
+    // (or a build killed meanwhile) never sees half a header.
+    if (!std::filesystem::exists(name))
+      {
+        const std::string partial = name + ".partial";
+        std::FILE        *header  = std::fopen(partial.c_str(), "wb");
+        AssertThrow(header != nullptr,
+                    ExcMessage("Cannot write the build journal " + partial +
+                               "."));
+        const std::uint64_t length = fingerprint.size();
+        std::fwrite(&length, sizeof(length), 1, header);
+        std::fwrite(fingerprint.data(), 1, length, header);
+        std::fclose(header);
+        std::filesystem::rename(partial, name);
+      }
+    file = std::fopen(name.c_str(), "ab");
     AssertThrow(file != nullptr,
                 ExcMessage("Cannot write the build journal " + name + "."));
-    if (fresh)
-      {
-        const std::uint64_t length = fingerprint.size();
-        std::fwrite(&length, sizeof(length), 1, file);
-        std::fwrite(fingerprint.data(), 1, length, file);
-        std::fflush(file);
-      }
   }
 
 
