@@ -751,12 +751,7 @@ namespace ddfem::coarsening
           }
         u        = guess;
         previous = magnitude;
-        Sample s;
-        s.corners = corners(u);
-        energy(u, s.energy);
-        s.strain  = finite_strain(u);
-        s.pattern = p;
-        samples.push_back(s);
+        samples.push_back(sample_of(u, p));
       }
   }
 
@@ -797,16 +792,24 @@ namespace ddfem::coarsening
             n_dropped += settings.n_magnitudes - j;
             return;
           }
-        w                      = guess;
-        previous               = magnitude;
-        const Vector<double> u = add_fluctuation(u_base, w);
-        Sample               s;
-        s.corners = corners(u); // the field's values: corners do not relax
-        energy(u, s.energy);
-        s.strain  = finite_strain(u);
-        s.pattern = p;
-        samples.push_back(s);
+        w        = guess;
+        previous = magnitude;
+        // The corners keep the field's values: they do not relax.
+        samples.push_back(sample_of(add_fluctuation(u_base, w), p));
       }
+  }
+
+
+
+  Sample
+  BlockSampler::sample_of(const Vector<double> &u, const unsigned int p) const
+  {
+    Sample s;
+    s.corners = corners(u);
+    energy(u, s.energy);
+    s.strain  = finite_strain(u);
+    s.pattern = p;
+    return s;
   }
 
 

@@ -261,6 +261,10 @@ namespace ddfem::coarsening
     double
     finite_strain(const Vector<double> &u) const;
 
+    /// The sample of the solved block field @p u of pattern @p p.
+    Sample
+    sample_of(const Vector<double> &u, const unsigned int p) const;
+
     std::array<std::vector<material::MaterialPoint>, 8> materials;
     Triangulation<3>                                    triangulation;
     FESystem<3>                                         fe;
