@@ -29,12 +29,13 @@ namespace ddfem::coarsening
     prm.declare_entry("Embedded fraction",
                       "0",
                       Patterns::Double(0, 1),
-                      "Fraction of the patterns of a block without void "
-                      "voxels that sample it as it deforms inside a part: a "
-                      "random homogeneous strain that the block's corners "
-                      "follow exactly and its other nodes up to a periodic "
-                      "fluctuation (the block's homogenized energy). The "
-                      "other patterns, and all patterns of blocks with void "
+                      "Fraction of the patterns of a mixed block (more than "
+                      "one material, no void voxel) that sample it as it "
+                      "deforms inside a part: a random homogeneous strain "
+                      "that the block's corners follow exactly and its other "
+                      "nodes up to a periodic fluctuation (the block's "
+                      "homogenized energy). The other patterns, and all "
+                      "patterns of homogeneous blocks and of blocks with void "
                       "voxels, are force patterns on a free block (the "
                       "paper's sampling, 0), which soften the stiff children "
                       "of mixed blocks. doc/coarsening.md compares them.");
@@ -90,6 +91,22 @@ namespace ddfem::coarsening
                            std::to_string(min_strain) +
                            ") must not exceed Sampling/Maximum strain (" +
                            std::to_string(max_strain) + ")."));
+  }
+
+
+
+  SamplingSettings
+  SamplingSettings::for_block(
+    const std::vector<scene::MaterialId> &voxels) const
+  {
+    SamplingSettings result = *this;
+    if (std::find(voxels.begin(), voxels.end(), scene::void_id) !=
+          voxels.end() ||
+        std::all_of(voxels.begin(), voxels.end(), [&](const auto id) {
+          return id == voxels.front();
+        }))
+      result.embedded = 0;
+    return result;
   }
 
 

@@ -199,7 +199,10 @@ namespace ddfem::coarsening
     Entry              entry;
     entry.key = database.combinations().key(combination);
     const std::vector<Sample> samples =
-      sampler.sample(sampling, seed, entry.n_dropped);
+      sampler.sample(sampling.for_block(
+                       {combination.begin(), combination.end()}),
+                     seed,
+                     entry.n_dropped);
     const std::vector<Tensor<1, 3>> directions =
       sampler.anisotropy_directions(sampling, element);
     for (unsigned int q = 0; q < 8; ++q)
@@ -240,18 +243,15 @@ namespace ddfem::coarsening
           p = child[element.subpoint_of_point(q)];
         prior.points.push_back(p);
       }
-    // A block with void voxels inside lies on a part's surface, even if
-    // none of its eight children is all void: sample it as a free block.
-    SamplingSettings block_sampling = sampling;
+    // The sampling follows the block's 64 voxels: a void voxel inside a
+    // child puts the block on a part's surface even if no child is void.
+    std::vector<scene::MaterialId> voxels;
     for (const Combination &block : blocks)
-      if (std::any_of(block.begin(), block.end(), [](auto id) {
-            return id == scene::void_id;
-          }))
-        block_sampling.embedded = 0;
+      voxels.insert(voxels.end(), block.begin(), block.end());
     const BlockSampler        sampler(children);
     Entry                     entry;
     const std::vector<Sample> samples =
-      sampler.sample(block_sampling, seed, entry.n_dropped);
+      sampler.sample(sampling.for_block(voxels), seed, entry.n_dropped);
     const FitResult fit = fit_metamaterial(element, samples, prior, fitting);
     entry.key           = r;
     entry.material      = fit.material;

@@ -51,7 +51,7 @@ namespace ddfem::coarsening
     std::ostringstream s;
     s << std::setprecision(17) << "palette: " << palette
       << " | void: " << with_void << " | patterns: " << sampling.n_directions
-      << ", embedded: " << sampling.embedded
+      << ", embedded (mixed blocks): " << sampling.embedded
       << ", magnitudes: " << sampling.n_magnitudes
       << ", strains: " << sampling.min_strain << "-" << sampling.max_strain
       << ", traction gradient: " << sampling.traction_gradient

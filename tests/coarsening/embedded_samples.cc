@@ -194,4 +194,23 @@ main()
     std::cout << "samples equal to the force patterns': "
               << (same ? "yes" : "no") << std::endl;
   }
+
+  {
+    std::cout << "Embedded fraction per block (set: " << sampling.embedded
+              << ")" << std::endl;
+    const auto report = [&](const std::string                    &name,
+                            const std::vector<scene::MaterialId> &voxels) {
+      std::cout << name << ": " << sampling.for_block(voxels).embedded
+                << std::endl;
+    };
+    report("homogeneous 2x2x2", std::vector<scene::MaterialId>(8, 2));
+    report("mixed 2x2x2", {1, 1, 2, 1, 1, 1, 1, 3});
+    report("mixed 2x2x2 with a void voxel", {1, 1, 2, 1, 0, 1, 1, 3});
+    report("homogeneous 4x4x4", std::vector<scene::MaterialId>(64, 3));
+    std::vector<scene::MaterialId> voxels(64, 1);
+    voxels[40] = 2;
+    report("4x4x4 with one other voxel", voxels);
+    voxels[63] = scene::void_id;
+    report("the same with a void voxel", voxels);
+  }
 }

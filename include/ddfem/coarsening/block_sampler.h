@@ -11,6 +11,7 @@
 #include <deal.II/lac/vector.h>
 
 #include <ddfem/coarsening/metamaterial.h>
+#include <ddfem/scene/voxel_grid.h>
 
 #include <array>
 #include <cstdint>
@@ -31,8 +32,9 @@ namespace ddfem::coarsening
   {
     /// Number of random patterns per block.
     unsigned int n_directions = 500;
-    /// The fraction of the patterns of a block without void that are
-    /// embedded (see BlockSampler::sample()) instead of force patterns.
+    /// The fraction of the patterns of a mixed block (see for_block())
+    /// that are embedded (see BlockSampler::sample()) instead of force
+    /// patterns.
     double embedded = 0;
     /// Number of magnitudes per pattern.
     unsigned int n_magnitudes = 5;
@@ -51,6 +53,18 @@ namespace ddfem::coarsening
     /// Reads and validates the subsection "Sampling".
     void
     parse_parameters(ParameterHandler &prm);
+
+    /**
+     * The settings for a block whose fine voxels have the material IDs
+     * @p voxels: these settings if the block is mixed (more than one
+     * material, no void voxel), otherwise the same with force patterns
+     * only. A block with a void voxel lies on a part's surface and deforms
+     * as a free block. A homogeneous block's embedded samples are exactly
+     * the naive element's energy (its periodic fluctuation vanishes), so
+     * only force patterns can correct the coarse element there.
+     */
+    SamplingSettings
+    for_block(const std::vector<scene::MaterialId> &voxels) const;
   };
 
   /**
