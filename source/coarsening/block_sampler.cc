@@ -27,7 +27,7 @@ namespace ddfem::coarsening
                       "patterns on a free block, or embedded strains (see "
                       "Embedded fraction).");
     prm.declare_entry("Embedded fraction",
-                      "0",
+                      "1",
                       Patterns::Double(0, 1),
                       "Fraction of the patterns of a mixed block (more than "
                       "one material, no void voxel) that sample it as it "
@@ -37,8 +37,10 @@ namespace ddfem::coarsening
                       "homogenized energy). The other patterns, and all "
                       "patterns of homogeneous blocks and of blocks with void "
                       "voxels, are force patterns on a free block (the "
-                      "paper's sampling, 0), which soften the stiff children "
-                      "of mixed blocks. doc/coarsening.md compares them.");
+                      "paper's sampling, 0). Force patterns soften the stiff "
+                      "children of mixed blocks; embedded samples of a "
+                      "homogeneous block would equal the naive element. "
+                      "doc/coarsening.md compares them.");
     prm.declare_entry("Magnitudes",
                       "5",
                       Patterns::Integer(1),

@@ -35,7 +35,7 @@ namespace ddfem::coarsening
     /// The fraction of the patterns of a mixed block (see for_block())
     /// that are embedded (see BlockSampler::sample()) instead of force
     /// patterns.
-    double embedded = 0;
+    double embedded = 1;
     /// Number of magnitudes per pattern.
     unsigned int n_magnitudes = 5;
     /// Linearized strain of the smallest and the largest magnitude.
