@@ -150,7 +150,8 @@ namespace ddfem::coarsening
      * samples are then the block's homogenized energy. A free block
      * deforms mostly through its soft children and a fit to it softens
      * the stiff ones; inside a body the stiff children carry load as
-     * well.
+     * well. The database builder passes SamplingSettings::for_block(), so
+     * only mixed blocks get embedded patterns.
      */
     std::vector<Sample>
     sample(const SamplingSettings &settings,
