@@ -8,6 +8,7 @@
 #include <ddfem/scene/scene.h>
 #include <ddfem/solver/cell_kernel.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <numeric>
