@@ -211,6 +211,12 @@ namespace ddfem::coarsening
     entry.material =
       symmetrize(fit.material, combination, database.symmetries());
     record_fit(fit, samples, entry);
+    FitSettings child_fitting    = fitting;
+    child_fitting.regularization = fitting.child_regularization;
+    entry.child_material         = symmetrize(
+      fit_metamaterial(element, samples, prior, child_fitting).material,
+      combination,
+      database.symmetries());
     return entry;
   }
 
@@ -231,7 +237,7 @@ namespace ddfem::coarsening
       if (std::any_of(blocks[k].begin(), blocks[k].end(), [](auto id) {
             return id != 0;
           }))
-        children[k] = level1.lookup(blocks[k]).points;
+        children[k] = level1.lookup(blocks[k], Fit::child).points;
     // Point q starts from its child's sub-point and keeps its direction.
     Metamaterial prior;
     for (unsigned int q = 0; q < element.n_points(); ++q)

@@ -57,6 +57,7 @@ namespace ddfem::coarsening
       << ", traction gradient: " << sampling.traction_gradient
       << ", stretch directions: " << sampling.n_stretch_directions
       << " | regularization: " << fitting.regularization
+      << ", child regularization: " << fitting.child_regularization
       << ", stiffness floor: " << fitting.stiffness_floor
       << ", point floor: " << fitting.point_floor
       << ", held-out every: " << fitting.held_out_every;
@@ -95,26 +96,39 @@ namespace ddfem::coarsening
 
 
     void
+    append_values(const Metamaterial &m, std::vector<double> &values)
+    {
+      for (const auto &p : m.points)
+        values.insert(values.end(),
+                      {p.mu,
+                       p.lambda,
+                       p.anisotropy,
+                       p.direction[0],
+                       p.direction[1],
+                       p.direction[2]});
+    }
+
+
+
+    void
     write_entries(const hid_t               file,
                   const std::string        &group,
                   const std::vector<Entry> &entries,
-                  const unsigned int        n_points)
+                  const unsigned int        n_points,
+                  const bool                with_children)
     {
       const hsize_t             n = entries.size();
       std::vector<std::int64_t> keys, counts;
-      std::vector<double>       parameters, errors, strains;
+      std::vector<double>       parameters, children, errors, strains;
       for (const Entry &e : entries)
         {
           Assert(e.material.points.size() == n_points, ExcInternalError());
+          Assert(e.child_material.points.size() ==
+                   (with_children ? n_points : 0),
+                 ExcInternalError());
           keys.push_back(e.key);
-          for (const auto &p : e.material.points)
-            for (const double value : {p.mu,
-                                       p.lambda,
-                                       p.anisotropy,
-                                       p.direction[0],
-                                       p.direction[1],
-                                       p.direction[2]})
-              parameters.push_back(value);
+          append_values(e.material, parameters);
+          append_values(e.child_material, children);
           errors.insert(errors.end(), {e.median_error, e.max_error});
           strains.insert(strains.end(), {e.min_strain, e.max_strain});
           counts.insert(counts.end(), {e.n_samples, e.n_dropped});
@@ -124,6 +138,11 @@ namespace ddfem::coarsening
                     group + "/parameters",
                     {n, n_points, n_values},
                     parameters);
+      if (with_children)
+        write_dataset(file,
+                      group + "/child parameters",
+                      {n, n_points, n_values},
+                      children);
       write_dataset(file, group + "/fit error", {n, 2}, errors);
       write_dataset(file, group + "/strain range", {n, 2}, strains);
       write_dataset(file, group + "/samples", {n, 2}, counts);
@@ -151,13 +170,33 @@ namespace ddfem::coarsening
     std::vector<Entry>
     read_entries(const hid_t        file,
                  const std::string &group,
-                 const unsigned int n_points)
+                 const unsigned int n_points,
+                 const bool         with_children)
     {
       const hsize_t n = dataset_length(file, group + "/key");
       const auto keys = read_dataset<std::int64_t>(file, group + "/key", {n});
       const auto parameters = read_dataset<double>(file,
                                                    group + "/parameters",
                                                    {n, n_points, n_values});
+      const auto children   = with_children ?
+                                read_dataset<double>(file,
+                                                   group + "/child parameters",
+                                                   {n, n_points, n_values}) :
+                                std::vector<double>();
+      // Entry e's point q of @p values, checked to be physical.
+      const auto point = [&](const std::vector<double> &values,
+                             const std::string         &name,
+                             const hsize_t              e,
+                             const unsigned int         q) {
+        const material::MaterialPoint p =
+          point_from(&values[(e * n_points + q) * n_values]);
+        check(std::isfinite(p.mu) && p.mu > 0 && std::isfinite(p.lambda) &&
+                p.lambda >= 0 && std::isfinite(p.anisotropy) &&
+                p.anisotropy >= 0 && std::abs(p.direction.norm() - 1) < 1e-6,
+              "has non-physical " + name + " at " + group + " " +
+                std::to_string(e) + ", point " + std::to_string(q));
+        return p;
+      };
       const auto errors =
         read_dataset<double>(file, group + "/fit error", {n, 2});
       const auto strains =
@@ -173,15 +212,11 @@ namespace ddfem::coarsening
           entry.key = keys[e];
           for (unsigned int q = 0; q < n_points; ++q)
             {
-              const material::MaterialPoint p =
-                point_from(&parameters[(e * n_points + q) * n_values]);
-              check(std::isfinite(p.mu) && p.mu > 0 &&
-                      std::isfinite(p.lambda) && p.lambda >= 0 &&
-                      std::isfinite(p.anisotropy) && p.anisotropy >= 0 &&
-                      std::abs(p.direction.norm() - 1) < 1e-6,
-                    "has non-physical parameters at " + group + " " +
-                      std::to_string(e) + ", point " + std::to_string(q));
-              entry.material.points.push_back(p);
+              entry.material.points.push_back(
+                point(parameters, "parameters", e, q));
+              if (with_children)
+                entry.child_material.points.push_back(
+                  point(children, "child parameters", e, q));
             }
           entry.median_error = errors[2 * e];
           entry.max_error    = errors[2 * e + 1];
@@ -217,7 +252,7 @@ namespace ddfem::coarsening
 
 
   Metamaterial
-  Database::lookup(const Combination &c) const
+  Database::lookup(const Combination &c, const Fit fit) const
   {
     AssertThrow(contains(c),
                 ExcMessage("The metamaterial database has no entry for the "
@@ -229,8 +264,11 @@ namespace ddfem::coarsening
                              return s;
                            }() +
                            "(child 0 first)."));
-    const std::size_t key = index.key(c);
-    return transform(fitted[entry_of[key]].material, group, symmetry_of[key]);
+    const std::size_t key   = index.key(c);
+    const Entry      &entry = fitted[entry_of[key]];
+    return transform(fit == Fit::coarse ? entry.material : entry.child_material,
+                     group,
+                     symmetry_of[key]);
   }
 
 
@@ -316,7 +354,7 @@ namespace ddfem::coarsening
       write_attribute(h5, "settings", settings_fingerprint);
       write_attribute(h5, "representatives", std::to_string(representatives));
 
-      write_entries(h5, "entries", fitted, 8);
+      write_entries(h5, "entries", fitted, 8, true);
       write_dataset(h5, "lookup/entry", {hsize_t(index.size())}, entry_of);
       write_dataset(h5,
                     "lookup/symmetry",
@@ -362,7 +400,7 @@ namespace ddfem::coarsening
         db.settings_fingerprint = fingerprint;
         db.representatives = std::stoul(read_attribute(h5, "representatives"));
 
-        db.fitted            = read_entries(h5, "entries", 8);
+        db.fitted            = read_entries(h5, "entries", 8, true);
         const hsize_t n_keys = db.index.size();
         db.entry_of = read_dataset<std::int32_t>(h5, "lookup/entry", {n_keys});
         db.symmetry_of =
@@ -449,7 +487,8 @@ namespace ddfem::coarsening
   std::vector<std::vector<double>>
   Database::features(const CoarseElement                    &element,
                      const std::vector<CornerDisplacements> &deformations,
-                     std::vector<std::size_t>               &keys) const
+                     std::vector<std::size_t>               &keys,
+                     const Fit                               fit) const
   {
     std::vector<std::vector<double>> result;
     keys.clear();
@@ -459,7 +498,7 @@ namespace ddfem::coarsening
         if (entry_of[key] < 0 ||
             std::all_of(c.begin(), c.end(), [](auto id) { return id == 0; }))
           continue;
-        result.push_back(log_energies(element, lookup(c), deformations));
+        result.push_back(log_energies(element, lookup(c, fit), deformations));
         keys.push_back(key);
       }
     return result;
@@ -664,15 +703,10 @@ namespace ddfem::coarsening
                                   entry.max_strain,
                                   double(entry.n_samples),
                                   double(entry.n_dropped),
-                                  double(entry.material.points.size())};
-    for (const auto &p : entry.material.points)
-      values.insert(values.end(),
-                    {p.mu,
-                     p.lambda,
-                     p.anisotropy,
-                     p.direction[0],
-                     p.direction[1],
-                     p.direction[2]});
+                                  double(entry.material.points.size()),
+                                  double(entry.child_material.points.size())};
+    append_values(entry.material, values);
+    append_values(entry.child_material, values);
     const std::uint64_t sum = checksum(values);
     std::fwrite(&record_magic, sizeof(record_magic), 1, file);
     std::fwrite(values.data(), sizeof(double), values.size(), file);
@@ -709,21 +743,25 @@ namespace ddfem::coarsening
                                "). Delete it or restore those "
                                "settings."));
       }
-    const unsigned int  n_header = 8;
+    const unsigned int  n_header = 9;
     std::vector<double> values(n_header);
     std::uint32_t       magic;
     std::uint64_t       sum;
+    // Level-1 records carry 8 points and 8 child points, level-2 ones 64
+    // points and none.
     while (
       std::fread(&magic, sizeof(magic), 1, in) == 1 && magic == record_magic &&
       std::fread(values.data(), sizeof(double), n_header, in) == n_header &&
-      (values[7] == 8 || values[7] == 64))
+      ((values[7] == 8 && values[8] == 8) ||
+       (values[7] == 64 && values[8] == 0)))
       {
-        const unsigned int n_points = values[7];
-        values.resize(n_header + n_points * n_values);
+        const unsigned int n_points = values[7], n_children = values[8];
+        const unsigned int n_stored = (n_points + n_children) * n_values;
+        values.resize(n_header + n_stored);
         if (std::fread(values.data() + n_header,
                        sizeof(double),
-                       n_points * n_values,
-                       in) != n_points * n_values ||
+                       n_stored,
+                       in) != n_stored ||
             std::fread(&sum, sizeof(sum), 1, in) != 1 ||
             sum != checksum(values))
           break;
@@ -736,10 +774,11 @@ namespace ddfem::coarsening
         e.n_samples    = values[5];
         e.n_dropped    = values[6];
         for (unsigned int q = 0; q < n_points; ++q)
-          {
-            e.material.points.push_back(
-              point_from(&values[n_header + q * n_values]));
-          }
+          e.material.points.push_back(
+            point_from(&values[n_header + q * n_values]));
+        for (unsigned int q = 0; q < n_children; ++q)
+          e.child_material.points.push_back(
+            point_from(&values[n_header + (n_points + q) * n_values]));
         entries.push_back(e);
         values.resize(n_header);
       }

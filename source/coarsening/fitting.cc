@@ -17,6 +17,18 @@ namespace ddfem::coarsening
                       "energy residuals are relative and the parameters are "
                       "measured in units of the block's largest fine shear "
                       "modulus, so the weight is dimensionless.");
+    prm.declare_entry("Child regularization",
+                      "1e-4",
+                      Patterns::Double(0),
+                      "The weight of a second fit of every level-1 entry, "
+                      "from the same samples: the model of the block that "
+                      "the second level (Levels = 2) samples and clusters. "
+                      "A smaller weight than Regularization lets the fits "
+                      "of homogeneous blocks correct the trilinear "
+                      "element's bending stiffness, which level 2 inherits "
+                      "from its children; level 1 keeps Regularization, "
+                      "which is stiffer in compression. See "
+                      "doc/coarsening.md, 'Level-1 weight'.");
     prm.declare_entry("Stiffness floor",
                       "1e-3",
                       Patterns::Double(0, 1),
@@ -50,10 +62,11 @@ namespace ddfem::coarsening
   FitSettings::parse_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Fitting");
-    regularization  = prm.get_double("Regularization");
-    stiffness_floor = prm.get_double("Stiffness floor");
-    point_floor     = prm.get_double("Point floor");
-    held_out_every  = prm.get_integer("Held-out every");
+    regularization       = prm.get_double("Regularization");
+    child_regularization = prm.get_double("Child regularization");
+    stiffness_floor      = prm.get_double("Stiffness floor");
+    point_floor          = prm.get_double("Point floor");
+    held_out_every       = prm.get_integer("Held-out every");
     prm.leave_subsection();
   }
 

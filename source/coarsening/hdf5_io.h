@@ -195,18 +195,28 @@ namespace ddfem::coarsening::hdf5
   material::MaterialPoint
   point_from(const double *values);
 
-  /// Writes metamaterial entries of @p n_points points into @p group.
+  /// Appends the n_values stored numbers of every point of @p m to @p values.
+  void
+  append_values(const Metamaterial &m, std::vector<double> &values);
+
+  /**
+   * Writes metamaterial entries of @p n_points points into @p group, with
+   * their child fits (Entry::child_material) if @p with_children.
+   */
   void
   write_entries(const hid_t               file,
                 const std::string        &group,
                 const std::vector<Entry> &entries,
-                const unsigned int        n_points);
+                const unsigned int        n_points,
+                const bool                with_children);
 
-  /// Reads and validates the entries of @p group (FileProblem if bad).
+  /// Reads and validates the entries of @p group (FileProblem if bad),
+  /// with their child fits if @p with_children.
   std::vector<Entry>
   read_entries(const hid_t        file,
                const std::string &group,
-               const unsigned int n_points);
+               const unsigned int n_points,
+               const bool         with_children);
 
   /// The first dimension of dataset @p name (FileProblem if missing).
   hsize_t

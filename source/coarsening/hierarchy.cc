@@ -126,8 +126,8 @@ namespace ddfem::coarsening
     // The second level's palette: clusters of the level-1 metamaterials,
     // the required blocks' sub-blocks first.
     std::vector<std::size_t> keys;
-    const auto               level1_features =
-      level1.features(element, feature_deformations(32, 0.1, 4711), keys);
+    const auto               level1_features = level1.features(
+      element, feature_deformations(32, 0.1, 4711), keys, Fit::child);
     std::vector<unsigned int> required_classes;
     for (const BlockKeys &block : required)
       for (const std::int64_t key : block)
@@ -150,7 +150,7 @@ namespace ddfem::coarsening
     std::vector<Metamaterial> class_material;
     for (const auto key : class_key)
       class_material.push_back(
-        level1.lookup(level1.combinations().combination(key)));
+        level1.lookup(level1.combinations().combination(key), Fit::child));
 
     // The required blocks' classes at the current stage (void = n1).
     std::vector<std::array<std::int32_t, 8>> required_at;
@@ -439,7 +439,7 @@ namespace ddfem::coarsening
                   "level2/required",
                   {hsize_t(required.size()), 8},
                   required_keys);
-    write_entries(file, "level2/entries", entries, 64);
+    write_entries(file, "level2/entries", entries, 64, false);
   }
 
 
@@ -501,7 +501,7 @@ namespace ddfem::coarsening
         }
     check(std::is_sorted(required.begin(), required.end()),
           "has unsorted level-2 required blocks");
-    entries = read_entries(file, "level2/entries", 64);
+    entries = read_entries(file, "level2/entries", 64, false);
     for (const Entry &e : entries)
       check(e.key < n_previous, "has a level-2 entry beyond the tables");
     return true;

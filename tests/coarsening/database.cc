@@ -26,10 +26,11 @@ namespace
   DatabaseBuilder
   builder(const std::string &file,
           const bool         with_void,
-          const std::string &scope   = "all",
-          const unsigned int threads = 1,
-          const unsigned int k       = 0,
-          const unsigned int levels  = 1)
+          const std::string &scope    = "all",
+          const unsigned int threads  = 1,
+          const unsigned int k        = 0,
+          const unsigned int levels   = 1,
+          const unsigned int patterns = 30)
   {
     ParameterHandler prm;
     DatabaseBuilder::declare_parameters(prm);
@@ -46,7 +47,7 @@ namespace
     prm.set("Representatives", "10");
     prm.leave_subsection();
     prm.enter_subsection("Sampling");
-    prm.set("Patterns", "30");
+    prm.set("Patterns", std::to_string(patterns));
     prm.set("Magnitudes", "2");
     prm.set("Stretch directions", "20");
     prm.leave_subsection();
@@ -74,20 +75,32 @@ namespace
   }
 
   bool
+  same_points(const Metamaterial &a, const Metamaterial &b)
+  {
+    if (a.points.size() != b.points.size())
+      return false;
+    for (unsigned int q = 0; q < a.points.size(); ++q)
+      {
+        const auto &p = a.points[q];
+        const auto &r = b.points[q];
+        if (p.mu != r.mu || p.lambda != r.lambda ||
+            p.anisotropy != r.anisotropy || p.direction != r.direction)
+          return false;
+      }
+    return true;
+  }
+
+  bool
   same_entries(const Database &a, const Database &b)
   {
     if (a.entries().size() != b.entries().size())
       return false;
     for (unsigned int e = 0; e < a.entries().size(); ++e)
-      for (unsigned int q = 0; q < 8; ++q)
-        {
-          const auto &p = a.entries()[e].material.points[q];
-          const auto &r = b.entries()[e].material.points[q];
-          if (a.entries()[e].key != b.entries()[e].key || p.mu != r.mu ||
-              p.lambda != r.lambda || p.anisotropy != r.anisotropy ||
-              p.direction != r.direction)
-            return false;
-        }
+      if (a.entries()[e].key != b.entries()[e].key ||
+          !same_points(a.entries()[e].material, b.entries()[e].material) ||
+          !same_points(a.entries()[e].child_material,
+                       b.entries()[e].child_material))
+        return false;
     return true;
   }
 
@@ -296,6 +309,27 @@ main()
     std::cout << "lookups commute with the 48 symmetries (mu, lambda, C): "
               << lookups_ok << std::endl;
 
+    // An entry's child fit is the fit of the same samples with the child
+    // weight.
+    SamplingSettings sampling;
+    sampling.n_directions         = 30;
+    sampling.n_magnitudes         = 2;
+    sampling.n_stretch_directions = 20;
+    FitSettings child_weight;
+    child_weight.regularization = child_weight.child_regularization;
+    const Combination mixed     = {{1, 2, 2, 1, 1, 1, 2, 1}};
+    const Combination canonical = db.symmetries().canonical(mixed).first;
+    const auto        fit       = [&](const FitSettings &fitting) {
+      return DatabaseBuilder::fit_entry(
+        palette(), db, canonical, sampling, fitting, CoarseElement(1), 11);
+    };
+    const Entry paper = fit(FitSettings()), direct = fit(child_weight);
+    std::cout << "child fit = fit with Fitting/Child regularization: "
+              << same_points(paper.child_material, direct.material)
+              << ", differs from the coarse fit: "
+              << !same_points(paper.child_material, paper.material)
+              << std::endl;
+
     Database            compressed = loaded;
     const CoarseElement element(1);
     compressed.compress(5, element, feature_deformations(32, 0.1, 4711));
@@ -448,13 +482,18 @@ main()
   }
 
   {
-    // One material: every block is homogeneous, and the level-2
-    // metamaterial of a uniformly stretched block has the fine energy.
+    // One material: every block is homogeneous. Under uniaxial stress
+    // (lateral faces free) and simple shear, the level-2 metamaterial of a
+    // homogeneously deformed block has the fine energy; so does the level-1
+    // child fit it samples. Uniaxial strain (lateral faces held) probes the
+    // constrained modulus lambda + 2 mu, which the child fits lower to undo
+    // the trilinear element's volumetric locking in bending: there the child
+    // is softer than the coarse (paper-weight) fit.
     std::cout << "Second level, one material" << std::endl;
     std::filesystem::remove("one.h5");
     std::ostringstream    log;
     const scene::Palette  one = palette("E=1e5 nu=0.45");
-    const DatabaseBuilder b   = builder("one.h5", false, "all", 2, 0, 2);
+    const DatabaseBuilder b   = builder("one.h5", false, "all", 2, 0, 2, 100);
     Database              db  = b.open(one, log);
     b.build(one, db, nullptr, log, false);
     Hierarchy                  level2;
@@ -462,28 +501,83 @@ main()
     std::array<Combination, 8> block;
     for (auto &sub_block : block)
       sub_block.fill(1);
-    const CoarseElement element2(2);
-    for (const double stretch : {1.05, 0.95})
-      {
+    const auto energy_of = [](const CoarseElement &element,
+                              const Metamaterial  &m) {
+      return [&element, m](const Tensor<2, 3> &F) {
         CornerDisplacements u;
         for (unsigned int v = 0; v < 8; ++v)
-          u[v][0] = (stretch - 1) * (v & 1);
-        double coarse;
-        element2.energy(u, level2.lookup(loaded, block), coarse);
-        material::KernelResult fine;
-        Tensor<2, 3>           F = unit_symmetric_tensor<3>();
-        F[0][0]                  = stretch;
-        material::evaluate(F,
-                           one[1].material_point(),
-                           material::KernelOutput::energy,
-                           fine);
-        testing::check_below("uniaxial stretch " +
+          {
+            Tensor<1, 3> x;
+            for (unsigned int d = 0; d < 3; ++d)
+              x[d] = (v >> d) & 1;
+            u[v] = (F - unit_symmetric_tensor<3>()) * x;
+          }
+        double energy;
+        element.energy(u, m, energy);
+        return energy;
+      };
+    };
+    const auto fine = [&one](const Tensor<2, 3> &F) {
+      material::KernelResult result;
+      material::evaluate(F,
+                         one[1].material_point(),
+                         material::KernelOutput::energy,
+                         result);
+      return result.energy;
+    };
+    // Uniaxial stress: the lateral stretch minimizes the energy (golden
+    // section search).
+    const auto uniaxial_stress = [](const auto &energy, const double stretch) {
+      const auto at = [&](const double lateral) {
+        Tensor<2, 3> F;
+        F[0][0] = stretch;
+        F[1][1] = F[2][2] = lateral;
+        return energy(F);
+      };
+      double a = 0.8, b = 1.2;
+      for (unsigned int i = 0; i < 100; ++i)
+        {
+          const double c = b - 0.618034 * (b - a), d = a + 0.618034 * (b - a);
+          if (at(c) < at(d))
+            b = d;
+          else
+            a = c;
+        }
+      return at((a + b) / 2);
+    };
+    Tensor<2, 3> strain = unit_symmetric_tensor<3>(), shear = strain;
+    strain[0][0] = 1.05;
+    shear[0][1]  = 0.05;
+    const CoarseElement element1(1), element2(2);
+    const Combination   c = block[0];
+    const auto          level2_energy =
+      energy_of(element2, level2.lookup(loaded, block));
+    const auto child_energy = energy_of(element1, loaded.lookup(c, Fit::child));
+    const auto coarse_energy = energy_of(element1, loaded.lookup(c));
+    for (const double stretch : {1.05, 0.95})
+      for (const auto &[name, energy] :
+           {std::make_pair("level 2", level2_energy),
+            std::make_pair("level-1 child", child_energy)})
+        testing::check_below(std::string(name) + ", uniaxial stress " +
                                std::to_string(stretch).substr(0, 4) +
                                ", relative energy difference to the fine "
                                "material",
-                             std::abs(coarse - fine.energy) / fine.energy,
+                             std::abs(uniaxial_stress(energy, stretch) /
+                                        uniaxial_stress(fine, stretch) -
+                                      1),
                              0.05);
-      }
+    testing::check_below("level 2, simple shear 0.05, relative energy "
+                         "difference to the fine material",
+                         std::abs(level2_energy(shear) / fine(shear) - 1),
+                         0.05);
+    testing::check_below("level-1 coarse fit, uniaxial strain 1.05, relative "
+                         "energy difference to the fine material",
+                         std::abs(coarse_energy(strain) / fine(strain) - 1),
+                         0.05);
+    std::cout << "uniaxial strain 1.05: the level-1 child is softer than the "
+                 "coarse fit: "
+              << (child_energy(strain) < 0.95 * coarse_energy(strain))
+              << std::endl;
   }
 
   {

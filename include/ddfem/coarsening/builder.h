@@ -128,7 +128,9 @@ namespace ddfem::coarsening
      * Samples and fits the metamaterial of one combination: the 2x2x2
      * block of the palette's materials, force-space samples from a
      * generator seeded with @p seed, anisotropy directions,
-     * and the regularized, bounded fit toward the children's materials.
+     * and the regularized, bounded fit toward the children's materials,
+     * once with FitSettings::regularization (Entry::material) and once
+     * with FitSettings::child_regularization (Entry::child_material).
      */
     static Entry
     fit_entry(const scene::Palette   &palette,
@@ -141,9 +143,9 @@ namespace ddfem::coarsening
 
     /**
      * Samples and fits second-level representative @p r of @p level2: its
-     * block of eight level-1 metamaterials, force-space samples from a
-     * generator seeded with @p seed, and the 64-point fit toward the
-     * children's records (whose directions it keeps).
+     * block of eight level-1 metamaterials (their child fits), force-space
+     * samples from a generator seeded with @p seed, and the 64-point fit toward
+     * the children's records (whose directions it keeps).
      */
     static Entry
     fit_level2_entry(const Database         &level1,

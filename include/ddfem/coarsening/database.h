@@ -16,7 +16,7 @@ namespace ddfem::coarsening
   class Hierarchy;
 
   /// Version of the database file layout; a file with another is rejected.
-  constexpr int database_format_version = 2;
+  constexpr int database_format_version = 3;
 
   /**
    * One fitted first-level metamaterial: the metamaterial of an orbit
@@ -29,12 +29,25 @@ namespace ddfem::coarsening
     std::size_t key = 0;
     /// Its metamaterial (8 points).
     Metamaterial material;
+    /// The fit of the same samples with FitSettings::child_regularization:
+    /// the block as the second level samples it (8 points; empty for
+    /// second-level entries).
+    Metamaterial child_material;
     /// Median and largest relative energy error on held-out samples.
     double median_error = 0, max_error = 0;
     /// Range of the samples' largest principal stretch deviation.
     double min_strain = 0, max_strain = 0;
     /// Samples kept and dropped (failed solves).
     unsigned int n_samples = 0, n_dropped = 0;
+  };
+
+  /// Which of a first-level entry's two fits of the same samples.
+  enum class Fit
+  {
+    /// The coarse element's (Entry::material): level-1 coarsening.
+    coarse,
+    /// The second level's child (Entry::child_material).
+    child
   };
 
   /// A 64-bit FNV-1a hash of a palette description, in hex.
@@ -140,11 +153,11 @@ namespace ddfem::coarsening
     contains(const Combination &c) const;
 
     /**
-     * The metamaterial of combination @p c (its entry mapped by the
-     * symmetry). Throws ExcMessage if @p c is not in the database.
+     * The metamaterial @p fit of combination @p c (its entry's, mapped by
+     * the symmetry). Throws ExcMessage if @p c is not in the database.
      */
     Metamaterial
-    lookup(const Combination &c) const;
+    lookup(const Combination &c, const Fit fit = Fit::coarse) const;
 
     /// The orbit representatives of @p combinations that have no entry yet,
     /// sorted and without repetitions (all-void blocks excluded).
@@ -179,13 +192,14 @@ namespace ddfem::coarsening
      * The compression features (paper eq. 5) of every combination the
      * database has an entry for (all of them after a full build; those of
      * the scenes seen so far in lazy mode), but the all-void one: the
-     * log-energies of its metamaterial under @p deformations. @p keys
-     * receives the combinations' keys.
+     * log-energies of its metamaterial @p fit under @p deformations.
+     * @p keys receives the combinations' keys.
      */
     std::vector<std::vector<double>>
     features(const CoarseElement                    &element,
              const std::vector<CornerDisplacements> &deformations,
-             std::vector<std::size_t>               &keys) const;
+             std::vector<std::size_t>               &keys,
+             const Fit                               fit = Fit::coarse) const;
 
   private:
     std::string        palette_description;

@@ -22,6 +22,9 @@ namespace ddfem::coarsening
   {
     /// Weight lambda of the regularization toward the fine parameters.
     double regularization = 0.01;
+    /// The weight of each level-1 entry's second fit of the same samples:
+    /// the model the second level samples as that block.
+    double child_regularization = 1e-4;
     /// Lower bound of every point's shear modulus, as a fraction of the
     /// block's largest fine shear modulus.
     double stiffness_floor = 1e-3;

@@ -49,7 +49,8 @@ namespace ddfem::coarsening
 
   /**
    * The second coarsening level (paper section 4.5): a 4x4x4 block of
-   * voxels is a 2x2x2 block of level-1 elements. The level-1
+   * voxels is a 2x2x2 block of level-1 elements, each modelled by its
+   * entry's child fit (Fit::child). These level-1
    * metamaterials are clustered into n_classes classes (the second
    * level's palette); pairs of classes along x are clustered into
    * n_intermediate representatives, pairs of those along y likewise, and
