@@ -324,7 +324,20 @@ namespace ddfem::coarsening
   bool
   BlockSampler::energy(const Vector<double> &u, double &energy) const
   {
-    energy = 0;
+    std::array<double, 8> energies;
+    if (!child_energies(u, energies))
+      return false;
+    energy = std::accumulate(energies.begin(), energies.end(), 0.);
+    return true;
+  }
+
+
+
+  bool
+  BlockSampler::child_energies(const Vector<double>  &u,
+                               std::array<double, 8> &energies) const
+  {
+    energies.fill(0.);
     solver::CellContribution c;
     Vector<double>           local(fe.n_dofs_per_cell());
     for (unsigned int cell = 0; cell < cell_dofs.size(); ++cell)
@@ -337,7 +350,7 @@ namespace ddfem::coarsening
                                     material::KernelOutput::energy,
                                     c))
           return false;
-        energy += c.energy;
+        energies[cell_child[cell]] += c.energy;
       }
     return true;
   }
@@ -513,27 +526,42 @@ namespace ddfem::coarsening
   BlockSampler::relax(const Vector<double> &u_base, Vector<double> &w) const
   {
     Assert(!has_void, ExcInternalError());
+    // Energy, gradient g and (if H is given) Hessian with respect to the
+    // fluctuation v, gathered over the periodic classes, and the norm of
+    // all nodal forces (the scale of g).
     double             E;
     Vector<double>     r;
     FullMatrix<double> K;
-    for (unsigned int it = 0; it < 40; ++it)
-      {
-        if (!assemble(add_fluctuation(u_base, w), true, E, r, K))
-          return false;
-        // Gradient and Hessian with respect to w (gathered over classes).
-        Vector<double>           g(n_periodic);
-        LAPACKFullMatrix<double> H(n_periodic);
-        for (unsigned int i = 0; i < r.size(); ++i)
-          if (periodic_dof[i] >= 0)
-            {
-              g(periodic_dof[i]) += r(i);
+    const auto         gather = [&](const Vector<double>     &v,
+                            Vector<double>           &g,
+                            LAPACKFullMatrix<double> *H,
+                            double                   &force_norm) {
+      if (!assemble(add_fluctuation(u_base, v), H != nullptr, E, r, K))
+        return false;
+      g.reinit(n_periodic);
+      for (unsigned int i = 0; i < r.size(); ++i)
+        if (periodic_dof[i] >= 0)
+          {
+            g(periodic_dof[i]) += r(i);
+            if (H != nullptr)
               for (unsigned int j = 0; j < r.size(); ++j)
                 if (periodic_dof[j] >= 0)
-                  H(periodic_dof[i], periodic_dof[j]) += K(i, j);
-            }
+                  (*H)(periodic_dof[i], periodic_dof[j]) += K(i, j);
+          }
+      force_norm = r.l2_norm();
+      return true;
+    };
+
+    for (unsigned int it = 0; it < 40; ++it)
+      {
+        Vector<double>           g;
+        LAPACKFullMatrix<double> H(n_periodic);
+        double                   force_norm;
+        if (!gather(w, g, &H, force_norm))
+          return false;
         // Converged when the unbalanced forces are negligible against the
         // forces on the prescribed nodes.
-        const double residual = g.l2_norm() / r.l2_norm();
+        const double residual = g.l2_norm() / force_norm;
         if (!(residual > 1e-9))
           return true;
 
@@ -558,15 +586,27 @@ namespace ddfem::coarsening
               break;
             shift = std::max(2 * shift, 1e-3 * largest);
           }
-        // Past round-off level the energy cannot resolve the decrease.
-        if (!(slope < -1e-12 * std::abs(E)))
+        if (!(slope < 0))
           return residual <= 1e-6;
 
+        // Near convergence the decrease is at the energy's round-off (its
+        // terms cancel to second order in the strain, the more so at a high
+        // stiffness contrast): there, or where the line search fails, take
+        // the full step if it reduces the unbalanced forces.
         const auto relaxed = [&](const Vector<double> &v, double &value) {
           return energy(add_fluctuation(u_base, v), value);
         };
-        if (!backtrack(relaxed, E, dw, slope, w))
-          return residual <= 1e-6;
+        if (-slope < 1e-10 * std::abs(E) ||
+            !backtrack(relaxed, E, dw, slope, w))
+          {
+            Vector<double> trial = w, trial_g;
+            trial += dw;
+            double trial_norm;
+            if (!gather(trial, trial_g, nullptr, trial_norm) ||
+                !(trial_g.l2_norm() < g.l2_norm()))
+              return residual <= 1e-6;
+            w = trial;
+          }
       }
     return false;
   }
@@ -681,6 +721,15 @@ namespace ddfem::coarsening
 
 
 
+  Vector<double>
+  BlockSampler::homogeneous_strain(const Tensor<2, 3> &H) const
+  {
+    const Point<3> center(0.5, 0.5, 0.5);
+    return interpolate([&](const Point<3> &x) { return H * (x - center); });
+  }
+
+
+
   namespace
   {
     /// The linearized strain of magnitude @p j of a pattern (see sample()).
@@ -788,9 +837,7 @@ namespace ddfem::coarsening
     for (unsigned int i = 0; i < 3; ++i)
       for (unsigned int j = i; j < 3; ++j)
         H[i][j] = H[j][i] = normal();
-    const Point<3> center(0.5, 0.5, 0.5);
-    const auto     field = [&](const Point<3> &x) { return H * (x - center); };
-    const Vector<double> linear   = interpolate(field);
+    const Vector<double> linear   = homogeneous_strain(H);
     const double         strain_1 = linearized_strain(linear);
 
     Vector<double> w(n_periodic);
@@ -834,27 +881,48 @@ namespace ddfem::coarsening
 
 
 
+  namespace
+  {
+    /// Direction @p s of @p n Fibonacci points on the unit sphere.
+    Tensor<1, 3>
+    sphere_direction(const unsigned int s, const unsigned int n)
+    {
+      const double z   = 1. - (2. * s + 1.) / n;
+      const double rho = std::sqrt(std::max(0., 1. - z * z));
+      const double phi = s * numbers::PI * (3. - std::sqrt(5.));
+      Tensor<1, 3> d;
+      d[0] = rho * std::cos(phi);
+      d[1] = rho * std::sin(phi);
+      d[2] = z;
+      return d;
+    }
+  } // namespace
+
+
+
   std::vector<Tensor<1, 3>>
   BlockSampler::anisotropy_directions(const SamplingSettings &settings,
                                       const CoarseElement    &element) const
   {
+    return settings.embedded > 0 ?
+             embedded_stretch_directions(settings, element) :
+             free_stretch_directions(settings, element);
+  }
+
+
+
+  std::vector<Tensor<1, 3>>
+  BlockSampler::free_stretch_directions(const SamplingSettings &settings,
+                                        const CoarseElement    &element) const
+  {
     const unsigned int                 n_points = element.n_points();
     std::vector<SymmetricTensor<2, 3>> M(n_points);
-    const Point<3>                     center(0.5, 0.5, 0.5);
     const unsigned int                 n_d = settings.n_stretch_directions;
     std::vector<Tensor<2, 3>>          F;
     for (unsigned int s = 0; s < n_d; ++s)
       {
-        // Fibonacci points on the sphere.
-        const double z   = 1. - (2. * s + 1.) / n_d;
-        const double rho = std::sqrt(std::max(0., 1. - z * z));
-        const double phi = s * numbers::PI * (3. - std::sqrt(5.));
-        Tensor<1, 3> d;
-        d[0] = rho * std::cos(phi);
-        d[1] = rho * std::sin(phi);
-        d[2] = z;
-
-        Vector<double> f = boundary_forces(
+        const Tensor<1, 3> d = sphere_direction(s, n_d);
+        Vector<double>     f = boundary_forces(
           [&d](const Point<3> &) { return outer_product(d, d); });
         project_out_rigid(f);
         Vector<double> u = constrained_solve(initial_saddle, f);
@@ -869,6 +937,53 @@ namespace ddfem::coarsening
     std::vector<Tensor<1, 3>> directions(n_points);
     for (unsigned int q = 0; q < n_points; ++q)
       directions[q] = eigenvectors(M[q])[2].second; // least stretch
+    return directions;
+  }
+
+
+
+  std::vector<Tensor<1, 3>>
+  BlockSampler::embedded_stretch_directions(const SamplingSettings &settings,
+                                            const CoarseElement &element) const
+  {
+    // The relaxed response is linear in the strain at small strains: relax
+    // the six unit strains once, and superpose them for every direction.
+    // Should a relaxation fail, the free block's test still gives
+    // directions.
+    const double                  strain = 1e-3;
+    std::array<Vector<double>, 6> unit_fields;
+    for (unsigned int c = 0, i = 0; i < 3; ++i)
+      for (unsigned int j = i; j < 3; ++j, ++c)
+        {
+          Tensor<2, 3> H;
+          H[i][j]                     = strain;
+          H[j][i]                     = strain;
+          const Vector<double> u_base = homogeneous_strain(H);
+          Vector<double>       w(n_periodic);
+          if (!relax(u_base, w))
+            return free_stretch_directions(settings, element);
+          unit_fields[c] = add_fluctuation(u_base, w);
+        }
+
+    std::array<SymmetricTensor<2, 3>, 8> M;
+    const unsigned int                   n_d = settings.n_stretch_directions;
+    std::array<double, 8>                energies;
+    for (unsigned int s = 0; s < n_d; ++s)
+      {
+        const Tensor<1, 3> d = sphere_direction(s, n_d);
+        Vector<double>     u(unit_fields[0].size());
+        for (unsigned int c = 0, i = 0; i < 3; ++i)
+          for (unsigned int j = i; j < 3; ++j, ++c)
+            u.add(d[i] * d[j], unit_fields[c]);
+        if (!child_energies(u, energies))
+          return free_stretch_directions(settings, element);
+        for (unsigned int k = 0; k < 8; ++k)
+          M[k] += energies[k] * symmetrize(outer_product(d, d));
+      }
+    std::vector<Tensor<1, 3>> directions(element.n_points());
+    for (unsigned int q = 0; q < element.n_points(); ++q)
+      directions[q] = // the largest energy
+        eigenvectors(M[element.child_of_point(q)])[0].second;
     return directions;
   }
 } // namespace ddfem::coarsening

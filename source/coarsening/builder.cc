@@ -198,13 +198,12 @@ namespace ddfem::coarsening
     const BlockSampler sampler(children);
     Entry              entry;
     entry.key = database.combinations().key(combination);
+    const SamplingSettings block_sampling =
+      sampling.for_block({combination.begin(), combination.end()});
     const std::vector<Sample> samples =
-      sampler.sample(sampling.for_block(
-                       {combination.begin(), combination.end()}),
-                     seed,
-                     entry.n_dropped);
+      sampler.sample(block_sampling, seed, entry.n_dropped);
     const std::vector<Tensor<1, 3>> directions =
-      sampler.anisotropy_directions(sampling, element);
+      sampler.anisotropy_directions(block_sampling, element);
     for (unsigned int q = 0; q < 8; ++q)
       prior.points[q].direction = directions[q];
     const FitResult fit = fit_metamaterial(element, samples, prior, fitting);

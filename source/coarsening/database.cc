@@ -60,7 +60,8 @@ namespace ddfem::coarsening
       << ", child regularization: " << fitting.child_regularization
       << ", stiffness floor: " << fitting.stiffness_floor
       << ", point floor: " << fitting.point_floor
-      << ", held-out every: " << fitting.held_out_every;
+      << ", held-out every: " << fitting.held_out_every
+      << " | sampler revision: " << sampler_revision;
     return s.str();
   }
 

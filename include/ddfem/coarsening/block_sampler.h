@@ -160,10 +160,24 @@ namespace ddfem::coarsening
 
     /**
      * Anisotropy directions (paper section 4.3): stretch the block in
-     * n_stretch_directions directions d spread over the sphere, measure
-     * the stretch l = |F d| at every point of @p element, and return per
-     * point the principal axis of sum_d (l - 1)^2 d d^T with the least
-     * stretch: the block's stiffest direction there.
+     * n_stretch_directions directions d spread over the sphere and return
+     * per point of @p element the block's stiffest direction there. The
+     * stretch follows the block's sampling (@p settings, as
+     * SamplingSettings::for_block() gives them):
+     * - force patterns (SamplingSettings::embedded = 0): the free block
+     *   under uniaxial surface stress along d. The stretch l = |F d| of
+     *   the coarse element's F is measured at every point, and the
+     *   direction is the principal axis of sum_d (l - 1)^2 d d^T with the
+     *   least stretch;
+     * - embedded patterns: the uniaxial strain d d^T, which the corners
+     *   follow and the other nodes up to the relaxed periodic fluctuation.
+     *   The coarse F is then the same at every point and cannot tell the
+     *   points apart, so the fine energy W_k(d) of the point's child k is
+     *   measured instead, and the direction is the principal axis of
+     *   sum_d W_k(d) d d^T with the largest energy. A stiff child in a
+     *   column along x carries the energy of a stretch along x and little
+     *   of a transverse one, which the soft children take. Should the
+     *   relaxation of a small strain fail, the free block's test is used.
      */
     std::vector<Tensor<1, 3>>
     anisotropy_directions(const SamplingSettings &settings,
@@ -180,6 +194,12 @@ namespace ddfem::coarsening
     /// false if inadmissible (det F <= 0).
     bool
     energy(const Vector<double> &u, double &energy) const;
+
+    /// The fine strain energy of each child (0 for void children) for
+    /// nodal displacements @p u; false if inadmissible (det F <= 0).
+    bool
+    child_energies(const Vector<double>  &u,
+                   std::array<double, 8> &energies) const;
 
     /**
      * The corner displacements the coarse element sees (the restriction r
@@ -201,6 +221,11 @@ namespace ddfem::coarsening
     /// The nodal vector of a displacement field given at every node.
     Vector<double>
     interpolate(const std::function<Tensor<1, 3>(const Point<3> &)> &u) const;
+
+    /// The nodal vector of the homogeneous strain u = H (x - centre) of the
+    /// unit block.
+    Vector<double>
+    homogeneous_strain(const Tensor<2, 3> &H) const;
 
     /**
      * Minimizes the fine energy over the periodic fluctuation @p w added
@@ -244,6 +269,18 @@ namespace ddfem::coarsening
     /// @p f minus its component along the constraint rows.
     void
     project_out_rigid(Vector<double> &f) const;
+
+    /// The stiffest direction per point of the free block under uniaxial
+    /// stress (see anisotropy_directions()).
+    std::vector<Tensor<1, 3>>
+    free_stretch_directions(const SamplingSettings &settings,
+                            const CoarseElement    &element) const;
+
+    /// The stiffest direction per point of the embedded block under
+    /// uniaxial strain (see anisotropy_directions()).
+    std::vector<Tensor<1, 3>>
+    embedded_stretch_directions(const SamplingSettings &settings,
+                                const CoarseElement    &element) const;
 
     /// The force-space samples of pattern @p p (see sample()), drawing
     /// standard normal numbers from @p normal.

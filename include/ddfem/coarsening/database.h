@@ -19,6 +19,15 @@ namespace ddfem::coarsening
   constexpr int database_format_version = 3;
 
   /**
+   * Revision of the sampling and fitting algorithms. It is part of the
+   * settings fingerprint: a file whose entries an earlier revision computed
+   * is rejected, never extended with entries the present code computes
+   * differently. Increase it with every change that alters entries for the
+   * same settings.
+   */
+  constexpr int sampler_revision = 2;
+
+  /**
    * One fitted first-level metamaterial: the metamaterial of an orbit
    * representative combination, with how it was sampled and how well it
    * fits.
