@@ -442,6 +442,33 @@ namespace ddfem::coarsening
         }
       return false;
     }
+
+
+
+    /**
+     * The step a Newton iteration takes where the energy cannot resolve
+     * the decrease (near convergence its terms cancel to second order in
+     * the strain, the more so at a high stiffness contrast): the full step
+     * along @p dx from @p x, if it reduces the residual norm from
+     * @p residual0 (@p residual_norm: false where inadmissible). Moves
+     * @p x and returns true if so.
+     */
+    bool
+    take_full_step_if_residual_falls(
+      const std::function<bool(const Vector<double> &, double &)>
+                           &residual_norm,
+      const double          residual0,
+      const Vector<double> &dx,
+      Vector<double>       &x)
+    {
+      Vector<double> trial = x;
+      trial += dx;
+      double residual;
+      if (!residual_norm(trial, residual) || !(residual < residual0))
+        return false;
+      x = trial;
+      return true;
+    }
   } // namespace
 
 
@@ -472,27 +499,25 @@ namespace ddfem::coarsening
         // A step at round-off level: converged if the residual is small.
         if (du.l2_norm() <= 1e-12 * u.l2_norm() || !(slope < 0))
           return residual <= 1e-6;
-        // At round-off level the energy cannot resolve the decrease (the
-        // Neo-Hookean energy cancels to second order in the strain): take
-        // the full step if it reduces the residual.
+        // At round-off level the energy cannot resolve the decrease.
         if (-slope < 1e-10 * std::abs(E))
           {
-            Vector<double> trial = u;
-            trial += du;
-            double             trial_energy;
-            Vector<double>     trial_residual;
-            FullMatrix<double> unused;
-            if (assemble(trial, false, trial_energy, trial_residual, unused))
-              {
-                trial_residual.sadd(-1., 1., f);
-                project_out_rigid(trial_residual);
-                if (trial_residual.l2_norm() < projected.l2_norm())
-                  {
-                    u = trial;
-                    continue;
-                  }
-              }
-            return residual <= 1e-6;
+            const auto projected_norm = [&](const Vector<double> &v,
+                                            double               &norm) {
+              double             unused_energy;
+              Vector<double>     trial_residual;
+              FullMatrix<double> unused;
+              if (!assemble(v, false, unused_energy, trial_residual, unused))
+                return false;
+              trial_residual.sadd(-1., 1., f);
+              project_out_rigid(trial_residual);
+              norm = trial_residual.l2_norm();
+              return true;
+            };
+            if (!take_full_step_if_residual_falls(
+                  projected_norm, projected.l2_norm(), du, u))
+              return residual <= 1e-6;
+            continue;
           }
 
         const auto potential = [&](const Vector<double> &v, double &value) {
@@ -589,24 +614,23 @@ namespace ddfem::coarsening
         if (!(slope < 0))
           return residual <= 1e-6;
 
-        // Near convergence the decrease is at the energy's round-off (its
-        // terms cancel to second order in the strain, the more so at a high
-        // stiffness contrast): there, or where the line search fails, take
-        // the full step if it reduces the unbalanced forces.
+        // At round-off level, or where the line search fails there, the
+        // full step if it reduces the unbalanced forces.
         const auto relaxed = [&](const Vector<double> &v, double &value) {
           return energy(add_fluctuation(u_base, v), value);
         };
-        if (-slope < 1e-10 * std::abs(E) ||
-            !backtrack(relaxed, E, dw, slope, w))
-          {
-            Vector<double> trial = w, trial_g;
-            trial += dw;
-            double trial_norm;
-            if (!gather(trial, trial_g, nullptr, trial_norm) ||
-                !(trial_g.l2_norm() < g.l2_norm()))
-              return residual <= 1e-6;
-            w = trial;
-          }
+        const auto unbalanced = [&](const Vector<double> &v, double &norm) {
+          Vector<double> trial_g;
+          double         unused;
+          if (!gather(v, trial_g, nullptr, unused))
+            return false;
+          norm = trial_g.l2_norm();
+          return true;
+        };
+        if ((-slope < 1e-10 * std::abs(E) ||
+             !backtrack(relaxed, E, dw, slope, w)) &&
+            !take_full_step_if_residual_falls(unbalanced, g.l2_norm(), dw, w))
+          return residual <= 1e-6;
       }
     return false;
   }
@@ -977,8 +1001,9 @@ namespace ddfem::coarsening
             u.add(d[i] * d[j], unit_fields[c]);
         if (!child_energies(u, energies))
           return free_stretch_directions(settings, element);
+        const SymmetricTensor<2, 3> dd = symmetrize(outer_product(d, d));
         for (unsigned int k = 0; k < 8; ++k)
-          M[k] += energies[k] * symmetrize(outer_product(d, d));
+          M[k] += energies[k] * dd;
       }
     std::vector<Tensor<1, 3>> directions(element.n_points());
     for (unsigned int q = 0; q < element.n_points(); ++q)

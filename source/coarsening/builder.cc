@@ -206,16 +206,16 @@ namespace ddfem::coarsening
       sampler.anisotropy_directions(block_sampling, element);
     for (unsigned int q = 0; q < 8; ++q)
       prior.points[q].direction = directions[q];
-    const FitResult fit = fit_metamaterial(element, samples, prior, fitting);
+    // Both fits solve the least-squares problem of the same samples.
+    const MetamaterialFit problem(element, samples, prior, fitting);
+    const FitResult       fit = problem.fit(fitting.regularization);
     entry.material =
       symmetrize(fit.material, combination, database.symmetries());
     record_fit(fit, samples, entry);
-    FitSettings child_fitting    = fitting;
-    child_fitting.regularization = fitting.child_regularization;
-    entry.child_material         = symmetrize(
-      fit_metamaterial(element, samples, prior, child_fitting).material,
-      combination,
-      database.symmetries());
+    entry.child_material =
+      symmetrize(problem.parameters(fitting.child_regularization),
+                 combination,
+                 database.symmetries());
     return entry;
   }
 

@@ -168,11 +168,15 @@ namespace ddfem::coarsening
 
 
 
-  FitResult
-  fit_metamaterial(const CoarseElement       &element,
-                   const std::vector<Sample> &samples,
-                   const Metamaterial        &prior,
-                   const FitSettings         &settings)
+  MetamaterialFit::MetamaterialFit(const CoarseElement       &element,
+                                   const std::vector<Sample> &samples,
+                                   const Metamaterial        &prior,
+                                   const FitSettings         &settings)
+    : element(element)
+    , prior(prior)
+    , scale({{0, 0, 0}})
+    , H(3 * element.n_points(), 3 * element.n_points())
+    , g(3 * element.n_points())
   {
     const unsigned int n_points = element.n_points();
     const unsigned int n        = 3 * n_points;
@@ -181,7 +185,6 @@ namespace ddfem::coarsening
     // Each parameter is measured in units of the block's largest fine
     // value of its kind (C in units of mu), so the regularization weighs a
     // relative change of every parameter alike.
-    std::array<double, 3> scale = {{0, 0, 0}};
     for (const auto &p : prior.points)
       {
         scale[0] = std::max(scale[0], p.mu);
@@ -194,13 +197,11 @@ namespace ddfem::coarsening
       scale[1] = scale[0];
     // Lower bounds of (mu, lambda, C) per point.
     const double floor = settings.stiffness_floor * scale[0];
-    std::vector<std::array<double, 3>> lower;
     for (const auto &p0 : prior.points)
       lower.push_back({{std::max(floor, settings.point_floor * p0.mu),
                         settings.point_floor * p0.lambda,
                         0.}});
 
-    FitResult           result;
     std::vector<Sample> held_out, fitted;
     for (const Sample &s : samples)
       if (settings.held_out_every > 0 &&
@@ -210,8 +211,7 @@ namespace ddfem::coarsening
         fitted.push_back(s);
 
     // Normal equations of the scaled unknowns x = (p - lower) / scale.
-    FullMatrix<double>                 H(n, n);
-    Vector<double>                     g(n), row(n);
+    Vector<double>                     row(n);
     std::vector<std::array<double, 3>> terms;
     std::vector<Vector<double>>        rows;
     std::vector<double>                rhs;
@@ -219,7 +219,7 @@ namespace ddfem::coarsening
       {
         if (!(s.energy > 0 && element.energy_terms(s.corners, prior, terms)))
           {
-            ++result.n_rejected;
+            ++n_rejected;
             continue;
           }
         double lower_energy = 0;
@@ -234,7 +234,7 @@ namespace ddfem::coarsening
         rows.push_back(row);
         rhs.push_back((s.energy - lower_energy) / s.energy);
       }
-    result.n_fit = rows.size();
+    n_fit = rows.size();
     for (unsigned int s = 0; s < rows.size(); ++s)
       for (unsigned int i = 0; i < n; ++i)
         {
@@ -242,7 +242,19 @@ namespace ddfem::coarsening
           for (unsigned int j = 0; j < n; ++j)
             H(i, j) += rows[s](i) * rows[s](j) / rows.size();
         }
-    for (unsigned int q = 0; q < n_points; ++q)
+
+    n_held_out    = held_out.size();
+    error_samples = std::move(held_out.empty() ? fitted : held_out);
+  }
+
+
+
+  Metamaterial
+  MetamaterialFit::parameters(const double regularization) const
+  {
+    FullMatrix<double> A = H;
+    Vector<double>     b = g;
+    for (unsigned int q = 0; q < prior.points.size(); ++q)
       {
         const auto  &p0        = prior.points[q];
         const double target[3] = {(p0.mu - lower[q][0]) / scale[0],
@@ -250,26 +262,35 @@ namespace ddfem::coarsening
                                   (p0.anisotropy - lower[q][2]) / scale[2]};
         for (unsigned int t = 0; t < 3; ++t)
           {
-            H(3 * q + t, 3 * q + t) += settings.regularization;
-            g(3 * q + t) += settings.regularization * target[t];
+            A(3 * q + t, 3 * q + t) += regularization;
+            b(3 * q + t) += regularization * target[t];
           }
       }
 
-    const Vector<double> x = nonnegative_least_squares(H, g);
-    result.material        = prior;
-    for (unsigned int q = 0; q < n_points; ++q)
+    const Vector<double> x      = nonnegative_least_squares(A, b);
+    Metamaterial         result = prior;
+    for (unsigned int q = 0; q < prior.points.size(); ++q)
       {
-        auto &p      = result.material.points[q];
+        auto &p      = result.points[q];
         p.mu         = lower[q][0] + scale[0] * x(3 * q);
         p.lambda     = lower[q][1] + scale[1] * x(3 * q + 1);
         p.anisotropy = lower[q][2] + scale[2] * x(3 * q + 2);
       }
+    return result;
+  }
 
+
+
+  FitResult
+  MetamaterialFit::fit(const double regularization) const
+  {
+    FitResult result;
+    result.material   = parameters(regularization);
+    result.n_fit      = n_fit;
+    result.n_held_out = n_held_out;
+    result.n_rejected = n_rejected;
     std::vector<double> errors =
-      relative_energy_errors(element,
-                             result.material,
-                             held_out.empty() ? fitted : held_out);
-    result.n_held_out = held_out.size();
+      relative_energy_errors(element, result.material, error_samples);
     if (!errors.empty())
       {
         std::sort(errors.begin(), errors.end());
@@ -277,5 +298,17 @@ namespace ddfem::coarsening
         result.max_error    = errors.back();
       }
     return result;
+  }
+
+
+
+  FitResult
+  fit_metamaterial(const CoarseElement       &element,
+                   const std::vector<Sample> &samples,
+                   const Metamaterial        &prior,
+                   const FitSettings         &settings)
+  {
+    return MetamaterialFit(element, samples, prior, settings)
+      .fit(settings.regularization);
   }
 } // namespace ddfem::coarsening

@@ -60,8 +60,8 @@ namespace ddfem::coarsening
   };
 
   /**
-   * Fits a metamaterial to energy samples (paper eq. 3-4): the parameters
-   * (mu, lambda, C) of every point of @p element minimize
+   * The fit of a metamaterial to energy samples (paper eq. 3-4): the
+   * parameters (mu, lambda, C) of every point of @p element minimize
    *
    *   1/n sum_s ((E_s - E(p; u_s)) / E_s)^2
    *     + regularization * sum_j ((p_j - p0_j) / s_j)^2
@@ -76,7 +76,46 @@ namespace ddfem::coarsening
    * the bounds make non-physical parameters impossible. Residuals are
    * relative so soft and stiff samples weigh alike; the scaling makes the
    * regularization weigh a relative change of every parameter alike.
+   *
+   * The constructor assembles the normal equations of the samples once;
+   * parameters() and fit() solve them for any regularization weight.
    */
+  class MetamaterialFit
+  {
+  public:
+    /// Assembles the problem (FitSettings::regularization is not used).
+    MetamaterialFit(const CoarseElement       &element,
+                    const std::vector<Sample> &samples,
+                    const Metamaterial        &prior,
+                    const FitSettings         &settings);
+
+    /// The fitted metamaterial for the weight @p regularization.
+    Metamaterial
+    parameters(const double regularization) const;
+
+    /// The fitted metamaterial for the weight @p regularization, with its
+    /// errors on the held-out samples.
+    FitResult
+    fit(const double regularization) const;
+
+  private:
+    const CoarseElement &element;
+    Metamaterial         prior;
+    /// Units of (mu, lambda, C) and every point's lower bounds of them.
+    std::array<double, 3>              scale;
+    std::vector<std::array<double, 3>> lower;
+    /// Normal equations of the scaled unknowns x = (p - lower) / scale,
+    /// without the regularization.
+    FullMatrix<double> H;
+    Vector<double>     g;
+    /// The samples the fit's errors are measured on: the held-out ones,
+    /// or the fitted ones if none is held out.
+    std::vector<Sample> error_samples;
+    unsigned int        n_fit = 0, n_held_out = 0, n_rejected = 0;
+  };
+
+  /// MetamaterialFit(element, samples, prior, settings).fit() with the
+  /// weight FitSettings::regularization.
   FitResult
   fit_metamaterial(const CoarseElement       &element,
                    const std::vector<Sample> &samples,
