@@ -554,10 +554,10 @@ namespace ddfem::coarsening
     // Energy, gradient g and (if H is given) Hessian with respect to the
     // fluctuation v, gathered over the periodic classes, and the norm of
     // all nodal forces (the scale of g).
-    double             E;
     Vector<double>     r;
     FullMatrix<double> K;
     const auto         gather = [&](const Vector<double>     &v,
+                            double                   &E,
                             Vector<double>           &g,
                             LAPACKFullMatrix<double> *H,
                             double                   &force_norm) {
@@ -579,10 +579,10 @@ namespace ddfem::coarsening
 
     for (unsigned int it = 0; it < 40; ++it)
       {
+        double                   E, force_norm;
         Vector<double>           g;
         LAPACKFullMatrix<double> H(n_periodic);
-        double                   force_norm;
-        if (!gather(w, g, &H, force_norm))
+        if (!gather(w, E, g, &H, force_norm))
           return false;
         // Converged when the unbalanced forces are negligible against the
         // forces on the prescribed nodes.
@@ -621,8 +621,8 @@ namespace ddfem::coarsening
         };
         const auto unbalanced = [&](const Vector<double> &v, double &norm) {
           Vector<double> trial_g;
-          double         unused;
-          if (!gather(v, trial_g, nullptr, unused))
+          double         unused_energy, unused_norm;
+          if (!gather(v, unused_energy, trial_g, nullptr, unused_norm))
             return false;
           norm = trial_g.l2_norm();
           return true;
