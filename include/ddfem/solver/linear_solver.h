@@ -10,6 +10,8 @@
 #include <deal.II/lac/trilinos_sparse_matrix.h>
 #include <deal.II/lac/vector.h>
 
+#include <ddfem/solver/sparse_cholesky.h>
+
 #include <string>
 #include <vector>
 
@@ -18,14 +20,21 @@ namespace ddfem::solver
   using namespace dealii;
 
   /**
-   * Solves the linearized systems K x = b of the Newton method, either with
-   * a sparse direct factorization (UMFPACK) or with conjugate gradients
-   * preconditioned by Trilinos ML algebraic multigrid whose near null space
-   * are the six rigid body modes. 'auto' picks the direct solver for small
-   * systems. The multigrid hierarchy is kept across Newton iterations and
-   * rebuilt only when CG needs 1.5 times the iterations it needed right
-   * after the last rebuild. In 'auto' mode, a CG failure on a system of
-   * moderate size switches to the direct solver for a few systems.
+   * Solves the linearized systems K x = b of the Newton method with one of
+   * - a sparse LU factorization of every system (UMFPACK, 'direct');
+   * - conjugate gradients preconditioned by the sparse Cholesky factor of
+   *   an earlier system ('cg-cholesky'): the factor is recomputed only when
+   *   CG needs more than 'Cholesky reuse iterations', so a few
+   *   factorizations serve a whole load path; a system that is not positive
+   *   definite goes to UMFPACK;
+   * - conjugate gradients preconditioned by Trilinos ML algebraic multigrid
+   *   whose near null space are the six rigid body modes ('cg-amg'). The
+   *   hierarchy is kept across Newton iterations and rebuilt only when CG
+   *   needs 1.5 times the iterations it needed right after the last
+   *   rebuild.
+   * 'auto' picks cg-cholesky for small systems and cg-amg for large ones.
+   * In 'auto' mode, a cg-amg failure on a system of moderate size switches
+   * to the direct solver for a few systems.
    * Declared in the prm subsection "Linear solver".
    */
   class LinearSolver
@@ -60,7 +69,8 @@ namespace ddfem::solver
     /**
      * Solves @p K x = @p b. The iterative solver stops when the residual
      * is reduced by the factor min(@p forcing, 'Tolerance') (the forcing
-     * term of an inexact Newton method; the direct solver ignores it).
+     * term of an inexact Newton method; 'Cholesky tolerance' replaces
+     * 'Tolerance' for cg-cholesky, and the direct solver ignores it).
      * Returns the number of iterations (1 for the direct solver). Throws
      * Failure if the solver does not succeed.
      */
@@ -70,12 +80,12 @@ namespace ddfem::solver
           const Vector<double>       &b,
           const double                forcing = 1);
 
-    /// Overrides 'Type' ("auto", "direct" or "cg-amg") for the next
-    /// initialize().
+    /// Overrides 'Type' ("auto", "direct", "cg-cholesky" or "cg-amg") for
+    /// the next initialize().
     void
     set_type(const std::string &type);
 
-    /// The method in use: "direct" or "cg-amg".
+    /// The method in use: "direct", "cg-cholesky" or "cg-amg".
     const std::string &
     method() const
     {
@@ -91,10 +101,20 @@ namespace ddfem::solver
 
     /// 'Type' as given, and the method it resolved to for this system.
     std::string requested, chosen;
-    /// 'Tolerance', 'Maximum iterations', 'Direct solver limit' and
-    /// 'Direct fallback limit'.
-    double       tolerance;
-    unsigned int max_iterations, direct_limit, fallback_limit;
+    /// cg-cholesky: CG with the last Cholesky factor, or a new factor if
+    /// there is none or CG needs more than 'Cholesky reuse iterations'.
+    unsigned int
+    solve_with_cholesky(const SparseMatrix<double> &K,
+                        Vector<double>             &x,
+                        const Vector<double>       &b,
+                        const double                forcing);
+
+    /// 'Tolerance', 'Cholesky tolerance', 'Cholesky reuse iterations',
+    /// 'Maximum iterations', 'Direct solver limit' and 'Direct fallback
+    /// limit'.
+    double       tolerance, cholesky_tolerance;
+    unsigned int reuse_iterations, max_iterations, direct_limit,
+      fallback_limit;
     /// Systems still to be solved directly after a CG failure ('auto').
     unsigned int direct_solves_left = 0;
     /// Polynomial degree of the element (for the AMG settings).
@@ -110,9 +130,11 @@ namespace ddfem::solver
     /// The six rigid body modes, mode-major (mode k at [k * n_dofs]).
     std::vector<double> rigid_body_modes;
 
-    /// The direct solver, the Trilinos copy of the matrix the multigrid
-    /// hierarchy was built from, and that hierarchy.
+    /// The direct solver, the Cholesky factor of cg-cholesky, the Trilinos
+    /// copy of the matrix the multigrid hierarchy was built from, and that
+    /// hierarchy.
     SparseDirectUMFPACK               direct;
+    SparseCholesky                    cholesky;
     TrilinosWrappers::SparseMatrix    trilinos_matrix;
     TrilinosWrappers::PreconditionAMG amg;
   };

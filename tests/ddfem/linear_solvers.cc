@@ -1,0 +1,147 @@
+// The linear solvers on Neo-Hookean tangents of a random heterogeneous block
+// (made definite by a small diagonal shift, as the Dirichlet rows do in a
+// solve):
+// 1. the CHOLMOD Cholesky factor solves K x = b to round-off and agrees
+//    with UMFPACK; a refactorization on the same pattern (a tangent at
+//    another state) is as accurate; a matrix that is not positive definite
+//    is reported, and leaves no factor;
+// 2. cg-cholesky factorizes the first tangent (1 iteration), solves the
+//    next, nearby tangent by a few CG iterations with the old factor to the
+//    requested tolerance, factorizes again when a tangent is too far from
+//    the factored one, and hands an indefinite tangent to UMFPACK.
+
+#include <deal.II/lac/sparse_direct.h>
+
+#include <ddfem/solver/sparse_cholesky.h>
+
+#include <random>
+
+#include "../tests.h"
+
+using namespace ddfem;
+using namespace dealii;
+
+namespace
+{
+  /// Relative residual |K x - b| / |b|.
+  double
+  relative_residual(const SparseMatrix<double> &K,
+                    const Vector<double>       &x,
+                    const Vector<double>       &b)
+  {
+    Vector<double> r(b.size());
+    K.vmult(r, x);
+    r -= b;
+    return r.l2_norm() / b.l2_norm();
+  }
+} // namespace
+
+
+
+int
+main(int argc, char **argv)
+{
+  Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  testing::Problem problem(testing::cantilever("4, 4, 4", "1e3; -2e3; 5e2") +
+                           R"(
+    subsection Layout
+      set Type = random
+    end)");
+  const unsigned int n = problem.discretization->dof_handler.n_dofs();
+  std::mt19937       random(3);
+  std::uniform_real_distribution<double> uniform(-1, 1);
+
+  // Tangents at two displacements (strains of about 1 % and 2 %), each
+  // shifted by 1e-3 of its mean diagonal, and a matrix far from both: the
+  // second tangent with the diagonal of half its rows multiplied by 10.
+  const auto tangent = [&](const double amplitude, SparseMatrix<double> &K) {
+    Vector<double> u(n), residual;
+    std::mt19937   same(11);
+    for (auto &v : u)
+      v = amplitude * uniform(same);
+    problem.solver->residual_and_tangent(u, 1., residual, K);
+    double trace = 0;
+    for (unsigned int i = 0; i < n; ++i)
+      trace += K.diag_element(i);
+    for (unsigned int i = 0; i < n; ++i)
+      K.diag_element(i) += 1e-3 * trace / n;
+  };
+  SparseMatrix<double> K0, K1, K2;
+  tangent(5e-5, K0);
+  tangent(1e-4, K1);
+  tangent(1e-4, K2);
+  for (unsigned int i = 0; i < n / 2; ++i)
+    K2.diag_element(i) *= 10;
+  Vector<double> b(n), x(n), y(n);
+  for (auto &v : b)
+    v = uniform(random);
+
+  std::cout << "Sparse Cholesky, " << n << " unknowns" << std::endl;
+  {
+    solver::SparseCholesky cholesky;
+    std::cout << "  positive definite: " << cholesky.factorize(K0)
+              << std::endl;
+    cholesky.vmult(x, b);
+    testing::check_below("  relative residual", relative_residual(K0, x, b),
+                         1e-12);
+    SparseDirectUMFPACK lu;
+    lu.initialize(K0);
+    lu.vmult(y, b);
+    y -= x;
+    testing::check_below("  difference to UMFPACK, relative",
+                         y.l2_norm() / x.l2_norm(),
+                         1e-10);
+    std::cout << "  refactorized (far matrix), positive definite: "
+              << cholesky.factorize(K2) << std::endl;
+    cholesky.vmult(x, b);
+    testing::check_below("  relative residual", relative_residual(K2, x, b),
+                         1e-12);
+
+    SparseMatrix<double> indefinite;
+    indefinite.reinit(K0.get_sparsity_pattern());
+    indefinite.copy_from(K0);
+    indefinite.diag_element(n / 2) = -indefinite.diag_element(n / 2);
+    std::cout << "  one diagonal entry negated, positive definite: "
+              << cholesky.factorize(indefinite)
+              << ", factor held: " << cholesky.factorized() << std::endl;
+  }
+
+  std::cout << "cg-cholesky (Cholesky tolerance 1e-8, reuse iterations 20)"
+            << std::endl;
+  {
+    ParameterHandler prm;
+    solver::LinearSolver::declare_parameters(prm);
+    prm.parse_input_from_string(R"(
+      subsection Linear solver
+        set Type = cg-cholesky
+        set Cholesky tolerance = 1e-8
+        set Cholesky reuse iterations = 20
+      end)");
+    solver::LinearSolver linear_solver;
+    linear_solver.parse_parameters(prm);
+    TimerOutput timer(std::cout, TimerOutput::never, TimerOutput::wall_times);
+    linear_solver.initialize(problem.discretization->dof_handler, timer);
+    std::cout << "  method: " << linear_solver.method() << std::endl;
+
+    const auto solve = [&](const std::string          &name,
+                           const SparseMatrix<double> &K,
+                           const double                bound) {
+      const unsigned int iterations = linear_solver.solve(K, x, b);
+      std::cout << "  " << name << ": " << iterations << " iteration"
+                << (iterations == 1 ? "" : "s") << std::endl;
+      testing::check_below("    relative residual",
+                           relative_residual(K, x, b),
+                           bound);
+    };
+    solve("first tangent, factorized", K0, 1e-12);
+    solve("nearby tangent, old factor", K1, 1e-8);
+    solve("far matrix, old factor fails, factorized", K2, 1e-12);
+
+    SparseMatrix<double> indefinite;
+    indefinite.reinit(K2.get_sparsity_pattern());
+    indefinite.copy_from(K2);
+    for (unsigned int i = 0; i < n; i += 7)
+      indefinite.diag_element(i) = -indefinite.diag_element(i);
+    solve("indefinite tangent, UMFPACK", indefinite, 1e-10);
+  }
+}
