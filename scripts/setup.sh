@@ -12,7 +12,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-packages="libdeal.ii-dev numdiff nlohmann-json3-dev libopenblas0-pthread \
+packages="libdeal.ii-dev libsuitesparse-dev numdiff nlohmann-json3-dev libopenblas0-pthread \
           cmake g++ make perl ccache gnuplot-nox"
 missing=""
 for p in $packages; do

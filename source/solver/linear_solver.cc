@@ -20,7 +20,7 @@ namespace ddfem::solver
       "gradients preconditioned by the CHOLMOD Cholesky factor of an "
       "earlier tangent, refactorized when CG needs more than 'Cholesky "
       "reuse iterations' (UMFPACK for a tangent that is not positive "
-      "definite). cg-amg: conjugate gradients with Trilinos ML algebraic "
+      "definite, and the next 10). cg-amg: conjugate gradients with Trilinos ML algebraic "
       "multigrid (rigid body modes as near null space). auto: cg-cholesky "
       "up to 'Direct solver limit' unknowns, cg-amg above.");
     prm.declare_entry(
@@ -203,8 +203,13 @@ namespace ddfem::solver
       TimerOutput::Scope scope(*timer, "factorization / preconditioner");
       positive_definite = cholesky.factorize(K);
     }
+    // An indefinite tangent (past a bifurcation, say): this system and the
+    // next ones, likely indefinite too, go to UMFPACK.
     if (!positive_definite)
-      return iterations + solve_directly(K, x, b);
+      {
+        direct_solves_left = 10;
+        return iterations + solve_directly(K, x, b);
+      }
     TimerOutput::Scope scope(*timer, "linear solve");
     cholesky.vmult(x, b);
     return iterations + 1;

@@ -1,5 +1,5 @@
 #include <ddfem/solver/sparse_cholesky.h>
-#include <suitesparse/cholmod.h>
+#include <cholmod.h>
 
 #include <stdexcept>
 

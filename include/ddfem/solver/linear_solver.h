@@ -26,7 +26,7 @@ namespace ddfem::solver
    *   an earlier system ('cg-cholesky'): the factor is recomputed only when
    *   CG needs more than 'Cholesky reuse iterations', so a few
    *   factorizations serve a whole load path; a system that is not positive
-   *   definite goes to UMFPACK;
+   *   definite goes to UMFPACK, and so do the next 10;
    * - conjugate gradients preconditioned by Trilinos ML algebraic multigrid
    *   whose near null space are the six rigid body modes ('cg-amg'). The
    *   hierarchy is kept across Newton iterations and rebuilt only when CG
@@ -115,7 +115,8 @@ namespace ddfem::solver
     double       tolerance, cholesky_tolerance;
     unsigned int reuse_iterations, max_iterations, direct_limit,
       fallback_limit;
-    /// Systems still to be solved directly after a CG failure ('auto').
+    /// Systems still to be solved directly after a cg-amg failure ('auto')
+    /// or an indefinite tangent (cg-cholesky).
     unsigned int direct_solves_left = 0;
     /// Polynomial degree of the element (for the AMG settings).
     unsigned int degree = 1;
