@@ -71,13 +71,13 @@ namespace ddfem::solver
   LinearSolver::parse_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Linear solver");
-    requested      = prm.get("Type");
+    requested          = prm.get("Type");
     tolerance          = prm.get_double("Tolerance");
     cholesky_tolerance = prm.get_double("Cholesky tolerance");
     reuse_iterations   = prm.get_integer("Cholesky reuse iterations");
-    max_iterations = prm.get_integer("Maximum iterations");
-    direct_limit   = prm.get_integer("Direct solver limit");
-    fallback_limit = prm.get_integer("Direct fallback limit");
+    max_iterations     = prm.get_integer("Maximum iterations");
+    direct_limit       = prm.get_integer("Direct solver limit");
+    fallback_limit     = prm.get_integer("Direct fallback limit");
     prm.leave_subsection();
   }
 
@@ -180,8 +180,8 @@ namespace ddfem::solver
     unsigned int iterations = 0;
     if (cholesky.factorized())
       {
-        TimerOutput::Scope scope(*timer, "linear solve");
-        SolverControl      control(reuse_iterations,
+        TimerOutput::Scope       scope(*timer, "linear solve");
+        SolverControl            control(reuse_iterations,
                               std::max(1e-12,
                                        std::min(forcing, cholesky_tolerance)) *
                                 b.l2_norm());

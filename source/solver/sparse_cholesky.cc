@@ -1,7 +1,8 @@
-#include <ddfem/solver/sparse_cholesky.h>
 #include <cholmod.h>
+#include <ddfem/solver/sparse_cholesky.h>
 
 #include <stdexcept>
+#include <string>
 
 namespace ddfem::solver
 {
@@ -88,8 +89,13 @@ namespace ddfem::solver
            ExcMessage("The sparsity pattern changed without clear()."));
     cholmod_factorize(A, data->factor, &c);
     cholmod_free_sparse(&A, &c);
-    if (c.status == CHOLMOD_OUT_OF_MEMORY)
-      throw std::runtime_error("CHOLMOD: out of memory for the factor");
+    // Errors are negative (out of memory, a factor too large for 32-bit
+    // indices); CHOLMOD_NOT_POSDEF is a warning.
+    if (c.status < CHOLMOD_OK)
+      throw std::runtime_error("CHOLMOD: the factorization of a " +
+                               std::to_string(n) +
+                               "-unknown matrix failed (status " +
+                               std::to_string(c.status) + "; out of memory?)");
     data->valid = (c.status == CHOLMOD_OK);
     return data->valid;
   }
@@ -110,14 +116,14 @@ namespace ddfem::solver
     Assert(data->valid, ExcMessage("No Cholesky factor to solve with."));
     cholmod_common &c = data->common;
     cholmod_dense   B;
-    B.nrow  = b.size();
-    B.ncol  = 1;
-    B.nzmax = b.size();
-    B.d     = b.size();
-    B.x     = const_cast<double *>(b.begin());
-    B.z     = nullptr;
-    B.xtype = CHOLMOD_REAL;
-    B.dtype = CHOLMOD_DOUBLE;
+    B.nrow           = b.size();
+    B.ncol           = 1;
+    B.nzmax          = b.size();
+    B.d              = b.size();
+    B.x              = const_cast<double *>(b.begin());
+    B.z              = nullptr;
+    B.xtype          = CHOLMOD_REAL;
+    B.dtype          = CHOLMOD_DOUBLE;
     cholmod_dense *X = cholmod_solve(CHOLMOD_A, data->factor, &B, &c);
     if (X == nullptr)
       throw std::runtime_error("CHOLMOD: the solve failed (memory?)");

@@ -42,7 +42,7 @@ int
 main(int argc, char **argv)
 {
   Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
-  testing::Problem problem(testing::cantilever("4, 4, 4", "1e3; -2e3; 5e2") +
+  testing::Problem   problem(testing::cantilever("4, 4, 4", "1e3; -2e3; 5e2") +
                            R"(
     subsection Layout
       set Type = random
@@ -79,10 +79,10 @@ main(int argc, char **argv)
   std::cout << "Sparse Cholesky, " << n << " unknowns" << std::endl;
   {
     solver::SparseCholesky cholesky;
-    std::cout << "  positive definite: " << cholesky.factorize(K0)
-              << std::endl;
+    std::cout << "  positive definite: " << cholesky.factorize(K0) << std::endl;
     cholesky.vmult(x, b);
-    testing::check_below("  relative residual", relative_residual(K0, x, b),
+    testing::check_below("  relative residual",
+                         relative_residual(K0, x, b),
                          1e-12);
     SparseDirectUMFPACK lu;
     lu.initialize(K0);
@@ -94,7 +94,8 @@ main(int argc, char **argv)
     std::cout << "  refactorized (far matrix), positive definite: "
               << cholesky.factorize(K2) << std::endl;
     cholesky.vmult(x, b);
-    testing::check_below("  relative residual", relative_residual(K2, x, b),
+    testing::check_below("  relative residual",
+                         relative_residual(K2, x, b),
                          1e-12);
 
     SparseMatrix<double> indefinite;

@@ -113,8 +113,7 @@ namespace ddfem::solver
     /// 'Maximum iterations', 'Direct solver limit' and 'Direct fallback
     /// limit'.
     double       tolerance, cholesky_tolerance;
-    unsigned int reuse_iterations, max_iterations, direct_limit,
-      fallback_limit;
+    unsigned int reuse_iterations, max_iterations, direct_limit, fallback_limit;
     /// Systems still to be solved directly after a cg-amg failure ('auto')
     /// or an indefinite tangent (cg-cholesky).
     unsigned int direct_solves_left = 0;

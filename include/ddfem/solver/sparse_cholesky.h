@@ -40,7 +40,7 @@ namespace ddfem::solver
     /**
      * Factorizes the symmetric matrix @p K, reading its upper triangle.
      * Returns false, and holds no factor, if @p K is not positive definite.
-     * Throws std::runtime_error if CHOLMOD runs out of memory.
+     * Throws std::runtime_error if CHOLMOD fails otherwise (out of memory).
      */
     bool
     factorize(const SparseMatrix<double> &K);
