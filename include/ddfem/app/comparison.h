@@ -22,8 +22,8 @@ namespace ddfem::app
   /**
    * Run type "compare": error against run time (DDFEM paper, section 6).
    * Solves one scene in one process with the fine model (with the scene's
-   * linear solver and, up to a size limit, with UMFPACK at every Newton
-   * iteration) and with every
+   * linear solver, with cg-amg if that is another one, and, up to a size
+   * limit, with UMFPACK at every Newton iteration) and with every
    * coarse method at every coarsening level asked for; measures each
    * coarse solution's vertex error against the fine one and every run's
    * wall time; writes comparison.csv, comparison.json, error_vs_time.png
