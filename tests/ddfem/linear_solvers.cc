@@ -2,9 +2,9 @@
 // (made definite by a small diagonal shift, as the Dirichlet rows do in a
 // solve):
 // 1. the CHOLMOD Cholesky factor solves K x = b to round-off and agrees
-//    with UMFPACK; a refactorization on the same pattern (a tangent at
-//    another state) is as accurate; a matrix that is not positive definite
-//    is reported, and leaves no factor;
+//    with UMFPACK; a refactorization on the same pattern (another matrix)
+//    is as accurate; a matrix that is not positive definite is reported,
+//    and leaves no factor;
 // 2. cg-cholesky factorizes the first tangent (1 iteration), solves the
 //    next, nearby tangent by a few CG iterations with the old factor to the
 //    requested tolerance, factorizes again when a tangent is too far from
