@@ -54,7 +54,8 @@ namespace ddfem::solver
     vmult(Vector<double> &x, const Vector<double> &b) const;
 
   private:
-    /// CHOLMOD's workspace, the factor, and whether it holds a factor.
+    /// CHOLMOD's workspace, the matrix and its factor, whether the factor
+    /// is valid, and the solves' vectors.
     struct Data;
     std::unique_ptr<Data> data;
   };
