@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <map>
 #include <optional>
 #include <sstream>
 
@@ -23,6 +24,10 @@ namespace ddfem::app
       std::size_t         cells = 0, dofs = 0;
       ModelRun::Result    result;
       report::VertexError error;
+      /// Coarse rows: the error of the coarse grid's least-squares fit to
+      /// the fine solution (report::coarse_fit()), the same for every
+      /// method of a level.
+      report::VertexError grid_fit;
       double              speedup = 0, speedup_direct = 0;
 
       /// "fine", "fine-amg", "fine-direct" or "<method> L<level>".
@@ -60,7 +65,7 @@ namespace ddfem::app
                   << "grid" << std::right << std::setw(7) << "cells"
                   << std::setw(8) << "DoFs" << std::setw(8) << "Newton"
                   << std::setw(12) << "mean error" << std::setw(12)
-                  << "max error";
+                  << "max error" << std::setw(12) << "grid fit";
               if (timings)
                 out << std::setw(10) << "wall [s]" << std::setw(12)
                     << "s/Newton" << std::setw(13) << "coarsen [ms]"
@@ -73,11 +78,12 @@ namespace ddfem::app
               << std::setw(8) << row.dofs << std::setw(8)
               << row.result.statistics.newton_iterations;
           if (row.level == 0)
-            out << std::setw(12) << "-" << std::setw(12) << "-";
+            out << std::setw(12) << "-" << std::setw(12) << "-" << std::setw(12)
+                << "-";
           else
             out << std::scientific << std::setprecision(3) << std::setw(12)
                 << row.error.mean << std::setw(12) << row.error.max
-                << std::defaultfloat;
+                << std::setw(12) << row.grid_fit.mean << std::defaultfloat;
           if (timings)
             {
               out << std::fixed << std::setprecision(3) << std::setw(10)
@@ -108,7 +114,8 @@ namespace ddfem::app
       csv << "state,method,level,grid,cells,dofs,newton_iterations,"
              "time_per_iteration_s,wall_time_s,coarsening_time_s,"
              "speedup_vs_fine,speedup_vs_fine_direct,mean_vertex_error,"
-             "max_vertex_error,linear_solver,converged\n"
+             "max_vertex_error,grid_fit_mean_vertex_error,"
+             "grid_fit_max_vertex_error,linear_solver,converged\n"
           << std::setprecision(6);
       for (const Row &r : rows)
         csv << r.state << ',' << r.method << ',' << r.level << ',' << r.grid
@@ -120,6 +127,7 @@ namespace ddfem::app
             << ',' << r.speedup << ','
             << (r.speedup_direct > 0 ? std::to_string(r.speedup_direct) : "")
             << ',' << r.error.mean << ',' << r.error.max << ','
+            << r.grid_fit.mean << ',' << r.grid_fit.max << ','
             << r.linear_solver << ','
             << (r.result.statistics.converged ? "true" : "false") << '\n';
       AssertThrow(csv, ExcMessage("Cannot write \"" + file + "\"."));
@@ -128,7 +136,8 @@ namespace ddfem::app
     /**
      * Draws error_vs_time.png: the mean vertex error of each coarse model
      * of the first state against its wall time, log-log, one marker per
-     * method and level; the fine runs' times as vertical lines.
+     * method and level; the fine runs' times as vertical lines, and the
+     * error of each level's grid fit as a horizontal one.
      */
     void
     plot(const std::vector<Row> &rows,
@@ -169,6 +178,19 @@ namespace ddfem::app
               std::to_string(block + 1) + " title '" + r.label() + "'");
             ++block;
           }
+      std::map<unsigned int, double> grid_fits;
+      for (const Row &r : rows)
+        if (r.state == rows.front().state && r.level > 0 && r.grid_fit.mean > 0)
+          grid_fits[r.level] = r.grid_fit.mean;
+      for (const auto &[level, error] : grid_fits)
+        {
+          lowest = std::min(lowest, error);
+          script << "set arrow from graph 0, first " << error
+                 << " to graph 1, first " << error << " nohead dashtype 3\n"
+                 << "set label 'L" << level
+                 << " grid fit' at graph 0.02, first " << error
+                 << " offset 0,0.7\n";
+        }
       for (const Row &r : rows)
         if (r.state == rows.front().state && r.level == 0)
           script << "set arrow from " << r.result.wall_time << ", graph 0 to "
@@ -308,7 +330,8 @@ namespace ddfem::app
             out << "Edit " << state << ": " << changed.size()
                 << " voxels change material" << std::endl;
           }
-        const std::size_t first_row = rows.size();
+        const std::size_t                           first_row = rows.size();
+        std::map<unsigned int, report::VertexError> grid_fits; // per level
         for (unsigned int c = 0; c < configurations.size(); ++c)
           {
             Configuration &config = configurations[c];
@@ -372,11 +395,26 @@ namespace ddfem::app
             row.result        = model.solve(&writer);
             row.linear_solver = config.linear_solver->method();
             // Against the fine model, which runs first.
-            row.error     = report::vertex_error(scene.grid,
+            row.error = report::vertex_error(scene.grid,
                                              models[0]->discretization(),
                                              models[0]->solution(),
                                              model.discretization(),
                                              model.solution());
+            if (config.level > 0)
+              {
+                report::VertexError &fit = grid_fits[config.level];
+                if (fit.n_vertices == 0)
+                  fit = report::vertex_error(
+                    scene.grid,
+                    models[0]->discretization(),
+                    models[0]->solution(),
+                    model.discretization(),
+                    report::coarse_fit(scene.grid,
+                                       models[0]->discretization(),
+                                       models[0]->solution(),
+                                       model.discretization()));
+                row.grid_fit = fit;
+              }
             all_converged = all_converged && row.result.statistics.converged;
             out << "  " << std::left << std::setw(12) << row.label()
                 << std::right << row.cells << " cells, " << row.dofs
@@ -424,18 +462,20 @@ namespace ddfem::app
     json["runs"]  = nlohmann::json::array();
     for (const Row &r : rows)
       {
-        nlohmann::json run            = r.result.to_json();
-        run["state"]                  = r.state;
-        run["method"]                 = r.method;
-        run["level"]                  = r.level;
-        run["grid"]                   = r.grid;
-        run["cells"]                  = r.cells;
-        run["dofs"]                   = r.dofs;
-        run["linear_solver"]          = r.linear_solver;
-        run["speedup_vs_fine"]        = r.speedup;
-        run["speedup_vs_fine_direct"] = r.speedup_direct;
-        run["mean_vertex_error"]      = r.error.mean;
-        run["max_vertex_error"]       = r.error.max;
+        nlohmann::json run                = r.result.to_json();
+        run["state"]                      = r.state;
+        run["method"]                     = r.method;
+        run["level"]                      = r.level;
+        run["grid"]                       = r.grid;
+        run["cells"]                      = r.cells;
+        run["dofs"]                       = r.dofs;
+        run["linear_solver"]              = r.linear_solver;
+        run["speedup_vs_fine"]            = r.speedup;
+        run["speedup_vs_fine_direct"]     = r.speedup_direct;
+        run["mean_vertex_error"]          = r.error.mean;
+        run["max_vertex_error"]           = r.error.max;
+        run["grid_fit_mean_vertex_error"] = r.grid_fit.mean;
+        run["grid_fit_max_vertex_error"]  = r.grid_fit.max;
         json["runs"].push_back(run);
       }
     Utilities::System::MemoryStats memory;

@@ -3,6 +3,12 @@
 // reproduced exactly by every level (error 0); a quadratic one has the
 // known interpolation error H^2/4 at the midpoints of coarse edges; a
 // perturbation of one fine vertex gives delta/L at that vertex.
+//
+// The coarse grid's least-squares fit to a fine field (report::coarse_fit)
+// reproduces an affine field on every level, with void voxels too, and
+// spreads a bump at the one interior vertex of a single block as the
+// constant delta/27 (the normal equations give 27 c = delta), so its errors
+// are 26 delta/27 there and delta/27 at the other 26 vertices.
 
 #include <ddfem/report/vertex_error.h>
 
@@ -29,17 +35,32 @@ namespace
   }
 } // namespace
 
+namespace
+{
+  /// The scene of @p grid_size voxels of @p voxel_size m, with @p shapes.
+  std::unique_ptr<scene::Scene>
+  make_scene(const std::string &grid_size,
+             const double       voxel_size,
+             const std::string &shapes = "")
+  {
+    ParameterHandler prm;
+    app::declare_parameters(prm);
+    prm.parse_input_from_string(
+      "subsection Geometry\n set Grid size = " + grid_size +
+      "\n set Voxel size = " + std::to_string(voxel_size) +
+      "\nend\nsubsection Layout\n set Shapes = " + shapes + "\nend\n");
+    auto scene = std::make_unique<scene::Scene>();
+    scene->parse_parameters(prm);
+    return scene;
+  }
+} // namespace
+
 int
 main()
 {
   // A 4 x 4 x 8 voxel block of side 0.25 m: longest side 2 m.
-  ParameterHandler prm;
-  app::declare_parameters(prm);
-  prm.parse_input_from_string(
-    "subsection Geometry\n set Grid size = 4, 4, 8\n set Voxel size = 0.25\n"
-    "end\n");
-  scene::Scene scene;
-  scene.parse_parameters(prm);
+  const auto                   scene_pointer = make_scene("4, 4, 8", 0.25);
+  const scene::Scene          &scene         = *scene_pointer;
   const solver::Discretization fine(scene, 1);
 
   const auto affine = [](const Point<3> &x) {
@@ -96,4 +117,52 @@ main()
   std::cout << "Perturbed vertex: max " << e.max << " (expected " << 0.01 / 2
             << "), mean " << e.mean << " (expected " << 0.01 / 2 / e.n_vertices
             << ")" << std::endl;
+
+  // The grid fit of an affine field is the field itself, also where
+  // blocks are partly void (a column of void voxels along z, and one
+  // voxel more).
+  const auto                   carved = make_scene("4, 4, 8",
+                                 0.25,
+                                 "box 0 0 0 0.25 0.25 2 : 0; box 0.5 0.5 1 "
+                                                   "0.75 0.75 1.25 : 0");
+  const solver::Discretization carved_fine(*carved, 1);
+  for (const unsigned int level : {1u, 2u})
+    {
+      const solver::Discretization coarse(*carved, 1, level);
+      const Vector<double>         u = nodal(carved_fine, affine);
+      const auto                   e = report::vertex_error(
+        carved->grid,
+        carved_fine,
+        u,
+        coarse,
+        report::coarse_fit(carved->grid, carved_fine, u, coarse));
+      std::cout << "Carved grid, level " << level << ": "
+                << carved->grid.n_solid_voxels() << " solid voxels, "
+                << e.n_vertices << " fine vertices" << std::endl;
+      testing::check_below("  grid fit of an affine field, max error",
+                           e.max,
+                           1e-12);
+    }
+
+  // A bump of delta at the centre of a single 2 x 2 x 2 block (side 0.5 m).
+  const auto                   block = make_scene("2, 2, 2", 0.25);
+  const solver::Discretization block_fine(*block, 1);
+  const solver::Discretization block_coarse(*block, 1, 1);
+  const double                 delta = 0.01;
+  const auto                   bump  = [delta](const Point<3> &x) {
+    return Tensor<1, 3>(
+      {0., 0., (x - Point<3>(0.25, 0.25, 0.25)).norm() < 1e-12 ? delta : 0.});
+  };
+  const Vector<double> u_bump = nodal(block_fine, bump);
+  const Vector<double> fit =
+    report::coarse_fit(block->grid, block_fine, u_bump, block_coarse);
+  std::cout << "Bump: coarse nodal values z";
+  for (unsigned int i = 2; i < fit.size(); i += 3)
+    std::cout << ' ' << fit(i) / delta;
+  std::cout << " (times delta; expected 1/27 = " << 1. / 27 << ")" << std::endl;
+  const auto b =
+    report::vertex_error(block->grid, block_fine, u_bump, block_coarse, fit);
+  std::cout << "  grid fit error: mean " << b.mean << " (expected "
+            << 52 * delta / 729 / b.length << "), max " << b.max
+            << " (expected " << 26 * delta / 27 / b.length << ")" << std::endl;
 }

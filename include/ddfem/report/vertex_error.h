@@ -49,6 +49,21 @@ namespace ddfem::report
                const Vector<double>         &u_fine,
                const solver::Discretization &coarse,
                const Vector<double>         &u_coarse);
+
+  /**
+   * The trilinear field on @p coarse closest to the fine displacement
+   * @p u_fine at the vertices of the fine mesh, in the least-squares sense
+   * (the sum over fine vertices of the squared distance). Its vertex_error()
+   * is what the coarse grid itself costs, whatever the coarse model's
+   * materials: no coarse solution has a smaller root-mean-square vertex
+   * error, and its mean error is the floor a better metamaterial can
+   * approach. Both discretizations must have been built from @p grid.
+   */
+  Vector<double>
+  coarse_fit(const scene::VoxelGrid       &grid,
+             const solver::Discretization &fine,
+             const Vector<double>         &u_fine,
+             const solver::Discretization &coarse);
 } // namespace ddfem::report
 
 #endif
