@@ -24,10 +24,11 @@ namespace ddfem::app
       std::size_t         cells = 0, dofs = 0;
       ModelRun::Result    result;
       report::VertexError error;
-      /// Coarse rows: the error of the coarse grid's least-squares fit to
-      /// the fine solution (report::coarse_fit()), the same for every
-      /// method of a level.
+      /// Coarse rows: the error of the coarse grid's best fit to the fine
+      /// solution and its lower bound (report::grid_fit()), the same for
+      /// every method of a level.
       report::VertexError grid_fit;
+      double              grid_bound = 0;
       double              speedup = 0, speedup_direct = 0;
 
       /// "fine", "fine-amg", "fine-direct" or "<method> L<level>".
@@ -111,12 +112,13 @@ namespace ddfem::app
     write_csv(const std::vector<Row> &rows, const std::string &file)
     {
       std::ofstream csv(file);
-      csv << "state,method,level,grid,cells,dofs,newton_iterations,"
-             "time_per_iteration_s,wall_time_s,coarsening_time_s,"
-             "speedup_vs_fine,speedup_vs_fine_direct,mean_vertex_error,"
-             "max_vertex_error,grid_fit_mean_vertex_error,"
-             "grid_fit_max_vertex_error,linear_solver,converged\n"
-          << std::setprecision(6);
+      csv
+        << "state,method,level,grid,cells,dofs,newton_iterations,"
+           "time_per_iteration_s,wall_time_s,coarsening_time_s,"
+           "speedup_vs_fine,speedup_vs_fine_direct,mean_vertex_error,"
+           "max_vertex_error,grid_fit_mean_vertex_error,"
+           "grid_fit_max_vertex_error,grid_fit_lower_bound,linear_solver,converged\n"
+        << std::setprecision(6);
       for (const Row &r : rows)
         csv << r.state << ',' << r.method << ',' << r.level << ',' << r.grid
             << ',' << r.cells << ',' << r.dofs << ','
@@ -127,8 +129,8 @@ namespace ddfem::app
             << ',' << r.speedup << ','
             << (r.speedup_direct > 0 ? std::to_string(r.speedup_direct) : "")
             << ',' << r.error.mean << ',' << r.error.max << ','
-            << r.grid_fit.mean << ',' << r.grid_fit.max << ','
-            << r.linear_solver << ','
+            << r.grid_fit.mean << ',' << r.grid_fit.max << ',' << r.grid_bound
+            << ',' << r.linear_solver << ','
             << (r.result.statistics.converged ? "true" : "false") << '\n';
       AssertThrow(csv, ExcMessage("Cannot write \"" + file + "\"."));
     }
@@ -330,8 +332,8 @@ namespace ddfem::app
             out << "Edit " << state << ": " << changed.size()
                 << " voxels change material" << std::endl;
           }
-        const std::size_t                           first_row = rows.size();
-        std::map<unsigned int, report::VertexError> grid_fits; // per level
+        const std::size_t                       first_row = rows.size();
+        std::map<unsigned int, report::GridFit> grid_fits; // per level
         for (unsigned int c = 0; c < configurations.size(); ++c)
           {
             Configuration &config = configurations[c];
@@ -402,18 +404,22 @@ namespace ddfem::app
                                              model.solution());
             if (config.level > 0)
               {
-                report::VertexError &fit = grid_fits[config.level];
-                if (fit.n_vertices == 0)
-                  fit = report::vertex_error(
-                    scene.grid,
-                    models[0]->discretization(),
-                    models[0]->solution(),
-                    model.discretization(),
-                    report::coarse_fit(scene.grid,
+                if (grid_fits.count(config.level) == 0)
+                  {
+                    const report::GridFit &fit = grid_fits[config.level] =
+                      report::grid_fit(scene.grid,
                                        models[0]->discretization(),
                                        models[0]->solution(),
-                                       model.discretization()));
-                row.grid_fit = fit;
+                                       model.discretization());
+                    if (!fit.converged)
+                      out << "  Warning: the level " << config.level
+                          << " grid fit stopped after " << fit.iterations
+                          << " steps at a mean error of " << fit.error.mean
+                          << ", above its lower bound " << fit.lower_bound
+                          << std::endl;
+                  }
+                row.grid_fit   = grid_fits[config.level].error;
+                row.grid_bound = grid_fits[config.level].lower_bound;
               }
             all_converged = all_converged && row.result.statistics.converged;
             out << "  " << std::left << std::setw(12) << row.label()
@@ -476,6 +482,7 @@ namespace ddfem::app
         run["max_vertex_error"]           = r.error.max;
         run["grid_fit_mean_vertex_error"] = r.grid_fit.mean;
         run["grid_fit_max_vertex_error"]  = r.grid_fit.max;
+        run["grid_fit_lower_bound"]       = r.grid_bound;
         json["runs"].push_back(run);
       }
     Utilities::System::MemoryStats memory;

@@ -130,50 +130,115 @@ namespace ddfem::report
 
 
 
-  Vector<double>
-  coarse_fit(const scene::VoxelGrid       &grid,
-             const solver::Discretization &fine,
-             const Vector<double>         &u_fine,
-             const solver::Discretization &coarse)
+  GridFit
+  grid_fit(const scene::VoxelGrid       &grid,
+           const solver::Discretization &fine,
+           const Vector<double>         &u_fine,
+           const solver::Discretization &coarse,
+           const double                  tolerance,
+           const unsigned int            max_iterations)
   {
+    // Every fine vertex once: its displacement, the coarse degrees of
+    // freedom of its coarse cell and their shape function values there.
+    struct Sample
+    {
+      Tensor<1, 3>                               f;
+      std::array<types::global_dof_index, 8 * 3> dofs;
+      std::array<double, 8>                      N;
+    };
     const std::vector<Tensor<1, 3>> fine_u = vertex_displacements(fine, u_fine);
+    std::vector<Sample>             samples;
+    for_each_fine_vertex(grid,
+                         fine,
+                         coarse,
+                         [&](const unsigned int           index,
+                             const auto                  &coarse_cell,
+                             const std::array<double, 8> &N) {
+                           Sample s;
+                           s.f = fine_u[index];
+                           s.N = N;
+                           for (const unsigned int w :
+                                coarse_cell->vertex_indices())
+                             for (unsigned int c = 0; c < 3; ++c)
+                               s.dofs[3 * w + c] =
+                                 coarse_cell->vertex_dof_index(w, c);
+                           samples.push_back(s);
+                         });
+    const auto distance = [](const Sample &s, const Vector<double> &a) {
+      Tensor<1, 3> u;
+      for (unsigned int w = 0; w < 8; ++w)
+        for (unsigned int c = 0; c < 3; ++c)
+          u[c] += s.N[w] * a(s.dofs[3 * w + c]);
+      return (u - s.f).norm();
+    };
 
-    // The normal equations M a = b of min sum_v |sum_i a_i N_i(x_v) -
-    // u_fine(x_v)|^2 over the coarse nodal values a: M_ij = sum_v N_i N_j
-    // for two degrees of freedom of the same component.
     DynamicSparsityPattern dsp(coarse.dof_handler.n_dofs());
     DoFTools::make_sparsity_pattern(coarse.dof_handler, dsp);
     SparsityPattern pattern;
     pattern.copy_from(dsp);
     SparseMatrix<double> M(pattern);
     Vector<double>       b(coarse.dof_handler.n_dofs());
-    for_each_fine_vertex(
-      grid,
-      fine,
-      coarse,
-      [&](const unsigned int           index,
-          const auto                  &coarse_cell,
-          const std::array<double, 8> &N) {
-        for (const unsigned int i : coarse_cell->vertex_indices())
-          for (unsigned int c = 0; c < 3; ++c)
-            {
-              const types::global_dof_index row =
-                coarse_cell->vertex_dof_index(i, c);
-              b(row) += N[i] * fine_u[index][c];
-              for (const unsigned int j : coarse_cell->vertex_indices())
-                M.add(row, coarse_cell->vertex_dof_index(j, c), N[i] * N[j]);
-            }
-      });
+    GridFit              fit;
+    fit.field.reinit(b.size());
+    std::vector<double> weights(samples.size(), 1.), r(samples.size());
+    double              delta = 0, scale = 0;
+    const double        n = std::max<std::size_t>(1, samples.size());
+    for (const Sample &s : samples)
+      scale = std::max(scale, s.f.norm());
+    for (fit.iterations = 1; fit.iterations <= max_iterations; ++fit.iterations)
+      {
+        // The weighted normal equations M a = b of
+        // min sum_v w_v |sum_i a_i N_i(x_v) - u_fine(x_v)|^2: M_ij =
+        // sum_v w_v N_i N_j for two degrees of freedom of the same
+        // component. M is positive definite: a coarse field that vanishes
+        // at every fine vertex is zero, since each coarse cell holds a
+        // solid voxel, and the 8 vertices of a voxel determine a trilinear
+        // field.
+        M = 0;
+        b = 0;
+        for (std::size_t v = 0; v < samples.size(); ++v)
+          for (unsigned int i = 0; i < 8; ++i)
+            for (unsigned int c = 0; c < 3; ++c)
+              {
+                const Sample &s   = samples[v];
+                const auto    row = s.dofs[3 * i + c];
+                b(row) += weights[v] * s.N[i] * s.f[c];
+                for (unsigned int j = 0; j < 8; ++j)
+                  M.add(row, s.dofs[3 * j + c], weights[v] * s.N[i] * s.N[j]);
+              }
+        SolverControl control(1000, 1e-13 * std::max(b.l2_norm(), 1e-300));
+        SolverCG<Vector<double>>                 cg(control);
+        PreconditionJacobi<SparseMatrix<double>> jacobi;
+        jacobi.initialize(M);
+        cg.solve(M, fit.field, b, jacobi);
 
-    // M is positive definite: a coarse field that vanishes at every fine
-    // vertex is zero, since each coarse cell holds a solid voxel, and the
-    // 8 vertices of a voxel determine a trilinear field.
-    Vector<double> a(b.size());
-    SolverControl  control(1000, 1e-13 * std::max(b.l2_norm(), 1e-300));
-    SolverCG<Vector<double>>                 cg(control);
-    PreconditionJacobi<SparseMatrix<double>> jacobi;
-    jacobi.initialize(M);
-    cg.solve(M, a, b, jacobi);
-    return a;
+        // The mean distance, and the bound: with y_v = w_v (A_v a - f_v),
+        // sum_v A_v^T y_v = 0 (the normal equations), so for every field
+        // a', sum_v |A_v a' - f_v| >= sum_v y_v . (A_v a' - f_v) / max|y| =
+        // sum_v w_v r_v^2 / max_v w_v r_v.
+        double sum = 0, dual = 0, largest = 0;
+        for (std::size_t v = 0; v < samples.size(); ++v)
+          {
+            r[v] = distance(samples[v], fit.field);
+            sum += r[v];
+            dual += weights[v] * r[v] * r[v];
+            largest = std::max(largest, weights[v] * r[v]);
+          }
+        const double mean = sum / n;
+        fit.lower_bound =
+          std::max(fit.lower_bound, largest > 0 ? dual / largest / n : mean);
+        if (fit.iterations == 1)
+          delta = 1e-5 * mean;
+        fit.converged =
+          mean - fit.lower_bound <= tolerance * mean || mean <= 1e-14 * scale;
+        if (fit.converged)
+          break;
+        for (std::size_t v = 0; v < samples.size(); ++v)
+          weights[v] = 1. / std::sqrt(r[v] * r[v] + delta * delta);
+      }
+    fit.iterations = std::min(fit.iterations, max_iterations);
+    fit.error      = vertex_error(grid, fine, u_fine, coarse, fit.field);
+    fit.lower_bound /= fit.error.length;
+    return fit;
   }
 } // namespace ddfem::report
