@@ -1,10 +1,10 @@
 #include <deal.II/dofs/dof_tools.h>
+#include <deal.II/fe/fe_q.h>
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
-#include <deal.II/lac/precondition.h>
-#include <deal.II/lac/solver_cg.h>
 #include <deal.II/lac/sparse_matrix.h>
 
 #include <ddfem/report/vertex_error.h>
+#include <ddfem/solver/sparse_cholesky.h>
 
 #include <algorithm>
 #include <array>
@@ -138,13 +138,18 @@ namespace ddfem::report
            const double                  tolerance,
            const unsigned int            max_iterations)
   {
-    // Every fine vertex once: its displacement, the coarse degrees of
-    // freedom of its coarse cell and their shape function values there.
+    // The weights are the same for the three components: the fit solves a
+    // scalar problem over the coarse vertices three times.
+    DoFHandler<3> vertices(coarse.triangulation);
+    vertices.distribute_dofs(FE_Q<3>(1));
+
+    // Every fine vertex once: its displacement, the coarse vertices of its
+    // coarse cell and their shape function values there.
     struct Sample
     {
-      Tensor<1, 3>                               f;
-      std::array<types::global_dof_index, 8 * 3> dofs;
-      std::array<double, 8>                      N;
+      Tensor<1, 3>                           f;
+      std::array<types::global_dof_index, 8> dofs;
+      std::array<double, 8>                  N;
     };
     const std::vector<Tensor<1, 3>> fine_u = vertex_displacements(fine, u_fine);
     std::vector<Sample>             samples;
@@ -154,63 +159,70 @@ namespace ddfem::report
                          [&](const unsigned int           index,
                              const auto                  &coarse_cell,
                              const std::array<double, 8> &N) {
+                           const typename DoFHandler<3>::active_cell_iterator
+                                  cell(&coarse.triangulation,
+                                  coarse_cell->level(),
+                                  coarse_cell->index(),
+                                  &vertices);
                            Sample s;
                            s.f = fine_u[index];
                            s.N = N;
-                           for (const unsigned int w :
-                                coarse_cell->vertex_indices())
-                             for (unsigned int c = 0; c < 3; ++c)
-                               s.dofs[3 * w + c] =
-                                 coarse_cell->vertex_dof_index(w, c);
+                           for (const unsigned int w : cell->vertex_indices())
+                             s.dofs[w] = cell->vertex_dof_index(w, 0);
                            samples.push_back(s);
                          });
-    const auto distance = [](const Sample &s, const Vector<double> &a) {
+    std::array<Vector<double>, 3> a, b;
+    const auto                    distance = [&a](const Sample &s) {
       Tensor<1, 3> u;
       for (unsigned int w = 0; w < 8; ++w)
         for (unsigned int c = 0; c < 3; ++c)
-          u[c] += s.N[w] * a(s.dofs[3 * w + c]);
+          u[c] += s.N[w] * a[c](s.dofs[w]);
       return (u - s.f).norm();
     };
 
-    DynamicSparsityPattern dsp(coarse.dof_handler.n_dofs());
-    DoFTools::make_sparsity_pattern(coarse.dof_handler, dsp);
+    DynamicSparsityPattern dsp(vertices.n_dofs());
+    DoFTools::make_sparsity_pattern(vertices, dsp);
     SparsityPattern pattern;
     pattern.copy_from(dsp);
-    SparseMatrix<double> M(pattern);
-    Vector<double>       b(coarse.dof_handler.n_dofs());
-    GridFit              fit;
-    fit.field.reinit(b.size());
-    std::vector<double> weights(samples.size(), 1.), r(samples.size());
-    double              delta = 0, scale = 0;
-    const double        n = std::max<std::size_t>(1, samples.size());
+    SparseMatrix<double>   M(pattern);
+    solver::SparseCholesky cholesky;
+    GridFit                fit;
+    std::vector<double>    weights(samples.size(), 1.), r(samples.size());
+    double                 delta = 0, scale = 0;
+    const double           n = std::max<std::size_t>(1, samples.size());
     for (const Sample &s : samples)
       scale = std::max(scale, s.f.norm());
+    for (unsigned int c = 0; c < 3; ++c)
+      {
+        a[c].reinit(vertices.n_dofs());
+        b[c].reinit(vertices.n_dofs());
+      }
     for (fit.iterations = 1; fit.iterations <= max_iterations; ++fit.iterations)
       {
-        // The weighted normal equations M a = b of
-        // min sum_v w_v |sum_i a_i N_i(x_v) - u_fine(x_v)|^2: M_ij =
-        // sum_v w_v N_i N_j for two degrees of freedom of the same
-        // component. M is positive definite: a coarse field that vanishes
-        // at every fine vertex is zero, since each coarse cell holds a
-        // solid voxel, and the 8 vertices of a voxel determine a trilinear
-        // field.
+        // The weighted normal equations M a_c = b_c of
+        // min sum_v w_v |sum_i a_i N_i(x_v) - u_fine(x_v)|^2, M_ij =
+        // sum_v w_v N_i N_j, solved directly: the weights spread over many
+        // orders of magnitude. M is positive definite: a coarse field that
+        // vanishes at every fine vertex is zero, since each coarse cell
+        // holds a solid voxel, and the 8 vertices of a voxel determine a
+        // trilinear field.
         M = 0;
-        b = 0;
+        for (unsigned int c = 0; c < 3; ++c)
+          b[c] = 0;
         for (std::size_t v = 0; v < samples.size(); ++v)
           for (unsigned int i = 0; i < 8; ++i)
-            for (unsigned int c = 0; c < 3; ++c)
-              {
-                const Sample &s   = samples[v];
-                const auto    row = s.dofs[3 * i + c];
-                b(row) += weights[v] * s.N[i] * s.f[c];
-                for (unsigned int j = 0; j < 8; ++j)
-                  M.add(row, s.dofs[3 * j + c], weights[v] * s.N[i] * s.N[j]);
-              }
-        SolverControl control(1000, 1e-13 * std::max(b.l2_norm(), 1e-300));
-        SolverCG<Vector<double>>                 cg(control);
-        PreconditionJacobi<SparseMatrix<double>> jacobi;
-        jacobi.initialize(M);
-        cg.solve(M, fit.field, b, jacobi);
+            {
+              const Sample &s = samples[v];
+              for (unsigned int c = 0; c < 3; ++c)
+                b[c](s.dofs[i]) += weights[v] * s.N[i] * s.f[c];
+              for (unsigned int j = 0; j < 8; ++j)
+                M.add(s.dofs[i], s.dofs[j], weights[v] * s.N[i] * s.N[j]);
+            }
+        AssertThrow(cholesky.factorize(M),
+                    ExcMessage("The grid fit's normal equations are not "
+                               "positive definite."));
+        for (unsigned int c = 0; c < 3; ++c)
+          cholesky.vmult(a[c], b[c]);
 
         // The mean distance, and the bound: with y_v = w_v (A_v a - f_v),
         // sum_v A_v^T y_v = 0 (the normal equations), so for every field
@@ -219,7 +231,7 @@ namespace ddfem::report
         double sum = 0, dual = 0, largest = 0;
         for (std::size_t v = 0; v < samples.size(); ++v)
           {
-            r[v] = distance(samples[v], fit.field);
+            r[v] = distance(samples[v]);
             sum += r[v];
             dual += weights[v] * r[v] * r[v];
             largest = std::max(largest, weights[v] * r[v]);
@@ -237,7 +249,19 @@ namespace ddfem::report
           weights[v] = 1. / std::sqrt(r[v] * r[v] + delta * delta);
       }
     fit.iterations = std::min(fit.iterations, max_iterations);
-    fit.error      = vertex_error(grid, fine, u_fine, coarse, fit.field);
+
+    // The field in the numbering of the coarse discretization.
+    fit.field.reinit(coarse.dof_handler.n_dofs());
+    auto cell = vertices.begin_active();
+    for (const auto &coarse_cell : coarse.dof_handler.active_cell_iterators())
+      {
+        for (const unsigned int w : coarse_cell->vertex_indices())
+          for (unsigned int c = 0; c < 3; ++c)
+            fit.field(coarse_cell->vertex_dof_index(w, c)) =
+              a[c](cell->vertex_dof_index(w, 0));
+        ++cell;
+      }
+    fit.error = vertex_error(grid, fine, u_fine, coarse, fit.field);
     fit.lower_bound /= fit.error.length;
     return fit;
   }
