@@ -406,11 +406,16 @@ namespace ddfem::app
               {
                 if (grid_fits.count(config.level) == 0)
                   {
+                    Timer                  timer;
                     const report::GridFit &fit = grid_fits[config.level] =
                       report::grid_fit(scene.grid,
                                        models[0]->discretization(),
                                        models[0]->solution(),
                                        model.discretization());
+                    if (screen_timings)
+                      out << "  grid fit L" << config.level << ": "
+                          << fit.iterations << " steps, "
+                          << timer.wall_time() << " s" << std::endl;
                     if (!fit.converged)
                       out << "  Warning: the level " << config.level
                           << " grid fit stopped after " << fit.iterations

@@ -91,7 +91,7 @@ namespace ddfem::report
            const solver::Discretization &fine,
            const Vector<double>         &u_fine,
            const solver::Discretization &coarse,
-           const double                  tolerance      = 1e-3,
+           const double                  tolerance      = 2e-3,
            const unsigned int            max_iterations = 500);
 } // namespace ddfem::report
 
