@@ -25,8 +25,8 @@ namespace ddfem::app
    * linear solver, with cg-amg if that is another one, and, up to a size
    * limit, with UMFPACK at every Newton iteration) and with every
    * coarse method at every coarsening level asked for; measures each
-   * coarse solution's vertex error against the fine one, the error of
-   * each coarse grid's least-squares fit to the fine solution (what the
+   * coarse solution's vertex error against the fine one, the least error
+   * any field on each coarse grid can have (report::grid_fit(): what the
    * grid costs whatever the materials), and every run's wall time; writes
    * comparison.csv, comparison.json, error_vs_time.png (gnuplot) and VTU files
    * of every solution, and prints the table. With material edits in the scene,
