@@ -20,9 +20,10 @@ namespace ddfem::solver
       "gradients preconditioned by the CHOLMOD Cholesky factor of an "
       "earlier tangent, refactorized when CG needs more than 'Cholesky "
       "reuse iterations' (UMFPACK for a tangent that is not positive "
-      "definite, and the next 10). cg-amg: conjugate gradients with Trilinos ML algebraic "
-      "multigrid (rigid body modes as near null space). auto: cg-cholesky "
-      "up to 'Direct solver limit' unknowns, cg-amg above.");
+      "definite, and the next 10). cg-amg: conjugate gradients with "
+      "Trilinos ML algebraic multigrid (rigid body modes as near null "
+      "space). auto: cg-cholesky up to 'Direct solver limit' unknowns, "
+      "cg-amg above.");
     prm.declare_entry(
       "Tolerance",
       "1e-2",
@@ -144,6 +145,17 @@ namespace ddfem::solver
 
 
   unsigned int
+  LinearSolver::fall_back_to_direct(const SparseMatrix<double> &K,
+                                    Vector<double>             &x,
+                                    const Vector<double>       &b)
+  {
+    direct_solves_left = 10;
+    return solve_directly(K, x, b);
+  }
+
+
+
+  unsigned int
   LinearSolver::solve_directly(const SparseMatrix<double> &K,
                                Vector<double>             &x,
                                const Vector<double>       &b)
@@ -203,13 +215,9 @@ namespace ddfem::solver
       TimerOutput::Scope scope(*timer, "factorization / preconditioner");
       positive_definite = cholesky.factorize(K);
     }
-    // An indefinite tangent (past a bifurcation, say): this system and the
-    // next ones, likely indefinite too, go to UMFPACK.
+    // An indefinite tangent (past a bifurcation, say).
     if (!positive_definite)
-      {
-        direct_solves_left = 10;
-        return iterations + solve_directly(K, x, b);
-      }
+      return iterations + fall_back_to_direct(K, x, b);
     TimerOutput::Scope scope(*timer, "linear solve");
     cholesky.vmult(x, b);
     return iterations + 1;
@@ -271,10 +279,7 @@ namespace ddfem::solver
       {
         iterations_after_setup = 0;
         if (requested == "auto" && x.size() <= fallback_limit)
-          {
-            direct_solves_left = 10;
-            return control.last_step() + solve_directly(K, x, b);
-          }
+          return control.last_step() + fall_back_to_direct(K, x, b);
         throw Failure("CG did not converge in " +
                       std::to_string(control.last_step()) +
                       " iterations (indefinite or ill-conditioned tangent?)");

@@ -99,6 +99,17 @@ namespace ddfem::solver
                    Vector<double>             &x,
                    const Vector<double>       &b);
 
+    /**
+     * solve_directly(), and the next 10 systems too: called where the
+     * iterative solver cannot handle a tangent (cg-amg failed, or the
+     * tangent is indefinite for cg-cholesky), since the tangents that
+     * follow are likely as hard.
+     */
+    unsigned int
+    fall_back_to_direct(const SparseMatrix<double> &K,
+                        Vector<double>             &x,
+                        const Vector<double>       &b);
+
     /// 'Type' as given, and the method it resolved to for this system.
     std::string requested, chosen;
     /// cg-cholesky: CG with the last Cholesky factor, or a new factor if
