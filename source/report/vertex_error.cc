@@ -143,40 +143,39 @@ namespace ddfem::report
     DoFHandler<3> vertices(coarse.triangulation);
     vertices.distribute_dofs(FE_Q<3>(1));
 
-    // Every fine vertex once: its displacement, the coarse vertices of its
-    // coarse cell and their shape function values there.
+    // The scalar unknowns of every coarse cell's vertices.
+    std::vector<std::array<types::global_dof_index, 8>> cell_vertices(
+      coarse.triangulation.n_active_cells());
+    for (const auto &cell : vertices.active_cell_iterators())
+      for (const unsigned int w : cell->vertex_indices())
+        cell_vertices[cell->active_cell_index()][w] =
+          cell->vertex_dof_index(w, 0);
+
+    // Every fine vertex once: its displacement, its coarse cell and the
+    // values of that cell's shape functions there.
     struct Sample
     {
-      Tensor<1, 3>                           f;
-      std::array<types::global_dof_index, 8> dofs;
-      std::array<double, 8>                  N;
+      Tensor<1, 3>          f;
+      unsigned int          cell;
+      std::array<double, 8> N;
     };
     const std::vector<Tensor<1, 3>> fine_u = vertex_displacements(fine, u_fine);
     std::vector<Sample>             samples;
-    for_each_fine_vertex(grid,
-                         fine,
-                         coarse,
-                         [&](const unsigned int           index,
-                             const auto                  &coarse_cell,
-                             const std::array<double, 8> &N) {
-                           const typename DoFHandler<3>::active_cell_iterator
-                                  cell(&coarse.triangulation,
-                                  coarse_cell->level(),
-                                  coarse_cell->index(),
-                                  &vertices);
-                           Sample s;
-                           s.f = fine_u[index];
-                           s.N = N;
-                           for (const unsigned int w : cell->vertex_indices())
-                             s.dofs[w] = cell->vertex_dof_index(w, 0);
-                           samples.push_back(s);
-                         });
+    for_each_fine_vertex(
+      grid,
+      fine,
+      coarse,
+      [&](const unsigned int           index,
+          const auto                  &coarse_cell,
+          const std::array<double, 8> &N) {
+        samples.push_back({fine_u[index], coarse_cell->active_cell_index(), N});
+      });
     std::array<Vector<double>, 3> a, b;
-    const auto                    distance = [&a](const Sample &s) {
+    const auto distance = [&a, &cell_vertices](const Sample &s) {
       Tensor<1, 3> u;
       for (unsigned int w = 0; w < 8; ++w)
         for (unsigned int c = 0; c < 3; ++c)
-          u[c] += s.N[w] * a[c](s.dofs[w]);
+          u[c] += s.N[w] * a[c](cell_vertices[s.cell][w]);
       return (u - s.f).norm();
     };
 
@@ -184,12 +183,13 @@ namespace ddfem::report
     DoFTools::make_sparsity_pattern(vertices, dsp);
     SparsityPattern pattern;
     pattern.copy_from(dsp);
-    SparseMatrix<double>   M(pattern);
-    solver::SparseCholesky cholesky;
-    GridFit                fit;
-    std::vector<double>    weights(samples.size(), 1.), r(samples.size());
-    double                 delta = 0, scale = 0;
-    const double           n = std::max<std::size_t>(1, samples.size());
+    SparseMatrix<double>                M(pattern);
+    std::vector<std::array<double, 64>> local(cell_vertices.size());
+    solver::SparseCholesky              cholesky;
+    GridFit                             fit;
+    std::vector<double> weights(samples.size(), 1.), r(samples.size());
+    double              delta = 0, scale = 0;
+    const double        n = std::max<std::size_t>(1, samples.size());
     for (const Sample &s : samples)
       scale = std::max(scale, s.f.norm());
     for (unsigned int c = 0; c < 3; ++c)
@@ -206,18 +206,31 @@ namespace ddfem::report
         // vanishes at every fine vertex is zero, since each coarse cell
         // holds a solid voxel, and the 8 vertices of a voxel determine a
         // trilinear field.
-        M = 0;
+        // Summed per coarse cell first: one addition to M per cell and
+        // entry, not per fine vertex.
+        for (auto &m : local)
+          m.fill(0);
         for (unsigned int c = 0; c < 3; ++c)
           b[c] = 0;
         for (std::size_t v = 0; v < samples.size(); ++v)
+          {
+            const Sample &s = samples[v];
+            for (unsigned int i = 0; i < 8; ++i)
+              {
+                const double wN = weights[v] * s.N[i];
+                for (unsigned int c = 0; c < 3; ++c)
+                  b[c](cell_vertices[s.cell][i]) += wN * s.f[c];
+                for (unsigned int j = 0; j < 8; ++j)
+                  local[s.cell][8 * i + j] += wN * s.N[j];
+              }
+          }
+        M = 0;
+        for (unsigned int cell = 0; cell < local.size(); ++cell)
           for (unsigned int i = 0; i < 8; ++i)
-            {
-              const Sample &s = samples[v];
-              for (unsigned int c = 0; c < 3; ++c)
-                b[c](s.dofs[i]) += weights[v] * s.N[i] * s.f[c];
-              for (unsigned int j = 0; j < 8; ++j)
-                M.add(s.dofs[i], s.dofs[j], weights[v] * s.N[i] * s.N[j]);
-            }
+            for (unsigned int j = 0; j < 8; ++j)
+              M.add(cell_vertices[cell][i],
+                    cell_vertices[cell][j],
+                    local[cell][8 * i + j]);
         AssertThrow(cholesky.factorize(M),
                     ExcMessage("The grid fit's normal equations are not "
                                "positive definite."));
@@ -252,15 +265,11 @@ namespace ddfem::report
 
     // The field in the numbering of the coarse discretization.
     fit.field.reinit(coarse.dof_handler.n_dofs());
-    auto cell = vertices.begin_active();
-    for (const auto &coarse_cell : coarse.dof_handler.active_cell_iterators())
-      {
-        for (const unsigned int w : coarse_cell->vertex_indices())
-          for (unsigned int c = 0; c < 3; ++c)
-            fit.field(coarse_cell->vertex_dof_index(w, c)) =
-              a[c](cell->vertex_dof_index(w, 0));
-        ++cell;
-      }
+    for (const auto &cell : coarse.dof_handler.active_cell_iterators())
+      for (const unsigned int w : cell->vertex_indices())
+        for (unsigned int c = 0; c < 3; ++c)
+          fit.field(cell->vertex_dof_index(w, c)) =
+            a[c](cell_vertices[cell->active_cell_index()][w]);
     fit.error = vertex_error(grid, fine, u_fine, coarse, fit.field);
     fit.lower_bound /= fit.error.length;
     return fit;
