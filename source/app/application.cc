@@ -229,6 +229,7 @@ namespace ddfem::app
               coarsening::coarsening_method(method),
               level,
               scene.palette,
+              database.point_offset(),
               level1 ? &*level1 : nullptr,
               &level2);
           }

@@ -346,6 +346,7 @@ namespace ddfem::app
                       coarsening::coarsening_method(config.name),
                       config.level,
                       scene.palette,
+                      database.point_offset(),
                       level1 ? &*level1 : nullptr,
                       &level2));
                 // The other fine solvers run only where they can be
@@ -414,8 +415,8 @@ namespace ddfem::app
                                        model.discretization());
                     if (screen_timings)
                       out << "  grid fit L" << config.level << ": "
-                          << fit.iterations << " steps, "
-                          << timer.wall_time() << " s" << std::endl;
+                          << fit.iterations << " steps, " << timer.wall_time()
+                          << " s" << std::endl;
                     if (!fit.converged)
                       out << "  Warning: the level " << config.level
                           << " grid fit stopped after " << fit.iterations

@@ -72,8 +72,10 @@ namespace ddfem::app
     Timer total;
     {
       TimerOutput::Scope scope(timer, "setup");
-      model = std::make_unique<solver::Discretization>(
-        scene, degree, coarsener == nullptr ? 0 : coarsener->level());
+      model = coarsener == nullptr ?
+                std::make_unique<solver::Discretization>(scene, degree) :
+                std::make_unique<solver::Discretization>(
+                  scene, degree, coarsener->level(), coarsener->point_offset());
     }
     if (coarsener != nullptr)
       {

@@ -115,7 +115,8 @@ namespace ddfem::coarsening
 
 
   BlockSampler::BlockSampler(
-    const std::array<std::vector<material::MaterialPoint>, 8> &children)
+    const std::array<std::vector<material::MaterialPoint>, 8> &children,
+    const double child_point_offset)
     : materials(children)
     , fe(FE_Q<3>(1), 3)
   {
@@ -134,10 +135,10 @@ namespace ddfem::coarsening
     dof_handler.distribute_dofs(fe);
 
     // All children are translates of one cube: one FEValues serves them.
-    fe_values =
-      std::make_unique<FEValues<3>>(fe,
-                                    QGauss<3>(2),
-                                    update_gradients | update_JxW_values);
+    fe_values = std::make_unique<FEValues<3>>(
+      fe,
+      solver::coarse_quadrature(1, child_point_offset),
+      update_gradients | update_JxW_values);
     fe_values->reinit(dof_handler.begin_active());
     dof_component.resize(dof_handler.n_dofs());
     std::map<unsigned int, std::array<types::global_dof_index, 3>> vertices;

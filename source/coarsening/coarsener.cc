@@ -42,18 +42,28 @@ namespace ddfem::coarsening
   Coarsener::Coarsener(const CoarseningMethod method,
                        const unsigned int     level,
                        const scene::Palette  &palette,
+                       const double           point_offset,
                        const Database        *level1,
                        const Hierarchy       *level2)
     : coarsening(method)
     , coarsening_level(level)
+    , offset(point_offset)
     , palette(palette)
     , level1(level1)
     , level2(level2)
   {
-    const Quadrature<3> quadrature = solver::coarse_quadrature(level);
+    const Quadrature<3> quadrature =
+      solver::coarse_quadrature(level, point_offset);
     Assert(method != CoarseningMethod::ddfem ||
              (level1 != nullptr && (level == 1 || level2 != nullptr)),
            ExcMessage("The ddfem coarsener needs the database."));
+    AssertThrow(method != CoarseningMethod::ddfem ||
+                  level1->point_offset() == point_offset,
+                ExcMessage("The metamaterial database was fitted for the "
+                           "coarse point offset " +
+                           Utilities::to_string(level1->point_offset()) +
+                           ", not for Discretization/Coarse point offset = " +
+                           Utilities::to_string(point_offset) + "."));
     const unsigned int n = 1u << level;
     for (const Point<3> &x : quadrature.get_points())
       point_voxel.push_back({{static_cast<unsigned int>(x[0] * n),

@@ -61,6 +61,7 @@ namespace ddfem::coarsening
       << ", stiffness floor: " << fitting.stiffness_floor
       << ", point floor: " << fitting.point_floor
       << ", held-out every: " << fitting.held_out_every
+      << " | coarse point offset: " << point_offset
       << " | sampler revision: " << sampler_revision;
     return s.str();
   }
@@ -237,6 +238,7 @@ namespace ddfem::coarsening
                      const unsigned int      n_materials)
     : palette_description(settings.palette)
     , settings_fingerprint(settings.fingerprint())
+    , coarse_point_offset(settings.point_offset)
     , index(n_materials, settings.with_void)
     , entry_of(index.size(), -1)
     , symmetry_of(index.size(), 0)
@@ -353,6 +355,11 @@ namespace ddfem::coarsening
       write_attribute(h5, "palette hash", palette_hash(palette_description));
       write_attribute(h5, "with void", index.with_void() ? "1" : "0");
       write_attribute(h5, "settings", settings_fingerprint);
+      {
+        std::ostringstream offset;
+        offset << std::setprecision(17) << coarse_point_offset;
+        write_attribute(h5, "coarse point offset", offset.str());
+      }
       write_attribute(h5, "representatives", std::to_string(representatives));
 
       write_entries(h5, "entries", fitted, 8, true);
@@ -395,7 +402,19 @@ namespace ddfem::coarsening
         check(read_attribute(h5, "palette hash") ==
                 palette_hash(settings.palette),
               "has a palette that does not match its hash (corrupt file?)");
-        settings.with_void            = read_attribute(h5, "with void") == "1";
+        settings.with_void       = read_attribute(h5, "with void") == "1";
+        const std::string offset = read_attribute(h5, "coarse point offset");
+        try
+          {
+            settings.point_offset = std::stod(offset);
+          }
+        catch (const std::exception &)
+          {
+            settings.point_offset = -1;
+          }
+        check(settings.point_offset > 0 && settings.point_offset < 1,
+              "has a coarse point offset of '" + offset +
+                "', which is not in (0, 1)");
         const std::string fingerprint = read_attribute(h5, "settings");
         Database          db(settings, count_materials(settings.palette));
         db.settings_fingerprint = fingerprint;

@@ -77,9 +77,11 @@ namespace ddfem::coarsening
 
 
 
-  CoarseElement::CoarseElement(const unsigned int level)
+  CoarseElement::CoarseElement(const unsigned int level,
+                               const double       point_offset)
     : fe(FE_Q<3>(1), 3)
-    , quadrature(solver::coarse_quadrature(level))
+    , offset(point_offset)
+    , quadrature(solver::coarse_quadrature(level, point_offset))
   {
     GridGenerator::hyper_cube(triangulation, 0., 1.);
     dof_handler.reinit(triangulation);

@@ -7,24 +7,37 @@
 namespace ddfem::solver
 {
   Quadrature<3>
-  coarse_quadrature(const unsigned int level)
+  coarse_quadrature(const unsigned int level, const double point_offset)
   {
     AssertThrow(level == 1 || level == 2,
                 ExcMessage("Coarsening levels must be 1 or 2, not " +
                            std::to_string(level) + "."));
-    return level == 1 ? Quadrature<3>(QGauss<3>(2)) :
-                        Quadrature<3>(QIterated<3>(QGauss<1>(2), 2));
+    AssertThrow(point_offset > 0 && point_offset < 1,
+                ExcMessage("Discretization/Coarse point offset must lie in "
+                           "(0, 1), not " +
+                           Utilities::to_string(point_offset) + "."));
+    // The Gauss points moved toward the centre by the factor (exactly the
+    // Gauss rule for the default offset).
+    const QGauss<1>       gauss(2);
+    const double          factor = point_offset / gauss_point_offset;
+    std::vector<Point<1>> points;
+    for (const Point<1> &x : gauss.get_points())
+      points.emplace_back(x[0] * factor + 0.5 * (1 - factor));
+    const Quadrature<1> rule(points, gauss.get_weights());
+    return level == 1 ? Quadrature<3>(rule) :
+                        Quadrature<3>(QIterated<3>(rule, 2));
   }
 
 
 
   Discretization::Discretization(const scene::Scene &scene,
                                  const unsigned int  degree,
-                                 const unsigned int  level)
+                                 const unsigned int  level,
+                                 const double        point_offset)
     : fe(FE_Q<3>(degree), 3)
     , dof_handler(triangulation)
     , quadrature(level == 0 ? Quadrature<3>(QGauss<3>(degree + 1)) :
-                              coarse_quadrature(level))
+                              coarse_quadrature(level, point_offset))
     , level(level)
     , extent(scene.grid.extent())
   {

@@ -4,7 +4,12 @@
 //   fine solution than naive, at both levels;
 // - material edits: re-coarsening only the touched blocks gives the same
 //   material records and the same solution as coarsening from scratch;
-// - an edit that would add or remove solid voxels is a clear error.
+// - an edit that would add or remove solid voxels is a clear error;
+// - the coarse point offset: constant strains keep their energy, the
+//   bending mode's energy scales with 3 a^2, level 2's points are its
+//   children's, bad offsets and a database fitted for another offset are
+//   clear errors, and at a smaller offset the cantilever's coarse models
+//   come closer to the fine one.
 
 #include <ddfem/app/model_run.h>
 #include <ddfem/base/exceptions.h>
@@ -60,8 +65,13 @@ namespace
     std::unique_ptr<coarsening::Coarsener>
     coarsener(const CoarseningMethod method, const unsigned int level) const
     {
-      return std::make_unique<coarsening::Coarsener>(
-        method, level, scene.palette, level1 ? &*level1 : nullptr, &level2);
+      return std::make_unique<coarsening::Coarsener>(method,
+                                                     level,
+                                                     scene.palette,
+                                                     builder.point_offset(),
+                                                     level1 ? &*level1 :
+                                                              nullptr,
+                                                     &level2);
     }
 
     ParameterHandler                    prm;
@@ -135,6 +145,139 @@ namespace
                              level == 1 ? 0.3 : 0.7);
         std::cout << "  ddfem closer to fine than naive: "
                   << (error[0] < error[1] ? "yes" : "NO") << std::endl;
+      }
+  }
+
+
+
+  /// The coarse element's point offset (solver::coarse_quadrature()).
+  void
+  point_offsets()
+  {
+    std::cout << "Coarse point offsets" << std::endl;
+    // Homogeneous energies under a uniform strain and under the trilinear
+    // element's bending mode u_x = s (2x - 1)(2y - 1), small enough to be
+    // nearly linear (the energy's round-off is 1e-8 of it, the nonlinear
+    // part 1e-4).
+    material::MaterialPoint point;
+    point.mu           = 1;
+    point.lambda       = 9;
+    point.direction[0] = 1;
+    coarsening::Metamaterial homogeneous;
+    homogeneous.points.assign(8, point);
+    const double                    s = 1e-4;
+    coarsening::CornerDisplacements uniform, bending;
+    for (unsigned int v = 0; v < 8; ++v)
+      {
+        const double x = v & 1, y = (v >> 1) & 1, z = (v >> 2) & 1;
+        uniform[v] = Tensor<1, 3>({s * x + s * y, 0.5 * s * y, -s * z});
+        bending[v] = Tensor<1, 3>({s * (2 * x - 1) * (2 * y - 1), 0, 0});
+      }
+    const auto energy =
+      [&homogeneous](const coarsening::CoarseElement       &element,
+                     const coarsening::CornerDisplacements &u) {
+        double value = 0;
+        AssertThrow(element.energy(u, homogeneous, value), ExcInternalError());
+        return value;
+      };
+    const coarsening::CoarseElement gauss(1);
+    for (const double a : {0.4, 0.7})
+      {
+        const coarsening::CoarseElement element(1, a);
+        const double                    uniform_change =
+          energy(element, uniform) / energy(gauss, uniform) - 1;
+        const double bending_change =
+          energy(element, bending) / energy(gauss, bending) / (3 * a * a) - 1;
+        std::cout << "  offset " << a
+                  << ": |uniform strain energy / Gauss's - 1| "
+                  << (std::abs(uniform_change) < 1e-7 ? "below" : "ABOVE")
+                  << " 1e-7, |bending energy / Gauss's / (3 a^2) - 1| "
+                  << (std::abs(bending_change) < 1e-3 ? "below" : "ABOVE")
+                  << " 1e-3" << std::endl;
+        // Level 2: point q is the level-1 point of its child's octant.
+        const coarsening::CoarseElement level2(2, a);
+        double                          distance = 0;
+        for (unsigned int q = 0; q < level2.n_points(); ++q)
+          {
+            const unsigned int c = level2.child_of_point(q);
+            const Point<3>     child_origin(0.5 * (c & 1),
+                                        0.5 * ((c >> 1) & 1),
+                                        0.5 * ((c >> 2) & 1));
+            const Point<3>     expected =
+              child_origin +
+              0.5 * Tensor<1, 3>(element.point(level2.subpoint_of_point(q)));
+            distance = std::max(distance, level2.point(q).distance(expected));
+          }
+        std::cout << "  offset " << a
+                  << ": level-2 points are the children's level-1 points: "
+                  << (distance < 1e-15 ? "yes" : "NO") << std::endl;
+      }
+    for (const double a : {0., 1.})
+      try
+        {
+          solver::coarse_quadrature(1, a);
+          std::cout << "  offset " << a << ": NO ERROR" << std::endl;
+        }
+      catch (const ExceptionBase &e)
+        {
+          std::cout << "  error: " << message_of(e) << std::endl;
+        }
+
+    // The cantilever of homogeneous_small_load() at offset 0.45.
+    const std::string cantilever =
+      testing::cantilever("4, 16, 4", "0; 0; -20") +
+      "subsection Materials\n set Palette = E=1e6 nu=0.45\nend\n"
+      "subsection Geometry\n set Voxel size = 0.01\nend\n"
+      "subsection Nonlinear solver\n set Load steps = 1\nend\n";
+    Setup gauss_setup(cantilever, "offset_gauss.h5");
+    Setup smaller(cantilever + "subsection Discretization\n"
+                               " set Coarse point offset = 0.45\nend\n",
+                  "offset_045.h5");
+    gauss_setup.prepare({gauss_setup.scene.grid}, 1);
+    smaller.prepare({smaller.scene.grid}, 1);
+    const auto fine = solve(gauss_setup, nullptr);
+    for (const auto method : {CoarseningMethod::ddfem, CoarseningMethod::naive})
+      {
+        double error[2];
+        for (Setup *setup : {&gauss_setup, &smaller})
+          {
+            const auto coarsener = setup->coarsener(method, 1);
+            const auto run       = solve(*setup, coarsener.get());
+            error[setup == &smaller] =
+              report::vertex_error(setup->scene.grid,
+                                   fine->discretization(),
+                                   fine->solution(),
+                                   run->discretization(),
+                                   run->solution())
+                .mean;
+          }
+        std::cout << "  level 1 " << coarsening::to_string(method)
+                  << ": mean vertex error at offset 0.45 / at 1/sqrt(3): "
+                  << std::setprecision(2) << error[1] / error[0] << std::endl;
+      }
+
+    // The database fitted for 1/sqrt(3) does not serve offset 0.45.
+    smaller.prm.enter_subsection("Database");
+    smaller.prm.set("File", "offset_gauss.h5");
+    smaller.prm.leave_subsection();
+    smaller.builder.parse_parameters(smaller.prm);
+    try
+      {
+        std::ostringstream quiet;
+        smaller.builder.open(smaller.scene.palette, quiet);
+        std::cout << "  database of another offset: NO ERROR" << std::endl;
+      }
+    catch (const ExceptionBase &e)
+      {
+        const std::string message = message_of(e);
+        std::cout << "  database of another offset: error naming the file "
+                  << "and both offsets: " << std::boolalpha
+                  << (message.find("offset_gauss.h5") != std::string::npos &&
+                      message.find("coarse point offset: 0.45") !=
+                        std::string::npos &&
+                      message.find("coarse point offset: 0.57735") !=
+                        std::string::npos)
+                  << std::endl;
       }
   }
 
@@ -236,4 +379,5 @@ main(int argc, char **argv)
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   homogeneous_small_load();
   edit_and_recoarsen();
+  point_offsets();
 }

@@ -86,6 +86,10 @@ main(int argc, char **argv)
            cantilever,
            {"--set", "Nonlinear solver/Load steps=-3"});
   run_case("unknown_override", cantilever, {"--set", "Solver/Load steps=3"});
+  run_case(
+    "coarse_point_offset",
+    cantilever,
+    {"--set", "Method=naive", "--set", "Discretization/Coarse point offset=1"});
 
   run_case(
     "probe_outside",

@@ -105,11 +105,15 @@ namespace ddfem::coarsening
   public:
     /**
      * Sets up the block. @p children[k] is empty for a void child, or has
-     * 8 records (child Gauss point j in the child's octant j). At least
-     * one child must be solid.
+     * 8 records, one per point of the child's rule
+     * solver::coarse_quadrature(1, @p child_point_offset) (point j in the
+     * child's octant j). Fine voxels have the 2-point Gauss rule of the
+     * default offset; level-1 metamaterials have the offset their
+     * database was fitted with. At least one child must be solid.
      */
     explicit BlockSampler(
-      const std::array<std::vector<material::MaterialPoint>, 8> &children);
+      const std::array<std::vector<material::MaterialPoint>, 8> &children,
+      const double child_point_offset = solver::gauss_point_offset);
 
     /// Number of nodal degrees of freedom.
     unsigned int

@@ -39,12 +39,21 @@ namespace ddfem::coarsening
       scene
     };
 
-    /// Declares the subsection "Database".
+    /// Declares the subsection "Database" and the coarse element's
+    /// "Discretization/Coarse point offset".
     static void
     declare_parameters(ParameterHandler &prm);
-    /// Reads and validates the subsection "Database".
+    /// Reads and validates what declare_parameters() declares.
     void
     parse_parameters(ParameterHandler &prm);
+
+    /// The coarse element's point offset (solver::coarse_quadrature()),
+    /// which every coarse model uses and the fits are made for.
+    double
+    point_offset() const
+    {
+      return coarse_point_offset;
+    }
 
     /// The database file.
     const std::string &
@@ -175,11 +184,12 @@ namespace ddfem::coarsening
                     const bool show_progress) const;
 
     std::string       database_file;
-    bool              with_void         = true;
-    Scope             run_scope         = Scope::all;
-    unsigned int      n_representatives = 0;
-    unsigned int      n_threads         = 0;
-    unsigned int      levels            = 1;
+    bool              with_void           = true;
+    Scope             run_scope           = Scope::all;
+    unsigned int      n_representatives   = 0;
+    unsigned int      n_threads           = 0;
+    unsigned int      levels              = 1;
+    double            coarse_point_offset = solver::gauss_point_offset;
     SamplingSettings  sampling;
     FitSettings       fitting;
     HierarchySettings hierarchy;

@@ -52,13 +52,16 @@ namespace ddfem::coarsening
   {
   public:
     /**
-     * A coarsener for coarsening @p level (1 or 2). With
-     * CoarseningMethod::ddfem, @p level1 is required, and @p level2 too at
-     * level 2; both must outlive the coarsener.
+     * A coarsener for coarsening @p level (1 or 2) of coarse elements with
+     * the point offset @p point_offset (solver::coarse_quadrature()). With
+     * CoarseningMethod::ddfem, @p level1 is required, fitted for that
+     * offset, and @p level2 too at level 2; both must outlive the
+     * coarsener.
      */
     Coarsener(const CoarseningMethod method,
               const unsigned int     level,
               const scene::Palette  &palette,
+              const double           point_offset,
               const Database        *level1 = nullptr,
               const Hierarchy       *level2 = nullptr);
 
@@ -74,6 +77,13 @@ namespace ddfem::coarsening
     level() const
     {
       return coarsening_level;
+    }
+
+    /// The coarse element's point offset (solver::coarse_quadrature()).
+    double
+    point_offset() const
+    {
+      return offset;
     }
 
     /**
@@ -127,6 +137,7 @@ namespace ddfem::coarsening
   private:
     const CoarseningMethod coarsening;
     const unsigned int     coarsening_level;
+    const double           offset;
     const scene::Palette  &palette;
     const Database        *level1;
     const Hierarchy       *level2;

@@ -16,7 +16,7 @@ namespace ddfem::coarsening
   class Hierarchy;
 
   /// Version of the database file layout; a file with another is rejected.
-  constexpr int database_format_version = 3;
+  constexpr int database_format_version = 4;
 
   /**
    * Revision of the sampling and fitting algorithms. It is part of the
@@ -78,6 +78,8 @@ namespace ddfem::coarsening
     SamplingSettings sampling;
     /// Fitting settings.
     FitSettings fitting;
+    /// The coarse element's point offset (solver::coarse_quadrature()).
+    double point_offset = solver::gauss_point_offset;
 
     /// The canonical description of @p palette.
     static std::string
@@ -127,6 +129,14 @@ namespace ddfem::coarsening
     palette() const
     {
       return palette_description;
+    }
+
+    /// The point offset of the coarse elements its metamaterials were
+    /// fitted for (solver::coarse_quadrature()).
+    double
+    point_offset() const
+    {
+      return coarse_point_offset;
     }
 
     /// DatabaseSettings::fingerprint() of the build that made it.
@@ -213,6 +223,7 @@ namespace ddfem::coarsening
   private:
     std::string        palette_description;
     std::string        settings_fingerprint;
+    double             coarse_point_offset;
     CombinationIndex   index;
     CubeSymmetries     group;
     std::vector<Entry> fitted;

@@ -9,6 +9,7 @@
 
 #include <ddfem/coarsening/symmetry.h>
 #include <ddfem/material/kernel.h>
+#include <ddfem/solver/discretization.h>
 
 #include <array>
 #include <memory>
@@ -60,9 +61,10 @@ namespace ddfem::coarsening
 
   /**
    * One coarse element on the unit cube, trilinear (FE_Q(1)^3), with the
-   * quadrature of a coarsening level: the 2-point Gauss rule (8 points,
-   * one per child octant) at level 1, the same rule iterated twice (64
-   * points, the points of the children's own rules) at level 2. It
+   * quadrature of a coarsening level, solver::coarse_quadrature(): 8
+   * points, one per child octant, at level 1 (the 2-point Gauss rule for
+   * the default point offset), the same rule iterated twice (64 points,
+   * the points of the children's own rules) at level 2. It
    * evaluates metamaterial energies through the cell kernel the solvers
    * use, and the per-point energy terms the fitter needs. Energies are per
    * unit volume of the coarse element: metamaterial parameters do not
@@ -73,8 +75,18 @@ namespace ddfem::coarsening
   class CoarseElement
   {
   public:
-    /// Sets up the element for coarsening level 1 or 2.
-    explicit CoarseElement(const unsigned int level);
+    /// Sets up the element for coarsening level 1 or 2 with the points of
+    /// solver::coarse_quadrature(@p level, @p point_offset).
+    explicit CoarseElement(
+      const unsigned int level,
+      const double       point_offset = solver::gauss_point_offset);
+
+    /// The offset of the points (see solver::coarse_quadrature()).
+    double
+    point_offset() const
+    {
+      return offset;
+    }
 
     /// Number of quadrature points (8 or 64).
     unsigned int
@@ -142,6 +154,7 @@ namespace ddfem::coarsening
     Triangulation<3>             triangulation;
     FESystem<3>                  fe;
     DoFHandler<3>                dof_handler;
+    double                       offset;
     Quadrature<3>                quadrature;
     std::unique_ptr<FEValues<3>> fe_values;
     std::vector<unsigned int>    point_child;

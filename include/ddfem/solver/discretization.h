@@ -17,15 +17,29 @@ namespace ddfem::solver
 {
   using namespace dealii;
 
+  /// The point offset of the 2-point Gauss rule, 1/sqrt(3).
+  constexpr double gauss_point_offset = 0.57735026918962576451;
+
   /**
    * The quadrature rule of a coarse element of coarsening level 1 or 2,
-   * the points metamaterials are defined at: the 2-point Gauss rule (8
-   * points, point k in child octant k) at level 1, the same rule iterated
-   * twice (64 points, one in each voxel of the 4x4x4 block) at level 2.
-   * Throws ExcMessage for other levels.
+   * the points metamaterials are defined at. At level 1 it has 8 points
+   * of weight 1/8, point k in child octant k, at +-@p point_offset of the
+   * element's half-width from its centre in every direction: the 2-point
+   * Gauss rule with the default gauss_point_offset (the paper's element).
+   * At level 2 it is the same rule iterated twice (64 points, one in each
+   * voxel of the 4x4x4 block, where the level-1 children have theirs).
+   *
+   * A smaller offset leaves the energy of every constant-strain mode as
+   * it is (the weights integrate constants exactly) and scales down the
+   * energy of the trilinear element's bending modes, whose strains grow
+   * linearly away from the centre.
+   *
+   * Throws ExcMessage for other levels and for offsets outside (0, 1)
+   * (the parameter 'Discretization/Coarse point offset').
    */
   Quadrature<3>
-  coarse_quadrature(const unsigned int level);
+  coarse_quadrature(const unsigned int level,
+                    const double       point_offset = gauss_point_offset);
 
   /**
    * A continuous finite element discretization of a scene: the voxel mesh
@@ -48,12 +62,14 @@ namespace ddfem::solver
      *
      * Levels 1 and 2 are coarse models: one cell per block of 2^level voxels
      * per direction that holds a solid voxel, FE_Q(1)^3 (@p degree must be
-     * 1) and coarse_quadrature(level). Their material records are allocated
-     * but left zero: a coarsening::Coarsener fills them.
+     * 1) and coarse_quadrature(level, @p point_offset). Their material
+     * records are allocated but left zero: a coarsening::Coarsener fills
+     * them.
      */
     Discretization(const scene::Scene &scene,
                    const unsigned int  degree,
-                   const unsigned int  level = 0);
+                   const unsigned int  level        = 0,
+                   const double        point_offset = gauss_point_offset);
 
     /**
      * The active index of the cell whose voxel or block holds voxel @p v
