@@ -112,13 +112,13 @@ namespace ddfem::app
     write_csv(const std::vector<Row> &rows, const std::string &file)
     {
       std::ofstream csv(file);
-      csv
-        << "state,method,level,grid,cells,dofs,newton_iterations,"
-           "time_per_iteration_s,wall_time_s,coarsening_time_s,"
-           "speedup_vs_fine,speedup_vs_fine_direct,mean_vertex_error,"
-           "max_vertex_error,grid_fit_mean_vertex_error,"
-           "grid_fit_max_vertex_error,grid_fit_lower_bound,linear_solver,converged\n"
-        << std::setprecision(6);
+      csv << "state,method,level,grid,cells,dofs,newton_iterations,"
+             "time_per_iteration_s,wall_time_s,coarsening_time_s,"
+             "speedup_vs_fine,speedup_vs_fine_direct,mean_vertex_error,"
+             "max_vertex_error,grid_fit_mean_vertex_error,"
+             "grid_fit_max_vertex_error,grid_fit_lower_bound,"
+             "linear_solver,converged\n"
+          << std::setprecision(6);
       for (const Row &r : rows)
         csv << r.state << ',' << r.method << ',' << r.level << ',' << r.grid
             << ',' << r.cells << ',' << r.dofs << ','

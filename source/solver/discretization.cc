@@ -13,8 +13,8 @@ namespace ddfem::solver
                 ExcMessage("Coarsening levels must be 1 or 2, not " +
                            std::to_string(level) + "."));
     AssertThrow(point_offset > 0 && point_offset < 1,
-                ExcMessage("Discretization/Coarse point offset must lie in "
-                           "(0, 1), not " +
+                ExcMessage("Discretization/Coarse point offset must lie "
+                           "strictly between 0 and 1, not " +
                            Utilities::to_string(point_offset) + "."));
     // The Gauss points moved toward the centre by the factor (exactly the
     // Gauss rule for the default offset).
