@@ -45,8 +45,8 @@ namespace ddfem::coarsening
     prm.declare_entry("Magnitudes",
                       "5",
                       Patterns::Integer(1),
-                      "Number of magnitudes per force pattern (the paper "
-                      "uses 5). Each pattern gives this many samples.");
+                      "Number of magnitudes per pattern (the paper uses 5)."
+                      " Each pattern gives this many samples.");
     prm.declare_entry("Minimum strain",
                       "0.02",
                       Patterns::Double(1e-6, 1),

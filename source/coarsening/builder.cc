@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <exception>
 #include <filesystem>
 #include <iomanip>
 #include <mutex>
@@ -55,8 +56,9 @@ namespace ddfem::coarsening
     prm.declare_entry("Threads",
                       "0",
                       Patterns::Integer(0),
-                      "Worker threads fitting combinations; 0 uses all "
-                      "cores. Results do not depend on it.");
+                      "Worker threads fitting combinations; 0 uses deal.II's "
+                      "thread count (all cores unless DEAL_II_NUM_THREADS "
+                      "limits it). Results do not depend on it.");
     SamplingSettings::declare_parameters(prm);
     FitSettings::declare_parameters(prm);
     HierarchySettings::declare_parameters(prm);
@@ -133,6 +135,14 @@ namespace ddfem::coarsening
                            "most 8 materials plus void (9^8 combinations); "
                            "Materials has " +
                            std::to_string(palette.size()) + "."));
+    for (scene::MaterialId id = 1; id <= palette.size(); ++id)
+      AssertThrow(palette[id].lambda >= 0,
+                  ExcMessage("Materials/Palette: material " +
+                             std::to_string(id) + " has lambda = " +
+                             Utilities::to_string(palette[id].lambda) +
+                             " < 0 (nu < 0). Metamaterials are fitted with "
+                             "lambda >= 0, so Method = ddfem and Run type = "
+                             "database need nu >= 0 (lambda >= 0)."));
     const DatabaseSettings settings = this->settings(palette);
 
     Database database(settings, palette.size());
@@ -255,9 +265,7 @@ namespace ddfem::coarsening
     const std::array<Combination, 8> blocks = level2.composition(level1, r);
     std::array<std::vector<material::MaterialPoint>, 8> children;
     for (unsigned int k = 0; k < 8; ++k)
-      if (std::any_of(blocks[k].begin(), blocks[k].end(), [](auto id) {
-            return id != 0;
-          }))
+      if (!all_void(blocks[k]))
         children[k] = level1.lookup(blocks[k], Fit::child).points;
     // Point q starts from its child's sub-point and keeps its direction.
     Metamaterial prior;
@@ -320,34 +328,44 @@ namespace ddfem::coarsening
     std::atomic<std::size_t> next(0);
     std::size_t              done      = 0;
     double                   last_draw = -1;
-    const unsigned int       workers =
-      std::max<std::size_t>(1,
-                            std::min<std::size_t>(n_threads > 0 ?
-                                                    n_threads :
-                                                    MultithreadInfo::n_cores(),
-                                                  n));
-    const auto work = [&]() {
+    const unsigned int       workers   = std::max<std::size_t>(
+      1,
+      std::min<std::size_t>(n_threads > 0 ? n_threads :
+                                                    MultithreadInfo::n_threads(),
+                            n));
+    // The first error in any worker stops the others; it is rethrown
+    // once all have joined, so entries stored before it stay stored.
+    std::exception_ptr error;
+    const auto         work = [&]() {
       for (std::size_t i = next++; i < n; i = next++)
-        {
-          const Entry                 entry = fit(i);
-          std::lock_guard<std::mutex> lock(mutex);
-          store(entry);
-          ++done;
-          // The progress bar, redrawn at most every half second.
-          if (show_progress &&
-              (timer.wall_time() > last_draw + 0.5 || done == n))
-            {
-              last_draw                = timer.wall_time();
-              const double       left  = last_draw / done * (n - done);
-              const unsigned int width = 30;
-              const unsigned int bar   = width * done / n;
-              out << "\r  [" << std::string(bar, '#')
-                  << std::string(width - bar, ' ') << "] " << done << "/" << n
-                  << ", " << std::fixed << std::setprecision(0) << last_draw
-                  << " s, about " << left << " s left   " << std::defaultfloat
-                  << std::setprecision(6) << std::flush;
-            }
-        }
+        try
+          {
+            const Entry                 entry = fit(i);
+            std::lock_guard<std::mutex> lock(mutex);
+            store(entry);
+            ++done;
+            // The progress bar, redrawn at most every half second.
+            if (show_progress &&
+                (timer.wall_time() > last_draw + 0.5 || done == n))
+              {
+                last_draw               = timer.wall_time();
+                const double       left = last_draw / done * (n - done);
+                const unsigned int width = 30;
+                const unsigned int bar   = width * done / n;
+                out << "\r  [" << std::string(bar, '#')
+                    << std::string(width - bar, ' ') << "] " << done << "/" << n
+                    << ", " << std::fixed << std::setprecision(0) << last_draw
+                    << " s, about " << left << " s left   " << std::defaultfloat
+                    << std::setprecision(6) << std::flush;
+              }
+          }
+        catch (...)
+          {
+            std::lock_guard<std::mutex> lock(mutex);
+            if (!error)
+              error = std::current_exception();
+            next = n;
+          }
     };
     std::vector<std::thread> threads;
     for (unsigned int t = 1; t < workers; ++t)
@@ -357,6 +375,8 @@ namespace ddfem::coarsening
       t.join();
     if (show_progress && n > 0)
       out << std::endl;
+    if (error)
+      std::rethrow_exception(error);
   }
 
 
@@ -473,6 +493,12 @@ namespace ddfem::coarsening
     bool                                    new_tables = false;
     std::vector<std::array<Combination, 8>> blocks;
     std::vector<BlockKeys>                  block_keys;
+    // The file's level 2 is kept by a level-1 build too: its tables and
+    // fits are keyed by combination, so new level-1 entries leave them
+    // valid (a level-2 build renews tables that do not cover them).
+    // Compression changes the level-1 models level 2 was sampled from.
+    if (!compressed_now && std::filesystem::exists(database_file))
+      Database::load(database_file, &level2);
     if (levels == 2)
       {
         if (scene_grids != nullptr)
@@ -482,8 +508,6 @@ namespace ddfem::coarsening
                 blocks.push_back(b);
                 block_keys.push_back(Hierarchy::keys(database, b));
               }
-        if (std::filesystem::exists(database_file))
-          Database::load(database_file, &level2);
         if (level2.empty() ||
             level2.settings.fingerprint() != hierarchy.fingerprint() ||
             !level2.covers(database, wanted, block_keys))
@@ -506,7 +530,7 @@ namespace ddfem::coarsening
       {
         std::filesystem::create_directories(
           std::filesystem::absolute(database_file).parent_path());
-        database.save(database_file, levels == 2 ? &level2 : nullptr);
+        database.save(database_file, &level2);
         Journal::remove(database_file);
       }
     report(database.entries(), out);
@@ -626,9 +650,10 @@ namespace ddfem::coarsening
                            std::ostream                        &out) const
   {
     DatabaseBuilder lazy(*this);
-    lazy.levels       = level;
-    lazy.run_scope    = Scope::scene;
-    Database database = lazy.open(palette, out);
+    lazy.levels            = level;
+    lazy.run_scope         = Scope::scene;
+    lazy.n_representatives = 0; // only a complete database is compressed
+    Database database      = lazy.open(palette, out);
     lazy.build(palette, database, &grids, out, false, &level2);
     return database;
   }

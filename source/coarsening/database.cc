@@ -220,6 +220,13 @@ namespace ddfem::coarsening
                 entry.child_material.points.push_back(
                   point(children, "child parameters", e, q));
             }
+          check(std::isfinite(errors[2 * e]) && errors[2 * e] >= 0 &&
+                  std::isfinite(errors[2 * e + 1]) && errors[2 * e + 1] >= 0 &&
+                  std::isfinite(strains[2 * e]) &&
+                  std::isfinite(strains[2 * e + 1]) && counts[2 * e] >= 0 &&
+                  counts[2 * e + 1] >= 0,
+                "has invalid fit statistics at " + group + " " +
+                  std::to_string(e));
           entry.median_error = errors[2 * e];
           entry.max_error    = errors[2 * e + 1];
           entry.min_strain   = strains[2 * e];
@@ -287,8 +294,7 @@ namespace ddfem::coarsening
                              "built with Database/Include void = false, or "
                              "an id above the palette's size)."));
     for (const Combination &c : combinations)
-      if (std::any_of(c.begin(), c.end(), [](auto id) { return id != 0; }) &&
-          !contains(c))
+      if (!all_void(c) && !contains(c))
         result.push_back(group.canonical(c).first);
     std::sort(result.begin(), result.end());
     result.erase(std::unique(result.begin(), result.end()), result.end());
@@ -402,7 +408,10 @@ namespace ddfem::coarsening
         check(read_attribute(h5, "palette hash") ==
                 palette_hash(settings.palette),
               "has a palette that does not match its hash (corrupt file?)");
-        settings.with_void       = read_attribute(h5, "with void") == "1";
+        const std::string with_void = read_attribute(h5, "with void");
+        check(with_void == "0" || with_void == "1",
+              "has an invalid 'with void' attribute '" + with_void + "'");
+        settings.with_void       = with_void == "1";
         const std::string offset = read_attribute(h5, "coarse point offset");
         try
           {
@@ -418,7 +427,15 @@ namespace ddfem::coarsening
         const std::string fingerprint = read_attribute(h5, "settings");
         Database          db(settings, count_materials(settings.palette));
         db.settings_fingerprint = fingerprint;
-        db.representatives = std::stoul(read_attribute(h5, "representatives"));
+        const std::string representatives =
+          read_attribute(h5, "representatives");
+        check(!representatives.empty() && representatives.size() < 10 &&
+                std::all_of(representatives.begin(),
+                            representatives.end(),
+                            [](const char c) { return std::isdigit(c); }),
+              "has an invalid 'representatives' attribute '" + representatives +
+                "'");
+        db.representatives = std::stoul(representatives);
 
         db.fitted            = read_entries(h5, "entries", 8, true);
         const hsize_t n_keys = db.index.size();
@@ -515,8 +532,7 @@ namespace ddfem::coarsening
     for (std::size_t key = 0; key < index.size(); ++key)
       {
         const Combination c = index.combination(key);
-        if (entry_of[key] < 0 ||
-            std::all_of(c.begin(), c.end(), [](auto id) { return id == 0; }))
+        if (entry_of[key] < 0 || all_void(c))
           continue;
         result.push_back(log_energies(element, lookup(c, fit), deformations));
         keys.push_back(key);

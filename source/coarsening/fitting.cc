@@ -49,10 +49,11 @@ namespace ddfem::coarsening
     prm.declare_entry("Held-out every",
                       "5",
                       Patterns::Integer(0),
-                      "Every n-th force pattern (all its magnitudes) is held "
-                      "out of the fit and used to measure the fit's relative "
-                      "energy error. 0 holds none out and measures the error "
-                      "on the fitted samples.");
+                      "Every n-th pattern (force or embedded, all its "
+                      "magnitudes) is held out of the fit and used to "
+                      "measure the fit's relative energy error. 0 holds none "
+                      "out and measures the error on the fitted samples; 1 "
+                      "would leave the fit no samples and is rejected.");
     prm.leave_subsection();
   }
 
@@ -68,6 +69,10 @@ namespace ddfem::coarsening
     point_floor          = prm.get_double("Point floor");
     held_out_every       = prm.get_integer("Held-out every");
     prm.leave_subsection();
+    AssertThrow(held_out_every != 1,
+                ExcMessage("Database/Fitting/Held-out every must be 0 (none "
+                           "held out) or at least 2: 1 would hold out every "
+                           "sample and leave the fit none."));
   }
 
 

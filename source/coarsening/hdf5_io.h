@@ -24,22 +24,28 @@ namespace ddfem::coarsening::hdf5
   class Handle
   {
   public:
+    /// Takes ownership of @p id (negative: invalid), closed by @p close.
     Handle(const hid_t id, herr_t (*close)(hid_t))
       : id(id)
       , close(close)
     {}
+    /// Closes a valid identifier.
     ~Handle()
     {
       if (id >= 0)
         close(id);
     }
+    /// Not copyable: one owner closes the identifier.
     Handle(const Handle &) = delete;
+    /// Not copyable.
     Handle &
     operator=(const Handle &) = delete;
+    /// The identifier, for the HDF5 calls.
     operator hid_t() const
     {
       return id;
     }
+    /// Whether the call that made the identifier succeeded.
     bool
     valid() const
     {
@@ -54,9 +60,11 @@ namespace ddfem::coarsening::hdf5
   /// Thrown while reading and turned into a message naming the file.
   struct FileProblem
   {
+    /// What is wrong, completing "The metamaterial database file 'F' ...".
     std::string what;
   };
 
+  /// Throws FileProblem{@p what} unless @p condition holds.
   inline void
   check(const bool condition, const std::string &what)
   {
@@ -64,6 +72,7 @@ namespace ddfem::coarsening::hdf5
       throw FileProblem{what};
   }
 
+  /// The HDF5 memory type of @p T (double and fixed-width integers).
   template <typename T>
   hid_t
   native_type();
@@ -92,6 +101,8 @@ namespace ddfem::coarsening::hdf5
     return H5T_NATIVE_UINT8;
   }
 
+  /// Writes @p data as the dataset @p name of shape @p dims, creating
+  /// intermediate groups.
   template <typename T>
   void
   write_dataset(const hid_t                 file,
@@ -156,6 +167,7 @@ namespace ddfem::coarsening::hdf5
     return data;
   }
 
+  /// Writes the string attribute @p name of @p file (or group).
   inline void
   write_attribute(const hid_t        file,
                   const std::string &name,
@@ -172,6 +184,8 @@ namespace ddfem::coarsening::hdf5
                 ExcMessage("Could not write the attribute " + name + "."));
   }
 
+  /// Reads the string attribute @p name (FileProblem if missing or not a
+  /// string).
   inline std::string
   read_attribute(const hid_t file, const std::string &name)
   {

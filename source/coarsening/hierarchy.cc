@@ -1,5 +1,6 @@
 #include <ddfem/coarsening/hierarchy.h>
 
+#include <iomanip>
 #include <map>
 #include <random>
 #include <sstream>
@@ -62,10 +63,12 @@ namespace ddfem::coarsening
   std::string
   HierarchySettings::fingerprint() const
   {
-    return "level-1 classes: " + std::to_string(n_classes) +
-           ", intermediate: " + std::to_string(n_intermediate) +
-           ", representatives: " + std::to_string(n_representatives) +
-           ", regularization: " + std::to_string(regularization);
+    std::ostringstream s;
+    s << std::setprecision(17) << "level-1 classes: " << n_classes
+      << ", intermediate: " << n_intermediate
+      << ", representatives: " << n_representatives
+      << ", regularization: " << regularization;
+    return s.str();
   }
 
 
@@ -101,9 +104,7 @@ namespace ddfem::coarsening
   {
     BlockKeys result;
     for (unsigned int p = 0; p < 8; ++p)
-      result[p] = std::all_of(blocks[p].begin(),
-                              blocks[p].end(),
-                              [](auto id) { return id == 0; }) ?
+      result[p] = all_void(blocks[p]) ?
                     -1 :
                     std::int64_t(level1.combinations().key(blocks[p]));
     return result;
@@ -309,9 +310,7 @@ namespace ddfem::coarsening
       std::all_of(combinations.begin(),
                   combinations.end(),
                   [&](const Combination &c) {
-                    return std::all_of(c.begin(),
-                                       c.end(),
-                                       [](auto id) { return id == 0; }) ||
+                    return all_void(c) ||
                            std::size_t(class_of[level1.combinations().key(c)]) <
                              class_key.size();
                   });

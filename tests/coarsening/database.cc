@@ -1,11 +1,12 @@
 // The metamaterial database: symmetry orbits and the mapping of fitted
 // entries, farthest point sampling, HDF5 round trip, clear errors for
-// missing, corrupt, truncated and mismatched files, a killed and resumed
-// build equal to an uninterrupted one, results independent of the thread
-// count, lazy (scene) builds, and compression.
+// missing, corrupt, truncated, damaged and mismatched files, a killed and
+// resumed build equal to an uninterrupted one, results independent of the
+// thread count, lazy (scene) builds, and compression.
 
 #include <ddfem/base/exceptions.h>
 #include <ddfem/coarsening/builder.h>
+#include <hdf5.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -452,6 +453,33 @@ main()
     build_lazily("lazy2.h5", second);
     const auto first_again = build_lazily("lazy2.h5", first);
     const auto together    = build_lazily("lazy2_both.h5", both);
+    // A level-1 run of a scene with new blocks adds its entries to the
+    // file and keeps the file's level 2.
+    {
+      scene::VoxelGrid grid({{4, 4, 4}}, 0.01, 1);
+      std::mt19937     generator(4);
+      for (std::size_t v = 0; v < grid.n_voxels(); ++v)
+        grid[v] = 1 + generator() % 2;
+      Hierarchy             before, after;
+      const Database        old = Database::load("lazy2.h5", &before);
+      std::ostringstream    log;
+      const DatabaseBuilder b  = builder("lazy2.h5", false, "scene", 1, 0, 1);
+      Database              db = b.open(palette(), log);
+      const std::vector<scene::VoxelGrid> grids = {grid};
+      b.build(palette(), db, &grids, log, false);
+      const Database extended = Database::load("lazy2.h5", &after);
+      bool           kept     = !before.empty() && !after.empty() &&
+                  after.entries.size() == before.entries.size() &&
+                  after.required_blocks() == before.required_blocks();
+      for (unsigned int e = 0; kept && e < after.entries.size(); ++e)
+        for (unsigned int q = 0; q < 64; ++q)
+          kept &= (after.entries[e].key == before.entries[e].key &&
+                   after.entries[e].material.points[q].mu ==
+                     before.entries[e].material.points[q].mu);
+      std::cout << "  a level-1 run adds entries ("
+                << (extended.entries().size() > old.entries().size())
+                << ") and keeps the file's level 2: " << kept << std::endl;
+    }
     // A scene with more distinct parts than the budgets allow: the build
     // says how many blocks share another composition's fit.
     {
@@ -595,6 +623,26 @@ main()
                                    std::filesystem::file_size("small.h5") / 2);
     }
     expect_error("truncated", [] { Database::load("truncated.h5"); });
+    {
+      std::filesystem::copy_file(
+        "small.h5",
+        "bad_attribute.h5",
+        std::filesystem::copy_options::overwrite_existing);
+      const hid_t file = H5Fopen("bad_attribute.h5", H5F_ACC_RDWR, H5P_DEFAULT);
+      H5Adelete(file, "representatives");
+      const hid_t type = H5Tcopy(H5T_C_S1);
+      H5Tset_size(type, 4);
+      const hid_t space     = H5Screate(H5S_SCALAR);
+      const hid_t attribute = H5Acreate2(
+        file, "representatives", type, space, H5P_DEFAULT, H5P_DEFAULT);
+      H5Awrite(attribute, type, "many");
+      H5Aclose(attribute);
+      H5Sclose(space);
+      H5Tclose(type);
+      H5Fclose(file);
+    }
+    expect_error("damaged attribute",
+                 [] { Database::load("bad_attribute.h5"); });
     expect_error("other palette", [&log] {
       builder("small.h5", false)
         .open(palette("E=1e5 nu=0.45; E=2e6 nu=0.45"), log);

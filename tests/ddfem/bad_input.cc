@@ -90,6 +90,18 @@ main(int argc, char **argv)
     "coarse_point_offset",
     cantilever,
     {"--set", "Method=naive", "--set", "Discretization/Coarse point offset=1"});
+  run_case(
+    "held_out_every",
+    cantilever,
+    {"--set", "Method=ddfem", "--set", "Database/Fitting/Held-out every=1"});
+  run_case("negative_lambda_ddfem",
+           cantilever,
+           {"--set",
+            "Method=ddfem",
+            "--set",
+            "Materials/Palette=E=1e6 nu=-0.2",
+            "--set",
+            "Database/File=out_negative_lambda_ddfem.h5"});
 
   run_case(
     "probe_outside",

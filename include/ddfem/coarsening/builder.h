@@ -20,7 +20,9 @@ namespace ddfem::coarsening
   /**
    * Builds, extends and resumes first-level metamaterial databases (the
    * offline half of DDFEM, paper section 4). Declared in the prm
-   * subsection "Database" (with "Sampling" and "Fitting" inside it).
+   * subsection "Database" (with "Sampling", "Fitting" and "Level 2"
+   * inside it); it also reads "Discretization/Coarse point offset", the
+   * element the metamaterials are fitted for.
    *
    * Every combination is fitted from its own seeded generator, so entries
    * do not depend on the number of threads or on the order they finish
@@ -90,7 +92,8 @@ namespace ddfem::coarsening
      * level-2 representatives (all, or those of @p scene_grids' 4x4x4
      * blocks), journaled too. Prints a report to @p out; with
      * @p show_progress a progress bar with the estimated time left, and
-     * timings. The file is written only if something was added. With
+     * timings. The file is written only if something was added; a
+     * level-1 build keeps the file's level 2 (unless it compresses). With
      * Levels = 2 the level-2 tables and entries end up in @p level2_result
      * if given. Level-2 tables are built anew if they do not know a
      * combination the build covers (built before lazy builds extended

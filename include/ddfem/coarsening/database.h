@@ -16,7 +16,7 @@ namespace ddfem::coarsening
   class Hierarchy;
 
   /// Version of the database file layout; a file with another is rejected.
-  constexpr int database_format_version = 4;
+  constexpr int database_format_version = 5;
 
   /**
    * Revision of the sampling and fitting algorithms. It is part of the

@@ -31,9 +31,9 @@ namespace ddfem::coarsening
     /// Lower bound of every point's mu and lambda as a fraction of the
     /// point's own fine values.
     double point_floor = 0;
-    /// Every n-th force pattern is held out of the fit to measure its
-    /// error (0: none held out; the error is then measured on the fit's
-    /// own samples).
+    /// Every n-th pattern (force or embedded) is held out of the fit to
+    /// measure its error (0: none held out; the error is then measured on
+    /// the fit's own samples).
     unsigned int held_out_every = 5;
 
     /// Declares the subsection "Fitting".

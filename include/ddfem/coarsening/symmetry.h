@@ -3,6 +3,9 @@
 
 #include <deal.II/base/tensor.h>
 
+#include <ddfem/scene/voxel_grid.h>
+
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -16,6 +19,15 @@ namespace ddfem::coarsening
    * lexicographic order: child k = i + 2 j + 4 k occupies octant (i, j, k).
    */
   using Combination = std::array<std::uint8_t, 8>;
+
+  /// Whether every child of @p c is void (such a block has no element).
+  inline bool
+  all_void(const Combination &c)
+  {
+    return std::all_of(c.begin(), c.end(), [](const std::uint8_t id) {
+      return id == scene::void_id;
+    });
+  }
 
   /**
    * The 48 symmetries of the cube (rotations and reflections), acting on a
@@ -104,13 +116,6 @@ namespace ddfem::coarsening
     /// Whether @p c uses only ids this numbering covers.
     bool
     contains(const Combination &c) const;
-
-    /// Number of palette materials.
-    unsigned int
-    n_materials() const
-    {
-      return n_mat;
-    }
 
     /// Whether void children are part of the numbering.
     bool
