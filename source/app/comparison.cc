@@ -364,7 +364,7 @@ namespace ddfem::app
                   !skip.empty() ?
                     nullptr :
                     std::make_unique<ModelRun>(scene,
-                                               degree,
+                                               config.level == 0 ? degree : 1,
                                                coarseners.back().get(),
                                                solver_parameters,
                                                *config.linear_solver,

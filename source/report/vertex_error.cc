@@ -41,9 +41,13 @@ namespace ddfem::report
                          const solver::Discretization &coarse,
                          const Function               &f)
     {
-      AssertThrow(fine.level == 0 && coarse.fe.degree == 1,
+      // Another fine model may have any degree: at its own vertices the
+      // interpolation of its vertex values is exact.
+      AssertThrow(fine.level == 0 &&
+                    (coarse.level == 0 || coarse.fe.degree == 1),
                   ExcMessage("The vertex error compares a coarse trilinear "
-                             "solution with a fine one."));
+                             "solution, or another fine one, with a fine "
+                             "one."));
       std::vector<typename DoFHandler<3>::active_cell_iterator> coarse_cells;
       for (const auto &cell : coarse.dof_handler.active_cell_iterators())
         coarse_cells.push_back(cell);
