@@ -157,14 +157,8 @@ namespace ddfem::coarsening
                      solver::Discretization &coarse) const
   {
     AssertDimension(coarse.level, coarsening_level);
-    const std::size_t n_q = coarse.quadrature.size();
-    for (std::size_t c = 0; c < coarse.cell_blocks.size(); ++c)
-      {
-        const Metamaterial m = block_material(grid, coarse.cell_blocks[c]);
-        std::copy(m.points.begin(),
-                  m.points.end(),
-                  coarse.material_points.begin() + c * n_q);
-      }
+    for (unsigned int c = 0; c < coarse.cell_blocks.size(); ++c)
+      assign_cell(grid, c, coarse);
   }
 
 
@@ -185,14 +179,23 @@ namespace ddfem::coarsening
                                "material of solid voxels."));
         cells.insert(cell);
       }
-    const std::size_t n_q = coarse.quadrature.size();
     for (const unsigned int cell : cells)
-      {
-        const Metamaterial m = block_material(grid, coarse.cell_blocks[cell]);
-        std::copy(m.points.begin(),
-                  m.points.end(),
-                  coarse.material_points.begin() + cell * n_q);
-      }
+      assign_cell(grid, cell, coarse);
     return cells.size();
+  }
+
+
+
+  void
+  Coarsener::assign_cell(const scene::VoxelGrid &grid,
+                         const unsigned int      cell,
+                         solver::Discretization &coarse) const
+  {
+    const Metamaterial m = block_material(grid, coarse.cell_blocks[cell]);
+    AssertDimension(m.points.size(), coarse.quadrature.size());
+    std::copy(m.points.begin(),
+              m.points.end(),
+              coarse.material_points.begin() +
+                std::size_t(cell) * coarse.quadrature.size());
   }
 } // namespace ddfem::coarsening

@@ -1,12 +1,11 @@
 #include <deal.II/base/timer.h>
 #include <deal.II/numerics/data_out.h>
-#include <deal.II/numerics/vector_tools.h>
 
 #include <ddfem/base/exceptions.h>
 #include <ddfem/dg/scene_solver.h>
+#include <ddfem/solver/probe.h>
 
 #include <fstream>
-#include <sstream>
 
 namespace ddfem::dg
 {
@@ -104,21 +103,10 @@ namespace ddfem::dg
   Tensor<1, 3>
   SceneSolver::point_value(const Point<3> &p) const
   {
-    Vector<double> value(3);
-    try
-      {
-        VectorTools::point_value(
-          dg->mapping, dg->dof_handler, dg->solution, p, value);
-      }
-    catch (...)
-      {
-        std::ostringstream text;
-        text << p;
-        AssertThrow(false,
-                    ExcMessage("Geometry/Probe points: the point (" +
-                               text.str() + ") m does not lie in the solid."));
-      }
-    return Tensor<1, 3>({value(0), value(1), value(2)});
+    return solver::probe_displacement(dg->mapping,
+                                      dg->dof_handler,
+                                      dg->solution,
+                                      p);
   }
 
 

@@ -70,16 +70,14 @@ namespace ddfem::scene
         PaletteMaterial m;
         if (values.size() == 2 && values.count("E") && values.count("nu"))
           {
-            m.youngs_modulus = values["E"];
-            m.poisson_ratio  = values["nu"];
-            AssertThrow(m.youngs_modulus > 0,
+            const double E = values["E"], nu = values["nu"];
+            AssertThrow(E > 0,
                         ExcMessage(where + ": Young's modulus E must be > 0."));
-            AssertThrow(m.poisson_ratio > -1 && m.poisson_ratio < 0.5,
+            AssertThrow(nu > -1 && nu < 0.5,
                         ExcMessage(
                           where + ": Poisson ratio nu must lie in (-1, 0.5)."));
-            m.mu     = m.youngs_modulus / (2 * (1 + m.poisson_ratio));
-            m.lambda = m.youngs_modulus * m.poisson_ratio /
-                       ((1 + m.poisson_ratio) * (1 - 2 * m.poisson_ratio));
+            m.mu     = E / (2 * (1 + nu));
+            m.lambda = E * nu / ((1 + nu) * (1 - 2 * nu));
           }
         else if (values.size() == 2 && values.count("mu") &&
                  values.count("lambda"))
@@ -89,9 +87,6 @@ namespace ddfem::scene
             AssertThrow(m.mu > 0, ExcMessage(where + ": mu must be > 0."));
             AssertThrow(m.lambda > -2. / 3. * m.mu,
                         ExcMessage(where + ": lambda must be > -2/3 mu."));
-            m.youngs_modulus =
-              m.mu * (3 * m.lambda + 2 * m.mu) / (m.lambda + m.mu);
-            m.poisson_ratio = m.lambda / (2 * (m.lambda + m.mu));
           }
         else
           AssertThrow(

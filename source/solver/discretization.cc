@@ -49,7 +49,8 @@ namespace ddfem::solver
     cell_blocks = scene::make_voxel_mesh(scene.grid, level, triangulation);
     dof_handler.distribute_dofs(fe);
 
-    material_points.resize(triangulation.n_active_cells() * quadrature.size());
+    material_points.resize(std::size_t(triangulation.n_active_cells()) *
+                           quadrature.size());
     if (level == 0)
       for (std::size_t c = 0; c < cell_blocks.size(); ++c)
         copy_voxel_material(scene, c);

@@ -5,6 +5,7 @@
 #include <deal.II/numerics/vector_tools.h>
 
 #include <ddfem/solver/cell_kernel.h>
+#include <ddfem/solver/probe.h>
 #include <ddfem/solver/static_solver.h>
 
 #include <cmath>
@@ -468,10 +469,10 @@ namespace ddfem::solver
         *tangent    = 0;
         *newton_rhs = 0;
       }
-    double strain_energy   = 0;
-    bool   admissible      = true;
-    min_J                  = std::numeric_limits<double>::max();
-    const unsigned int n_q = discretization.quadrature.size();
+    double strain_energy  = 0;
+    bool   admissible     = true;
+    min_J                 = std::numeric_limits<double>::max();
+    const std::size_t n_q = discretization.quadrature.size();
 
     const auto worker =
       [&](const typename DoFHandler<3>::active_cell_iterator &cell,
@@ -841,11 +842,24 @@ namespace ddfem::solver
   Tensor<1, 3>
   StaticSolver::point_value(const Vector<double> &u, const Point<3> &p) const
   {
+    return probe_displacement(discretization.mapping,
+                              discretization.dof_handler,
+                              u,
+                              p);
+  }
+
+
+
+  Tensor<1, 3>
+  probe_displacement(const Mapping<3>     &mapping,
+                     const DoFHandler<3>  &dof_handler,
+                     const Vector<double> &u,
+                     const Point<3>       &p)
+  {
     Vector<double> value(3);
     try
       {
-        VectorTools::point_value(
-          discretization.mapping, discretization.dof_handler, u, p, value);
+        VectorTools::point_value(mapping, dof_handler, u, p, value);
       }
     catch (...)
       {

@@ -63,7 +63,7 @@ namespace ddfem::app
     /// coarse method at a level.
     struct Configuration
     {
-      /// "fine", "fine-direct", "ddfem", "naive" or "average".
+      /// "fine", "fine-amg", "fine-direct", "ddfem", "naive" or "average".
       std::string name;
       /// Coarsening level (0 for fine).
       unsigned int level = 0;

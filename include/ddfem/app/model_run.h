@@ -80,8 +80,8 @@ namespace ddfem::app
     edit(const std::vector<std::size_t> &changed);
 
     /**
-     * Solves the current state; writes the final state with @p vtu if
-     * given (output is not timed).
+     * Solves the current state; writes the load steps that 'Output/Write
+     * VTU' asks for with @p vtu if given (output is not timed).
      */
     Result
     solve(report::VtuWriter *vtu);

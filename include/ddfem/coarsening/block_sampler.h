@@ -86,11 +86,12 @@ namespace ddfem::coarsening
 
   /**
    * A 2x2x2 block of children on the unit cube, solved with the fine
-   * discretization (trilinear hexes, 2-point Gauss rule, the solvers' cell
-   * kernel): the sampler of paper section 4.2. A child is either void (no
-   * cell) or carries one material record per Gauss point, so fine voxels
-   * (8 equal records) and level-1 metamaterials (8 fitted records) are
-   * sampled by the same code.
+   * discretization (trilinear hexes, the solvers' cell kernel): the
+   * sampler of paper section 4.2. A child is either void (no cell) or
+   * carries one material record per point of its rule: the 2-point Gauss
+   * rule for fine voxels (8 equal records), the level-1 element's points
+   * for level-1 metamaterials (8 fitted records). Both are sampled by the
+   * same code.
    *
    * Rigid motion is removed by six linear constraints per face-connected
    * group of children (Lagrange multipliers): children that touch only at

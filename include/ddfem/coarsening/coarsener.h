@@ -135,6 +135,13 @@ namespace ddfem::coarsening
     static constexpr double void_stiffness = 1e-3;
 
   private:
+    /// Copies block_material() of coarse cell @p cell's block into
+    /// @p coarse's records of that cell.
+    void
+    assign_cell(const scene::VoxelGrid &grid,
+                const unsigned int      cell,
+                solver::Discretization &coarse) const;
+
     const CoarseningMethod coarsening;
     const unsigned int     coarsening_level;
     const double           offset;

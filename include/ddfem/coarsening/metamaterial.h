@@ -29,7 +29,9 @@ namespace ddfem::coarsening
   /**
    * A metamaterial: the material record of every quadrature point of one
    * coarse element (paper eq. 2). Level 1 has 8 points, point k in octant
-   * k; level 2 has 64, the points of the iterated 2-point Gauss rule.
+   * k; level 2 has 64, the level-1 rule iterated (see
+   * solver::coarse_quadrature(): the 2-point Gauss rule for the default
+   * point offset).
    */
   struct Metamaterial
   {

@@ -14,15 +14,11 @@ namespace ddfem::scene
   using namespace dealii;
 
   /**
-   * One isotropic Neo-Hookean material of the palette, stored both as
-   * engineering constants and as Lame parameters.
+   * One isotropic Neo-Hookean material of the palette, by its Lame
+   * parameters (given directly or as E and nu).
    */
   struct PaletteMaterial
   {
-    /// Young's modulus E (Pa).
-    double youngs_modulus;
-    /// Poisson's ratio nu, in (-1, 0.5).
-    double poisson_ratio;
     /// Shear modulus mu = E / (2 (1 + nu)) (Pa).
     double mu;
     /// Lame's first parameter lambda = E nu / ((1 + nu)(1 - 2 nu)) (Pa).

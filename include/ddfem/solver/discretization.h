@@ -93,7 +93,7 @@ namespace ddfem::solver
     const material::MaterialPoint &
     material(const unsigned int cell_index, const unsigned int q) const
     {
-      return material_points[cell_index * quadrature.size() + q];
+      return material_points[std::size_t(cell_index) * quadrature.size() + q];
     }
 
     /// The mesh of the solid voxels (or blocks).
