@@ -46,6 +46,33 @@ namespace ddfem::app
       return stats.VmHWM / 1024.;
     }
 
+    /// The scene's name: 'Scene name', or the stem of @p prm_file.
+    std::string
+    scene_name_of(ParameterHandler &prm, const std::string &prm_file)
+    {
+      const std::string name = prm.get("Scene name");
+      return name.empty() ? std::filesystem::path(prm_file).stem().string() :
+                            name;
+    }
+
+    /// 'Output directory' and 'Screen timings' of subsection "Output".
+    struct OutputSettings
+    {
+      /// Reads them from @p prm.
+      explicit OutputSettings(ParameterHandler &prm)
+      {
+        prm.enter_subsection("Output");
+        directory      = prm.get("Output directory");
+        screen_timings = prm.get_bool("Screen timings");
+        prm.leave_subsection();
+      }
+
+      /// Where a run writes its files.
+      std::string directory;
+      /// Whether per-phase times are printed on the screen.
+      bool screen_timings;
+    };
+
     /// Applies "Subsection/.../Name=value" to @p prm.
     void
     apply_override(ParameterHandler &prm, const std::string &text)
@@ -90,18 +117,15 @@ namespace ddfem::app
       void
       parse_parameters(ParameterHandler &prm, const std::string &prm_file)
       {
-        scene_name = prm.get("Scene name");
-        if (scene_name.empty())
-          scene_name = std::filesystem::path(prm_file).stem().string();
-        method = prm.get("Method");
-        level  = prm.get_integer("Coarsening levels");
+        scene_name = scene_name_of(prm, prm_file);
+        method     = prm.get("Method");
+        level      = prm.get_integer("Coarsening levels");
         prm.enter_subsection("Discretization");
         degree = prm.get_integer("Polynomial degree");
         prm.leave_subsection();
-        prm.enter_subsection("Output");
-        directory      = prm.get("Output directory");
-        screen_timings = prm.get_bool("Screen timings");
-        prm.leave_subsection();
+        const OutputSettings output(prm);
+        directory      = output.directory;
+        screen_timings = output.screen_timings;
         solver_parameters.parse_parameters(prm);
         linear_solver.parse_parameters(prm);
         vtu.parse_parameters(prm);
@@ -389,21 +413,18 @@ namespace ddfem::app
                  ParameterHandler  &prm,
                  std::ostream      &out)
     {
-      prm.enter_subsection("Output");
-      const std::string directory = prm.get("Output directory");
-      const bool        timings   = prm.get_bool("Screen timings");
-      prm.leave_subsection();
+      const OutputSettings output(prm);
       if (run_type == "dg convergence")
         {
           dg::ConvergenceStudy study;
           study.parse_parameters(prm);
-          study.run(directory, out);
+          study.run(output.directory, out);
         }
       else
         {
           dg::CostStudy study;
           study.parse_parameters(prm);
-          study.run(directory, timings, out);
+          study.run(output.directory, output.screen_timings, out);
         }
       return 0;
     }
@@ -421,16 +442,14 @@ namespace ddfem::app
     {
       scene::Scene scene;
       scene.parse_parameters(prm);
-      std::string scene_name = prm.get("Scene name");
-      if (scene_name.empty())
-        scene_name = std::filesystem::path(prm_file).stem().string();
-      prm.enter_subsection("Output");
-      const std::string directory = prm.get("Output directory");
-      const bool        timings   = prm.get_bool("Screen timings");
-      prm.leave_subsection();
-      Comparison comparison;
+      const OutputSettings output(prm);
+      Comparison           comparison;
       comparison.parse_parameters(prm);
-      return comparison.run(scene, scene_name, directory, timings, out);
+      return comparison.run(scene,
+                            scene_name_of(prm, prm_file),
+                            output.directory,
+                            output.screen_timings,
+                            out);
     }
   } // namespace
 

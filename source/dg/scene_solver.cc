@@ -3,6 +3,7 @@
 
 #include <ddfem/base/exceptions.h>
 #include <ddfem/dg/scene_solver.h>
+#include <ddfem/report/output.h>
 #include <ddfem/solver/probe.h>
 
 #include <fstream>
@@ -114,18 +115,12 @@ namespace ddfem::dg
   void
   SceneSolver::write_vtu(const std::string &file) const
   {
-    Vector<double> material_id(triangulation.n_active_cells());
-    for (const auto &cell : triangulation.active_cell_iterators())
-      material_id(cell->active_cell_index()) = cell->material_id();
-    DataOut<3> data_out;
-    data_out.attach_dof_handler(dg->dof_handler);
-    data_out.add_data_vector(
-      dg->solution,
-      std::vector<std::string>(3, "displacement"),
-      DataOut<3>::type_dof_data,
-      std::vector<DataComponentInterpretation::DataComponentInterpretation>(
-        3, DataComponentInterpretation::component_is_part_of_vector));
-    data_out.add_data_vector(material_id, "material_id");
+    DataOut<3>     data_out;
+    Vector<double> material_id;
+    report::add_displacement_and_materials(data_out,
+                                           dg->dof_handler,
+                                           dg->solution,
+                                           material_id);
     data_out.build_patches(dg->mapping, parameters.degree);
     std::ofstream out(file);
     data_out.write_vtu(out);

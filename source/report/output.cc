@@ -58,6 +58,28 @@ namespace ddfem::report
 
 
   void
+  add_displacement_and_materials(DataOut<3>           &data_out,
+                                 const DoFHandler<3>  &dof_handler,
+                                 const Vector<double> &u,
+                                 Vector<double>       &material_id)
+  {
+    const auto &triangulation = dof_handler.get_triangulation();
+    material_id.reinit(triangulation.n_active_cells());
+    for (const auto &cell : triangulation.active_cell_iterators())
+      material_id(cell->active_cell_index()) = cell->material_id();
+    data_out.attach_dof_handler(dof_handler);
+    data_out.add_data_vector(
+      u,
+      std::vector<std::string>(3, "displacement"),
+      DataOut<3>::type_dof_data,
+      std::vector<DataComponentInterpretation::DataComponentInterpretation>(
+        3, DataComponentInterpretation::component_is_part_of_vector));
+    data_out.add_data_vector(material_id, "material_id");
+  }
+
+
+
+  void
   VtuWriter::write(const solver::Discretization           &discretization,
                    const Vector<double>                   &u,
                    const solver::StaticSolver::CellFields &fields,
@@ -68,20 +90,12 @@ namespace ddfem::report
     if (when == "none" || (when == "last step" && !last))
       return;
 
-    Vector<double> material_id(discretization.triangulation.n_active_cells());
-    for (const auto &cell :
-         discretization.triangulation.active_cell_iterators())
-      material_id(cell->active_cell_index()) = cell->material_id();
-
-    DataOut<3> data_out;
-    data_out.attach_dof_handler(discretization.dof_handler);
-    const std::vector<DataComponentInterpretation::DataComponentInterpretation>
-      vector_field(3, DataComponentInterpretation::component_is_part_of_vector);
-    data_out.add_data_vector(u,
-                             std::vector<std::string>(3, "displacement"),
-                             DataOut<3>::type_dof_data,
-                             vector_field);
-    data_out.add_data_vector(material_id, "material_id");
+    DataOut<3>     data_out;
+    Vector<double> material_id;
+    add_displacement_and_materials(data_out,
+                                   discretization.dof_handler,
+                                   u,
+                                   material_id);
     data_out.add_data_vector(fields.J, "J");
     data_out.add_data_vector(fields.von_mises, "von_Mises_stress");
     data_out.build_patches(discretization.mapping, discretization.fe.degree);

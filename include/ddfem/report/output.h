@@ -3,6 +3,7 @@
 
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/lac/vector.h>
+#include <deal.II/numerics/data_out.h>
 
 #include <ddfem/solver/discretization.h>
 #include <ddfem/solver/static_solver.h>
@@ -22,6 +23,18 @@ namespace ddfem::report
    */
   void
   run_gnuplot(const std::string &directory, const std::string &script);
+
+  /**
+   * Attaches @p dof_handler to @p data_out with the displacement @p u
+   * (three components, one vector field) and the cells' material ids,
+   * which it writes into @p material_id: that vector must live until the
+   * patches are built. The CG and DG writers add their own fields.
+   */
+  void
+  add_displacement_and_materials(DataOut<3>           &data_out,
+                                 const DoFHandler<3>  &dof_handler,
+                                 const Vector<double> &u,
+                                 Vector<double>       &material_id);
 
   /**
    * Writes the states of a solve as VTU files, one per load step, and a
