@@ -54,8 +54,23 @@ namespace ddfem::coarsening
               symmetrize(outer_product(p.direction, p.direction));
           }
       }
+    // The principal axis is a line the point's symmetries keep only if its
+    // eigenvalue is simple. Where the largest eigenvalue is double, or
+    // nearly so (the corner points of a homogeneous block, whose averaged
+    // springs span the plane normal to the cube's diagonal, or all
+    // directions), no line is kept, and one spring cannot be symmetric: it
+    // is dropped. Its direction then carries no energy.
     for (unsigned int k = 0; k < 8; ++k)
-      result.points[k].direction = eigenvectors(orientation[k])[0].second;
+      {
+        const auto axes = eigenvectors(orientation[k]);
+        if (axes[0].first - axes[1].first > 1e-6 * axes[0].first)
+          result.points[k].direction = axes[0].second;
+        else
+          {
+            result.points[k].direction  = axes[2].second;
+            result.points[k].anisotropy = 0;
+          }
+      }
     return result;
   }
 

@@ -123,7 +123,7 @@ main()
   std::cout << "voxel file round trip equal: "
             << (read.data() == random_a.data()) << std::endl;
 
-  // A closed surface: the octahedron of "radius" 0.0305 m around the
+  // A closed surface: the octahedron of "radius" 0.0605 m around the
   // center of a 16^3 grid, written in three formats.
   const auto mesh = octahedron(0.08, 0.0605);
   {

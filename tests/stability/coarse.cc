@@ -65,7 +65,7 @@ namespace
      "subsection Nonlinear solver\n  set Load steps = 10\nend\n"},
     {"twist_180",
      "subsection Geometry\n  set Grid size = 4, 12, 4\n"
-     "  set Probe points = 0.04, 0.12, 0.04\nend\n"
+     "  set Probe points = 0.04, 0.06, 0.04\nend\n"
      "subsection Layout\n  set Type = layers\n"
      "  subsection Layers\n    set Thickness = 0.02\n"
      "    set Materials = 1, 2\n  end\nend\n"

@@ -52,9 +52,12 @@ namespace ddfem::coarsening
   /**
    * The average of a level-1 metamaterial over the symmetries that leave
    * its @p combination unchanged: parameters are averaged, each point's
-   * direction becomes the principal axis of the averaged v v^T. A
-   * symmetric block then gets an exactly symmetric metamaterial, so the
-   * lookup does not depend on which symmetry maps the orbit's entry.
+   * direction becomes the principal axis of the averaged v v^T. Where the
+   * largest eigenvalue of that average is double, no direction is kept by
+   * the point's symmetries: the spring is dropped (C = 0) and the direction
+   * is the simple eigenvector. A symmetric block then gets an exactly
+   * symmetric metamaterial, so the lookup does not depend on which
+   * symmetry maps the orbit's entry.
    */
   Metamaterial
   symmetrize(const Metamaterial   &m,
