@@ -262,7 +262,7 @@ namespace ddfem::dg
             }
           catch (const SolverControl::NoConvergence &)
             {
-              r.condition = std::numeric_limits<double>::quiet_NaN();
+              r.condition = std::numeric_limits<double>::infinity();
             }
         }
       return r;
@@ -321,8 +321,10 @@ namespace ddfem::dg
       "20000",
       Patterns::Integer(0),
       "The condition number of K is estimated (Lanczos estimate of an "
-      "unpreconditioned CG solve) for systems with at most this many DoFs, "
-      "and printed as nan above.");
+      "unpreconditioned CG solve) for systems with at most this many DoFs. "
+      "It is printed as nan where it is not estimated (above the limit, or "
+      "where CG converges in too few iterations for an estimate) and as inf "
+      "where CG does not converge.");
     prm.leave_subsection();
   }
 
