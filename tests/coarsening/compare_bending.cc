@@ -10,6 +10,32 @@
 
 #include "../tests.h"
 
+namespace
+{
+  /// The start of a compare run's parameters: a cantilever of @p grid
+  /// voxels of 0.02 m pulled down at its tip, probed at @p probe.
+  std::string
+  compare_run(const std::string &name,
+              const std::string &grid,
+              const std::string &probe)
+  {
+    return "set Run type = compare\nset Scene name = " + name + "\n" +
+           ddfem::testing::cantilever(grid, "0; 0; -2000") +
+           "subsection Geometry\n  set Voxel size = 0.02\n"
+           "  set Probe points = " +
+           probe + "\nend\n";
+  }
+
+  /// Output into @p directory without timings, VTU as @p vtu.
+  std::string
+  output(const std::string &directory, const std::string &vtu)
+  {
+    return "subsection Output\n  set Output directory = " + directory +
+           "\n  set Screen timings = false\n  set Write VTU = " + vtu +
+           "\nend\n";
+  }
+} // namespace
+
 int
 main(int argc, char **argv)
 {
@@ -23,14 +49,8 @@ main(int argc, char **argv)
   // voxels: they cut through the 2x2x2 blocks, so that ddfem, naive and
   // average differ at level 1.
   std::ofstream prm("compare_bending.prm");
-  prm << "set Run type = compare\n"
-         "set Scene name = bending\n"
-      << ddfem::testing::cantilever("4, 16, 4", "0; 0; -2000")
-      << "subsection Geometry\n"
-         "  set Voxel size = 0.02\n"
-         "  set Probe points = 0.04, 0.32, 0.04\n"
-         "end\n"
-         "subsection Materials\n"
+  prm << compare_run("bending", "4, 16, 4", "0.04, 0.32, 0.04")
+      << "subsection Materials\n"
          "  set Palette = E=1e5 nu=0.45; E=1e6 nu=0.45; E=1e7 nu=0.45\n"
          "end\n"
          "subsection Layout\n"
@@ -48,11 +68,7 @@ main(int argc, char **argv)
          "    set Stretch directions = 60\n"
          "  end\n"
          "end\n"
-         "subsection Output\n"
-         "  set Output directory = compare\n"
-         "  set Screen timings = false\n"
-         "  set Write VTU = last step\n"
-         "end\n";
+      << output("compare", "last step");
   prm.close();
 
   const int status =
@@ -80,25 +96,15 @@ main(int argc, char **argv)
   // are always trilinear, and the fine runs are compared at the vertices.
   std::filesystem::remove_all("compare_q2");
   std::ofstream q2("compare_q2.prm");
-  q2 << "set Run type = compare\n"
-        "set Scene name = bending_q2\n"
-     << ddfem::testing::cantilever("2, 8, 2", "0; 0; -2000")
-     << "subsection Geometry\n"
-        "  set Voxel size = 0.02\n"
-        "  set Probe points = 0.02, 0.16, 0.02\n"
-        "end\n"
-        "subsection Discretization\n"
+  q2 << compare_run("bending_q2", "2, 8, 2", "0.02, 0.16, 0.02")
+     << "subsection Discretization\n"
         "  set Polynomial degree = 2\n"
         "end\n"
         "subsection Comparison\n"
         "  set Methods = naive\n"
         "  set Levels = 1\n"
         "end\n"
-        "subsection Output\n"
-        "  set Output directory = compare_q2\n"
-        "  set Screen timings = false\n"
-        "  set Write VTU = none\n"
-        "end\n";
+     << output("compare_q2", "none");
   q2.close();
   const int status_q2 =
     ddfem::app::run({"compare_q2.prm"}, std::cout, std::cout);
