@@ -5,6 +5,7 @@
 #include <ddfem/coarsening/hierarchy.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -432,7 +433,9 @@ namespace ddfem::coarsening
         check(!representatives.empty() && representatives.size() < 10 &&
                 std::all_of(representatives.begin(),
                             representatives.end(),
-                            [](const char c) { return std::isdigit(c); }),
+                            [](const unsigned char c) {
+                              return std::isdigit(c) != 0;
+                            }),
               "has an invalid 'representatives' attribute '" + representatives +
                 "'");
         db.representatives = std::stoul(representatives);
