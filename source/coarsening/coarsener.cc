@@ -54,9 +54,9 @@ namespace ddfem::coarsening
   {
     const Quadrature<3> quadrature =
       solver::coarse_quadrature(level, point_offset);
-    Assert(method != CoarseningMethod::ddfem ||
-             (level1 != nullptr && (level == 1 || level2 != nullptr)),
-           ExcMessage("The ddfem coarsener needs the database."));
+    AssertThrow(method != CoarseningMethod::ddfem ||
+                  (level1 != nullptr && (level == 1 || level2 != nullptr)),
+                ExcMessage("The ddfem coarsener needs the database."));
     AssertThrow(method != CoarseningMethod::ddfem ||
                   level1->point_offset() == point_offset,
                 ExcMessage("The metamaterial database was fitted for the "

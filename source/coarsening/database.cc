@@ -5,7 +5,6 @@
 #include <ddfem/coarsening/hierarchy.h>
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -412,33 +411,24 @@ namespace ddfem::coarsening
         const std::string with_void = read_attribute(h5, "with void");
         check(with_void == "0" || with_void == "1",
               "has an invalid 'with void' attribute '" + with_void + "'");
-        settings.with_void       = with_void == "1";
-        const std::string offset = read_attribute(h5, "coarse point offset");
-        try
-          {
-            settings.point_offset = std::stod(offset);
-          }
-        catch (const std::exception &)
-          {
-            settings.point_offset = -1;
-          }
+        settings.with_void = with_void == "1";
+        settings.point_offset =
+          read_number_attribute(h5, "coarse point offset");
         check(settings.point_offset > 0 && settings.point_offset < 1,
-              "has a coarse point offset of '" + offset +
-                "', which is not in (0, 1)");
+              "has a coarse point offset of " +
+                Utilities::to_string(settings.point_offset) +
+                ", which is not in (0, 1)");
         const std::string fingerprint = read_attribute(h5, "settings");
         Database          db(settings, count_materials(settings.palette));
         db.settings_fingerprint = fingerprint;
-        const std::string representatives =
-          read_attribute(h5, "representatives");
-        check(!representatives.empty() && representatives.size() < 10 &&
-                std::all_of(representatives.begin(),
-                            representatives.end(),
-                            [](const unsigned char c) {
-                              return std::isdigit(c) != 0;
-                            }),
-              "has an invalid 'representatives' attribute '" + representatives +
-                "'");
-        db.representatives = std::stoul(representatives);
+        const double representatives =
+          read_number_attribute(h5, "representatives");
+        check(representatives >= 0 && representatives < 1e9 &&
+                representatives == std::floor(representatives),
+              "has a representatives count of " +
+                Utilities::to_string(representatives) +
+                ", which is not a count");
+        db.representatives = representatives;
 
         db.fitted            = read_entries(h5, "entries", 8, true);
         const hsize_t n_keys = db.index.size();

@@ -11,6 +11,7 @@
 #include <hdf5.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <sstream>
 #include <string>
@@ -202,6 +203,20 @@ namespace ddfem::coarsening::hdf5
           "the attribute " + name + " cannot be read");
     return value.substr(0, value.find('\0'));
   }
+  /// Reads the string attribute @p name as a finite number (FileProblem
+  /// naming the attribute and its text if it is not one).
+  inline double
+  read_number_attribute(const hid_t file, const std::string &name)
+  {
+    const std::string  text = read_attribute(file, name);
+    std::istringstream in(text);
+    double             value = 0;
+    in >> value;
+    check(!text.empty() && !in.fail() && in.eof() && std::isfinite(value),
+          "has an invalid '" + name + "' attribute '" + text + "'");
+    return value;
+  }
+
   /// Number of values stored per metamaterial point: mu, lambda, C, v.
   constexpr unsigned int n_values = 6;
 
