@@ -285,6 +285,39 @@ namespace ddfem::dg
           solve_manufactured<dim>(n, n_components, method, dg, 0).eta;
       return fixed;
     }
+
+    /**
+     * Compares the observed rates of the two finest grids of @p results
+     * (refined by halving h) with theory: k+1 in L2 and k in the broken H1
+     * seminorm for CG and the interior penalty flux, within 0.1. The
+     * Babuska-Zlamal flux is inconsistent at a fixed penalty, so no rate is
+     * expected of it. Returns one line ending in a newline.
+     */
+    std::string
+    rate_verdict(const StudyMethod &method, const std::vector<Result> &results)
+    {
+      std::ostringstream line;
+      if (!method.continuous && method.flux == Parameters::Flux::babuska_zlamal)
+        line << "Inconsistent flux at a fixed penalty: no rate expected.\n";
+      else if (results.size() < 2)
+        line << "One grid: no rate observed.\n";
+      else
+        {
+          const Result &coarse = results[results.size() - 2];
+          const Result &fine   = results.back();
+          const double  l2     = std::log2(coarse.l2 / fine.l2);
+          const double  h1     = std::log2(coarse.h1 / fine.h1);
+          const double  k      = method.degree;
+          const bool    met =
+            std::abs(l2 - (k + 1)) <= 0.1 && std::abs(h1 - k) <= 0.1;
+          line << std::fixed << std::setprecision(2)
+               << "Rates on the finest pair: L2 " << l2 << ", H1 " << h1
+               << "; theory " << method.degree + 1 << " and " << method.degree
+               << " (within 0.1): " << (met ? "reached" : "not reached")
+               << "\n";
+        }
+      return line.str();
+    }
   } // namespace
 
 
@@ -372,13 +405,14 @@ namespace ddfem::dg
     for (const std::string &problem : problems)
       for (const StudyMethod &method : methods)
         {
-          const bool         poisson = problem == "2D Poisson";
-          const unsigned int lo      = poisson ? min_2d : min_3d;
-          const unsigned int hi      = poisson ? max_2d : max_3d;
-          const Parameters   fixed   = poisson ?
-                                         fixed_penalty<2>(dg, method, 1u << lo, 1) :
-                                         fixed_penalty<3>(dg, method, 1u << lo, 3);
-          ConvergenceTable   table;
+          const bool          poisson = problem == "2D Poisson";
+          const unsigned int  lo      = poisson ? min_2d : min_3d;
+          const unsigned int  hi      = poisson ? max_2d : max_3d;
+          const Parameters    fixed   = poisson ?
+                                          fixed_penalty<2>(dg, method, 1u << lo, 1) :
+                                          fixed_penalty<3>(dg, method, 1u << lo, 3);
+          ConvergenceTable    table;
+          std::vector<Result> results;
           dat << "# " << problem << ", " << method.name
               << "\n# cells dofs L2 H1 condition\n";
           blocks.emplace_back(problem, method.name);
@@ -389,6 +423,7 @@ namespace ddfem::dg
                                    1u << l, 1, method, fixed, condition_limit) :
                                  solve_manufactured<3>(
                                    1u << l, 3, method, fixed, condition_limit);
+              results.push_back(r);
               table.add_value("cells", r.cells);
               table.add_value("dofs", r.dofs);
               table.add_value("L2", r.l2);
@@ -419,10 +454,13 @@ namespace ddfem::dg
             heading << " (" << dg.element_name() << ", eta = " << fixed.penalty
                     << (dg.automatic_penalty() ? ", automatic" : "") << ")";
           heading << ":\n";
+          const std::string verdict = rate_verdict(method, results);
           out << heading.str();
           table.write_text(out);
+          out << verdict;
           text << heading.str();
           table.write_text(text);
+          text << verdict;
         }
     text.close();
     csv.close();
