@@ -316,12 +316,12 @@ namespace ddfem::coarsening
 
 
   void
-  DatabaseBuilder::fit_in_parallel(
-    const std::size_t                              n,
-    const std::function<Entry(const std::size_t)> &fit,
-    const std::function<void(const Entry &)>      &store,
-    std::ostream                                  &out,
-    const bool                                     show_progress) const
+  fit_in_parallel(const std::size_t                              n,
+                  const unsigned int                             n_threads,
+                  const std::function<Entry(const std::size_t)> &fit,
+                  const std::function<void(const Entry &)>      &store,
+                  std::ostream                                  &out,
+                  const bool                                     show_progress)
   {
     Timer                    timer;
     std::mutex               mutex;
@@ -451,6 +451,7 @@ namespace ddfem::coarsening
         Journal journal(database_file, database.fingerprint());
         fit_in_parallel(
           todo.size(),
+          n_threads,
           [&](const std::size_t i) {
             // A seed per combination: entries do not depend on threads.
             const std::size_t key = database.combinations().key(todo[i]);
@@ -595,6 +596,7 @@ namespace ddfem::coarsening
             Journal journal(level2_journal, fingerprint);
             fit_in_parallel(
               needed.size(),
+              n_threads,
               [&](const std::size_t i) {
                 // A seed per composition: a fit does not depend on the
                 // representative's index in the current tables.

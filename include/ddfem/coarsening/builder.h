@@ -18,6 +18,23 @@ namespace ddfem::coarsening
   using namespace dealii;
 
   /**
+   * Runs fit(i) for every i < @p n on @p n_threads threads (0: deal.II's
+   * MultithreadInfo::n_threads()) and hands each result to store() under a
+   * lock, drawing a progress bar with an ETA on @p out if @p show_progress.
+   *
+   * The first exception thrown by fit() or store() in any thread stops the
+   * others from starting new work; it is rethrown once all threads have
+   * joined, so the entries stored before it stay stored (and journaled).
+   */
+  void
+  fit_in_parallel(const std::size_t                              n,
+                  const unsigned int                             n_threads,
+                  const std::function<Entry(const std::size_t)> &fit,
+                  const std::function<void(const Entry &)>      &store,
+                  std::ostream                                  &out,
+                  const bool                                     show_progress);
+
+  /**
    * Builds, extends and resumes first-level metamaterial databases (the
    * offline half of DDFEM, paper section 4). Declared in the prm
    * subsection "Database" (with "Sampling", "Fitting" and "Level 2"
@@ -174,17 +191,6 @@ namespace ddfem::coarsening
     record_fit(const FitResult           &fit,
                const std::vector<Sample> &samples,
                Entry                     &entry);
-
-    /**
-     * Runs fit(i) for i < n on the worker threads and hands each result to
-     * store() under a lock, drawing the progress bar.
-     */
-    void
-    fit_in_parallel(const std::size_t                              n,
-                    const std::function<Entry(const std::size_t)> &fit,
-                    const std::function<void(const Entry &)>      &store,
-                    std::ostream                                  &out,
-                    const bool show_progress) const;
 
     std::string       database_file;
     bool              with_void           = true;
