@@ -180,10 +180,16 @@ main()
               << same_entries(Database::load("killed.h5"), full)
               << ", journal removed: "
               << !std::filesystem::exists("killed.h5.journal") << std::endl;
-    const Database two_threads =
-      build(builder("threads.h5", true, "all", 2), palette());
-    std::cout << "two threads give the same entries: "
-              << same_entries(two_threads, full) << std::endl;
+    for (const unsigned int threads : {2u, 3u})
+      std::cout << threads << " threads give the same entries: "
+                << same_entries(build(builder("threads" +
+                                                std::to_string(threads) + ".h5",
+                                              true,
+                                              "all",
+                                              threads),
+                                      palette()),
+                                full)
+                << std::endl;
   }
 
   {
