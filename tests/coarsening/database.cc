@@ -269,6 +269,41 @@ main()
       std::sort(e.begin(), e.end());
       return e[e.size() / 2];
     };
+    // The fits as energy functions: the median over the fresh samples of
+    // |E_a - E_b| / E_s. Three seeds give three independent fits of the
+    // rotated block if the mapping is right, so the mapped fit must differ
+    // from each direct fit about as much as the two differ from each other
+    // (the sampling noise); the unmapped fit (the rotation forgotten) must
+    // not. Their spring directions come from the same stretch test, turned.
+    const auto difference = [&](const Metamaterial &a, const Metamaterial &b) {
+      std::vector<double> d;
+      for (const Sample &sample : fresh)
+        {
+          double energy_a, energy_b;
+          if (element.energy(sample.corners, a, energy_a) &&
+              element.energy(sample.corners, b, energy_b))
+            d.push_back(std::abs(energy_a - energy_b) / sample.energy);
+        }
+      std::sort(d.begin(), d.end());
+      return d[d.size() / 2];
+    };
+    double largest_angle = 0;
+    for (unsigned int k = 0; k < 8; ++k)
+      largest_angle =
+        std::max(largest_angle,
+                 std::acos(std::min(1.,
+                                    std::abs(mapped.points[k].direction *
+                                             direct.points[k].direction))));
+    const double noise = difference(direct, reseeded);
+    std::cout << "energies of the rotated block's fits on fresh samples: "
+                 "mapped within 1.5x the seed-to-seed difference of the "
+                 "direct fits: "
+              << (std::max(difference(mapped, direct),
+                           difference(mapped, reseeded)) < 1.5 * noise)
+              << ", unmapped fit beyond 5x: "
+              << (difference(fit(c, 1), direct) > 5 * noise)
+              << ", spring directions within 2 degrees: "
+              << (largest_angle < 2 * numbers::PI / 180) << std::endl;
     const double e_mapped   = median_error(mapped),
                  e_direct   = median_error(direct),
                  e_reseeded = median_error(reseeded),
