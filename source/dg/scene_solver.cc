@@ -5,8 +5,10 @@
 #include <ddfem/dg/scene_solver.h>
 #include <ddfem/report/output.h>
 #include <ddfem/solver/probe.h>
+#include <ddfem/solver/supports.h>
 
 #include <fstream>
+#include <map>
 
 namespace ddfem::dg
 {
@@ -42,28 +44,79 @@ namespace ddfem::dg
     if (bc.has_body_force())
       data.body_force = [&bc](const Point<3> &p) { return bc.body_force(p); };
 
-    // Every condition must act somewhere: with weak Dirichlet conditions at
-    // the boundary quadrature points, with strong ones at the nodes.
-    std::vector<Point<3>> face_centers, points;
-    const bool      weak = parameters.dirichlet == Parameters::Dirichlet::weak;
+    // The quadrature points of the assembly on a boundary face (bilinear
+    // map of the planar voxel face) and in a cell (an axis-aligned box).
     const QGauss<2> face_quadrature(parameters.degree + 1);
+    const QGauss<3> cell_quadrature(parameters.degree + 1);
+    const auto      face_points = [&](const auto &cell, const unsigned int f) {
+      const auto            face = cell->face(f);
+      std::vector<Point<3>> points;
+      for (const Point<2> &q : face_quadrature.get_points())
+        {
+          Point<3> x;
+          for (unsigned int v = 0; v < 4; ++v)
+            x += face->vertex(v) *
+                 ((v % 2 ? q[0] : 1 - q[0]) * (v / 2 ? q[1] : 1 - q[1]));
+          points.push_back(x);
+        }
+      return points;
+    };
+
+    // Where Dirichlet conditions act on a cell: with weak conditions at the
+    // quadrature points of its boundary faces, with strong ones at its
+    // nodes (the vertices).
+    const bool weak = parameters.dirichlet == Parameters::Dirichlet::weak;
+    const auto dirichlet_points = [&](const auto &cell) {
+      std::vector<Point<3>> points;
+      if (!weak)
+        for (const unsigned int v : cell->vertex_indices())
+          points.push_back(cell->vertex(v));
+      else
+        for (const unsigned int f : cell->face_indices())
+          if (cell->face(f)->at_boundary())
+            for (const Point<3> &x : face_points(cell, f))
+              points.push_back(x);
+      return points;
+    };
+
+    // The loads and Dirichlet data are evaluated in the threaded assembly,
+    // where an error could not be reported. Evaluate them here first, at
+    // the same points: a value that is not finite stops the run with the
+    // parameter's name.
     for (const auto &cell : triangulation.active_cell_iterators())
-      for (const unsigned int f : cell->face_indices())
-        if (cell->face(f)->at_boundary())
-          {
+      {
+        double value;
+        if (bc.has_body_force())
+          for (const Point<3> &q : cell_quadrature.get_points())
+            {
+              Point<3> x = cell->vertex(0);
+              for (unsigned int d = 0; d < 3; ++d)
+                x[d] += q[d] * (cell->vertex(7)[d] - cell->vertex(0)[d]);
+              bc.body_force(x);
+            }
+        for (const unsigned int f : cell->face_indices())
+          if (cell->face(f)->at_boundary())
+            for (const Point<3> &x : face_points(cell, f))
+              {
+                bc.traction(cell->face(f)->center(),
+                            x,
+                            GeometryInfo<3>::unit_normal_vector[f]);
+                for (unsigned int d = 0; d < 3; ++d)
+                  bc.prescribed_displacement(x, d, 1, value);
+              }
+      }
+
+    // Every condition must act somewhere.
+    std::vector<Point<3>> face_centers, points;
+    for (const auto &cell : triangulation.active_cell_iterators())
+      {
+        for (const unsigned int f : cell->face_indices())
+          if (cell->face(f)->at_boundary())
             face_centers.push_back(cell->face(f)->center());
-            if (weak)
-              for (const Point<2> &q : face_quadrature.get_points())
-                {
-                  // Bilinear map of the (planar) voxel face.
-                  const auto face = cell->face(f);
-                  Point<3>   x;
-                  for (unsigned int v = 0; v < 4; ++v)
-                    x += face->vertex(v) * ((v % 2 ? q[0] : 1 - q[0]) *
-                                            (v / 2 ? q[1] : 1 - q[1]));
-                  points.push_back(x);
-                }
-          }
+        if (weak)
+          for (const Point<3> &x : dirichlet_points(cell))
+            points.push_back(x);
+      }
     if (!weak)
       points = triangulation.get_vertices();
     try
@@ -80,6 +133,24 @@ namespace ddfem::dg
                                "DG/Dirichlet = strong."));
         throw;
       }
+
+    // DG couples cells through shared faces only, so the conditions must
+    // fix all six rigid motions of every face-connected part. (The
+    // definiteness check below cannot be relied on for this: round-off
+    // lets a singular matrix pass it.)
+    solver::Components parts(triangulation.n_active_cells());
+    for (const auto &cell : triangulation.active_cell_iterators())
+      for (const unsigned int f : cell->face_indices())
+        if (!cell->at_boundary(f))
+          parts.join(cell->active_cell_index(),
+                     cell->neighbor(f)->active_cell_index());
+    std::map<std::size_t, std::vector<solver::ConstrainedRow>> rows;
+    for (const auto &cell : triangulation.active_cell_iterators())
+      for (const Point<3> &x : dirichlet_points(cell))
+        for (unsigned int d = 0; d < 3; ++d)
+          if (double value; bc.prescribed_displacement(x, d, 1, value))
+            rows[parts.find(cell->active_cell_index())].emplace_back(x, d);
+    solver::require_supported_parts(triangulation, parts, rows, "face");
 
     element = parameters.make_element<3>();
     dg =

@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iostream>
+#include <sstream>
 
 namespace ddfem::scene
 {
@@ -43,6 +45,19 @@ namespace ddfem::scene
             expressions[c]    = "0";
           }
       auto parser = std::make_unique<FunctionParser<3>>(n_components);
+      // deal.II prints muparser's error details to std::cerr before it
+      // throws; the message below says the same, once and with the
+      // parameter's name.
+      std::ostringstream details;
+      std::streambuf    *cerr_buffer = std::cerr.rdbuf(details.rdbuf());
+      const struct Restore
+      {
+        std::streambuf *buffer;
+        ~Restore()
+        {
+          std::cerr.rdbuf(buffer);
+        }
+      } restore{cerr_buffer};
       try
         {
           parser->initialize("x,y,z", expressions, {{"pi", numbers::PI}});
@@ -57,6 +72,32 @@ namespace ddfem::scene
                                  message_of(e)));
         }
       return parser;
+    }
+
+    /**
+     * Component @p component of @p parser at @p p; throws ExcMessage naming
+     * the parameter @p where and the point if the value is not finite.
+     */
+    double
+    finite_value(const FunctionParser<3> &parser,
+                 const Point<3>          &p,
+                 const unsigned int       component,
+                 const std::string       &where)
+    {
+      const double value = parser.value(p, component);
+      if (!std::isfinite(value))
+        {
+          std::ostringstream message;
+          message << where << " evaluates to "
+                  << (std::isnan(value) ? "nan" :
+                      value > 0         ? "inf" :
+                                          "-inf")
+                  << " at (" << p
+                  << ") m. Give expressions that are finite wherever they "
+                     "act.";
+          AssertThrow(false, ExcMessage(message.str()));
+        }
+      return value;
     }
   } // namespace
 
@@ -250,9 +291,9 @@ namespace ddfem::scene
                 make_parser(prm.get("Value"), 1, where + "/Value");
             else if (condition.type == "rotation")
               {
-                const auto axis = Utilities::string_to_double(
-                  Utilities::split_string_list(prm.get("Axis")));
-                condition.axis = Tensor<1, 3>({axis[0], axis[1], axis[2]});
+                condition.axis =
+                  parse_point(Utilities::split_string_list(prm.get("Axis")),
+                              where + "/Axis");
                 AssertThrow(condition.axis.norm() > 0,
                             ExcMessage(where +
                                        "/Axis must not be the zero vector."));
@@ -301,7 +342,10 @@ namespace ddfem::scene
           continue;
         found = true;
         if (condition.type == "displacement")
-          value = t * condition.value->value(p, component);
+          value = t * finite_value(*condition.value,
+                                   p,
+                                   component,
+                                   condition.where + "/Value");
         else if (condition.type == "rotation")
           {
             // Rodrigues: R r = r cos(a) + (k x r) sin(a) + k (k.r)(1 - cos(a))
@@ -332,10 +376,15 @@ namespace ddfem::scene
           condition.region->contains(face_center))
         {
           if (condition.type == "pressure")
-            t -= condition.value->value(p) * normal;
+            t -=
+              finite_value(*condition.value, p, 0, condition.where + "/Value") *
+              normal;
           else
             for (unsigned int d = 0; d < 3; ++d)
-              t[d] += condition.value->value(p, d);
+              t[d] += finite_value(*condition.value,
+                                   p,
+                                   d,
+                                   condition.where + "/Value");
         }
     return t;
   }
@@ -382,7 +431,7 @@ namespace ddfem::scene
   {
     Tensor<1, 3> b;
     for (unsigned int d = 0; d < 3; ++d)
-      b[d] = body->value(p, d);
+      b[d] = finite_value(*body, p, d, "Loads/Body force");
     return b;
   }
 } // namespace ddfem::scene

@@ -7,6 +7,7 @@
 #include <ddfem/solver/cell_kernel.h>
 #include <ddfem/solver/probe.h>
 #include <ddfem/solver/static_solver.h>
+#include <ddfem/solver/supports.h>
 
 #include <cmath>
 #include <iomanip>
@@ -49,103 +50,6 @@ namespace ddfem::solver
       CellContribution                     contribution;
       bool                                 admissible;
     };
-
-    /// Union-find with path halving.
-    struct Components
-    {
-      explicit Components(const std::size_t n)
-        : parent(n)
-      {
-        std::iota(parent.begin(), parent.end(), 0);
-      }
-      std::size_t
-      find(std::size_t i)
-      {
-        while (parent[i] != i)
-          i = parent[i] = parent[parent[i]];
-        return i;
-      }
-      void
-      join(const std::size_t a, const std::size_t b)
-      {
-        parent[find(a)] = find(b);
-      }
-      std::vector<std::size_t> parent;
-    };
-
-    /**
-     * Number of the six rigid body modes that constraints on (point,
-     * component) pairs fix: the rank of the Gram matrix of the modes
-     * restricted to the constrained rows. Points are centered and scaled.
-     */
-    unsigned int
-    fixed_rigid_modes(
-      const std::vector<std::pair<Point<3>, unsigned int>> &rows)
-    {
-      if (rows.empty())
-        return 0;
-      Point<3> centroid;
-      for (const auto &row : rows)
-        centroid += row.first / static_cast<double>(rows.size());
-      double scale = 0;
-      for (const auto &row : rows)
-        scale = std::max(scale, row.first.distance(centroid));
-      scale = (scale > 0 ? scale : 1);
-
-      double gram[6][6] = {};
-      for (const auto &row : rows)
-        {
-          const Tensor<1, 3> r = (row.first - centroid) / scale;
-          double             m[6];
-          for (unsigned int k = 0; k < 3; ++k)
-            {
-              Tensor<1, 3> e;
-              e[k]     = 1;
-              m[k]     = (k == row.second ? 1. : 0.);
-              m[3 + k] = cross_product_3d(e, r)[row.second];
-            }
-          for (unsigned int a = 0; a < 6; ++a)
-            for (unsigned int b = 0; b < 6; ++b)
-              gram[a][b] += m[a] * m[b];
-        }
-      // Gaussian elimination with full pivoting; the rank is the number of
-      // pivots above a relative tolerance.
-      double       max_pivot   = 0;
-      unsigned int rank        = 0;
-      bool         used_row[6] = {}, used_col[6] = {};
-      for (unsigned int step = 0; step < 6; ++step)
-        {
-          double       best = 0;
-          unsigned int pr = 0, pc = 0;
-          for (unsigned int a = 0; a < 6; ++a)
-            for (unsigned int b = 0; b < 6; ++b)
-              if (!used_row[a] && !used_col[b] && std::abs(gram[a][b]) > best)
-                best = std::abs(gram[a][b]), pr = a, pc = b;
-          max_pivot = std::max(max_pivot, best);
-          if (best <= 1e-10 * max_pivot || best == 0)
-            break;
-          ++rank;
-          used_row[pr] = used_col[pc] = true;
-          for (unsigned int a = 0; a < 6; ++a)
-            if (!used_row[a])
-              {
-                const double f = gram[a][pc] / gram[pr][pc];
-                for (unsigned int b = 0; b < 6; ++b)
-                  gram[a][b] -= f * gram[pr][b];
-              }
-        }
-      return rank;
-    }
-
-    /// "(x, y, z)" with 4 significant digits.
-    std::string
-    format_point(const Point<3> &p)
-    {
-      std::ostringstream s;
-      s << std::setprecision(4) << "(" << p[0] << ", " << p[1] << ", " << p[2]
-        << ")";
-      return s.str();
-    }
   } // namespace
 
 
@@ -365,8 +269,7 @@ namespace ddfem::solver
     std::map<types::global_dof_index, const DirichletDof *> dirichlet;
     for (const DirichletDof &d : dirichlet_dofs)
       dirichlet[d.index] = &d;
-    std::map<std::size_t, std::vector<std::pair<Point<3>, unsigned int>>>
-      vertex_rows, face_rows;
+    std::map<std::size_t, std::vector<ConstrainedRow>> vertex_rows, face_rows;
     std::map<std::size_t, std::pair<unsigned int, Point<3>>>
                                          part_size; // cells, a cell center
     std::vector<std::set<std::size_t>>   parts_at_vertex(tria.n_vertices());
@@ -394,35 +297,7 @@ namespace ddfem::solver
 
     // Every vertex-connected part needs Dirichlet nodes fixing all six
     // rigid motions.
-    std::set<std::size_t> vertex_parts;
-    for (unsigned int c = 0; c < n_cells; ++c)
-      vertex_parts.insert(by_vertex.find(c));
-    for (const std::size_t part : vertex_parts)
-      {
-        const unsigned int fixed = fixed_rigid_modes(vertex_rows[part]);
-        if (fixed == 6)
-          continue;
-        unsigned int cells = 0;
-        Point<3>     where;
-        for (const auto &cell : tria.active_cell_iterators())
-          if (by_vertex.find(cell->active_cell_index()) == part && cells++ == 0)
-            where = cell->center();
-        AssertThrow(
-          vertex_parts.size() > 1 || fixed == 6,
-          ExcMessage(
-            "The Dirichlet conditions leave " + std::to_string(6 - fixed) +
-            " of the 6 rigid body motions of the solid free (a lone "
-            "'sliding' floor, for example, allows sliding and spinning "
-            "in its plane). Add conditions in 'Boundary conditions'."));
-        AssertThrow(
-          false,
-          ExcMessage(
-            std::to_string(cells) + " voxel(s) around " + format_point(where) +
-            " m float free of the rest: they share no node with the "
-            "other parts, and Dirichlet conditions fix only " +
-            std::to_string(fixed) +
-            " of their 6 rigid body motions. Remove or connect them."));
-      }
+    require_supported_parts(tria, by_vertex, vertex_rows, "node");
 
     // A face-connected part that hangs on its neighbors only by nodes on
     // one edge or corner is a mechanism: count shared nodes as pinned.

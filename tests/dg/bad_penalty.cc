@@ -1,6 +1,9 @@
 // A too small fixed penalty must be detected and reported (exit code 1,
 // message naming DG/Penalty, nothing written), not silently solved; and
-// the other DG input errors give clear messages too.
+// the other DG input errors give clear messages too: penalties out of
+// range, conditions that leave rigid motions free (of the whole solid, or
+// of a part joined to the rest by an edge only), loads that are not
+// finite.
 
 #include <ddfem/app/application.h>
 
@@ -57,5 +60,35 @@ main(int argc, char **argv)
              "subsection Boundary conditions\n  subsection Condition 3\n"
              "    set Type = fixed\n    set Region = box 0 0 0 0 0 0\n"
              "  end\nend\n",
+           "");
+  run_case("huge", cantilever, "set Penalty = 1e300\n");
+  // Rigid motions the conditions leave free: singular K, which round-off
+  // lets through the definiteness check, so the solver must find it first.
+  run_case("no_dirichlet",
+           cantilever +
+             "subsection Boundary conditions\n  subsection Condition 1\n"
+             "    set Type = none\n  end\nend\n",
+           "");
+  run_case("floor_only",
+           cantilever +
+             "subsection Boundary conditions\n  subsection Condition 1\n"
+             "    set Type = sliding\n    set Region = z-\n  end\nend\n",
+           "set Dirichlet = strong\n");
+  // DG couples voxels through faces only: a part joined by an edge floats.
+  run_case("edge_joined",
+           cantilever +
+             "subsection Geometry\n  set Grid size = 2, 2, 1\nend\n"
+             "subsection Layout\n  set Shapes = box 0.01 0 0 0.02 0.01 0.01 "
+             ": 0; box 0 0.01 0 0.01 0.02 0.01 : 0\nend\n",
+           "");
+  // Loads are evaluated in the threaded assembly; one that is not finite
+  // must be reported with its parameter, not abort a worker thread.
+  run_case("infinite_body_force",
+           cantilever + "subsection Loads\n  set Body force = 0; 0; 1/0\nend\n",
+           "");
+  run_case("nan_traction",
+           cantilever +
+             "subsection Boundary conditions\n  subsection Condition 2\n"
+             "    set Value = 0; 0; sqrt(-1)\n  end\nend\n",
            "");
 }

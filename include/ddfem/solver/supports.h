@@ -1,0 +1,69 @@
+#ifndef ddfem_solver_supports_h
+#define ddfem_solver_supports_h
+
+#include <deal.II/base/point.h>
+#include <deal.II/grid/tria.h>
+
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace ddfem::solver
+{
+  using namespace dealii;
+
+  /// A prescribed displacement component at a point: (point, component).
+  using ConstrainedRow = std::pair<Point<3>, unsigned int>;
+
+  /**
+   * Union-find with path halving over the indices 0..n-1 (active cells):
+   * the connected parts of a mesh.
+   */
+  class Components
+  {
+  public:
+    /// n singletons.
+    explicit Components(const std::size_t n);
+
+    /// The representative of the part that holds @p i.
+    std::size_t
+    find(std::size_t i);
+
+    /// Merges the parts that hold @p a and @p b.
+    void
+    join(const std::size_t a, const std::size_t b);
+
+  private:
+    std::vector<std::size_t> parent;
+  };
+
+  /**
+   * The number of the six rigid body modes that prescribing the (point,
+   * component) pairs of @p rows fixes: the rank of the Gram matrix of the
+   * modes restricted to those rows (points centered and scaled).
+   */
+  unsigned int
+  fixed_rigid_modes(const std::vector<ConstrainedRow> &rows);
+
+  /// "(x, y, z)" with 4 significant digits.
+  std::string
+  format_point(const Point<3> &p);
+
+  /**
+   * Throws ExcMessage unless the rows of every part of @p parts (the
+   * active cells of @p tria, joined by what the discretization couples)
+   * fix all six rigid body motions of that part. @p rows holds each part's
+   * rows under its representative. @p shared names what joins cells into a
+   * part ("node" for continuous elements, "face" for DG), for the message
+   * about a part that floats free of the others.
+   */
+  void
+  require_supported_parts(
+    const Triangulation<3>                                   &tria,
+    Components                                               &parts,
+    const std::map<std::size_t, std::vector<ConstrainedRow>> &rows,
+    const std::string                                        &shared);
+} // namespace ddfem::solver
+
+#endif

@@ -1,0 +1,149 @@
+#include <deal.II/base/exceptions.h>
+
+#include <ddfem/solver/supports.h>
+
+#include <cmath>
+#include <iomanip>
+#include <numeric>
+#include <set>
+#include <sstream>
+
+namespace ddfem::solver
+{
+  Components::Components(const std::size_t n)
+    : parent(n)
+  {
+    std::iota(parent.begin(), parent.end(), 0);
+  }
+
+
+
+  std::size_t
+  Components::find(std::size_t i)
+  {
+    while (parent[i] != i)
+      i = parent[i] = parent[parent[i]];
+    return i;
+  }
+
+
+
+  void
+  Components::join(const std::size_t a, const std::size_t b)
+  {
+    parent[find(a)] = find(b);
+  }
+
+
+
+  unsigned int
+  fixed_rigid_modes(const std::vector<ConstrainedRow> &rows)
+  {
+    if (rows.empty())
+      return 0;
+    Point<3> centroid;
+    for (const auto &row : rows)
+      centroid += row.first / static_cast<double>(rows.size());
+    double scale = 0;
+    for (const auto &row : rows)
+      scale = std::max(scale, row.first.distance(centroid));
+    scale = (scale > 0 ? scale : 1);
+
+    double gram[6][6] = {};
+    for (const auto &row : rows)
+      {
+        const Tensor<1, 3> r = (row.first - centroid) / scale;
+        double             m[6];
+        for (unsigned int k = 0; k < 3; ++k)
+          {
+            Tensor<1, 3> e;
+            e[k]     = 1;
+            m[k]     = (k == row.second ? 1. : 0.);
+            m[3 + k] = cross_product_3d(e, r)[row.second];
+          }
+        for (unsigned int a = 0; a < 6; ++a)
+          for (unsigned int b = 0; b < 6; ++b)
+            gram[a][b] += m[a] * m[b];
+      }
+    // Gaussian elimination with full pivoting; the rank is the number of
+    // pivots above a relative tolerance.
+    double       max_pivot   = 0;
+    unsigned int rank        = 0;
+    bool         used_row[6] = {}, used_col[6] = {};
+    for (unsigned int step = 0; step < 6; ++step)
+      {
+        double       best = 0;
+        unsigned int pr = 0, pc = 0;
+        for (unsigned int a = 0; a < 6; ++a)
+          for (unsigned int b = 0; b < 6; ++b)
+            if (!used_row[a] && !used_col[b] && std::abs(gram[a][b]) > best)
+              best = std::abs(gram[a][b]), pr = a, pc = b;
+        max_pivot = std::max(max_pivot, best);
+        if (best <= 1e-10 * max_pivot || best == 0)
+          break;
+        ++rank;
+        used_row[pr] = used_col[pc] = true;
+        for (unsigned int a = 0; a < 6; ++a)
+          if (!used_row[a])
+            {
+              const double f = gram[a][pc] / gram[pr][pc];
+              for (unsigned int b = 0; b < 6; ++b)
+                gram[a][b] -= f * gram[pr][b];
+            }
+      }
+    return rank;
+  }
+
+
+
+  std::string
+  format_point(const Point<3> &p)
+  {
+    std::ostringstream s;
+    s << std::setprecision(4) << "(" << p[0] << ", " << p[1] << ", " << p[2]
+      << ")";
+    return s.str();
+  }
+
+
+
+  void
+  require_supported_parts(
+    const Triangulation<3>                                   &tria,
+    Components                                               &parts,
+    const std::map<std::size_t, std::vector<ConstrainedRow>> &rows,
+    const std::string                                        &shared)
+  {
+    std::set<std::size_t> representatives;
+    for (unsigned int c = 0; c < tria.n_active_cells(); ++c)
+      representatives.insert(parts.find(c));
+    for (const std::size_t part : representatives)
+      {
+        const auto         r = rows.find(part);
+        const unsigned int fixed =
+          r == rows.end() ? 0 : fixed_rigid_modes(r->second);
+        if (fixed == 6)
+          continue;
+        AssertThrow(
+          representatives.size() > 1,
+          ExcMessage(
+            "The Dirichlet conditions leave " + std::to_string(6 - fixed) +
+            " of the 6 rigid body motions of the solid free (a lone "
+            "'sliding' floor, for example, allows sliding and spinning "
+            "in its plane). Add conditions in 'Boundary conditions'."));
+        unsigned int cells = 0;
+        Point<3>     where;
+        for (const auto &cell : tria.active_cell_iterators())
+          if (parts.find(cell->active_cell_index()) == part && cells++ == 0)
+            where = cell->center();
+        AssertThrow(
+          false,
+          ExcMessage(
+            std::to_string(cells) + " voxel(s) around " + format_point(where) +
+            " m float free of the rest: they share no " + shared +
+            " with the other parts, and Dirichlet conditions fix only " +
+            std::to_string(fixed) +
+            " of their 6 rigid body motions. Remove or connect them."));
+      }
+  }
+} // namespace ddfem::solver
