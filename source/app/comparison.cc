@@ -2,6 +2,7 @@
 
 #include <ddfem/app/comparison.h>
 #include <ddfem/app/model_run.h>
+#include <ddfem/base/files.h>
 #include <ddfem/report/vertex_error.h>
 #include <nlohmann/json.hpp>
 
@@ -314,13 +315,49 @@ namespace ddfem::app
               << std::endl;
       }
 
-    // The models, set up in order (the fine one first).
+    // The models, set up in order (the fine one first) before anything is
+    // solved or written: invalid input (a grid that does not coarsen, a
+    // probe outside a coarse model) stops the run with nothing written.
     std::vector<std::unique_ptr<coarsening::Coarsener>> coarseners;
     std::vector<std::unique_ptr<ModelRun>>              models;
     ConditionalOStream                                  quiet(out, false);
-    std::vector<Row>                                    rows;
-    bool                                                all_converged = true;
-    std::filesystem::create_directories(directory);
+    for (const Configuration &config : configurations)
+      {
+        coarseners.emplace_back(config.level == 0 ?
+                                  nullptr :
+                                  std::make_unique<coarsening::Coarsener>(
+                                    coarsening::coarsening_method(config.name),
+                                    config.level,
+                                    scene.palette,
+                                    database.point_offset(),
+                                    level1 ? &*level1 : nullptr,
+                                    &level2));
+        // The other fine solvers run only where they can be faster than the
+        // fine model's own.
+        std::string skip;
+        if (config.name == "fine-amg" &&
+            configurations[0].linear_solver->method() == "cg-amg")
+          skip = "the fine model uses cg-amg already";
+        if (config.name == "fine-direct" &&
+            models[0]->discretization().dof_handler.n_dofs() > direct_limit)
+          skip = "more than " + std::to_string(direct_limit) +
+                 " unknowns (Comparison/Fine direct solver limit)";
+        models.emplace_back(
+          !skip.empty() ?
+            nullptr :
+            std::make_unique<ModelRun>(scene,
+                                       config.level == 0 ? degree : 1,
+                                       coarseners.back().get(),
+                                       solver_parameters,
+                                       *config.linear_solver,
+                                       quiet));
+        if (!skip.empty())
+          out << "  " << config.name << " skipped: " << skip << std::endl;
+      }
+
+    std::vector<Row> rows;
+    bool             all_converged = true;
+    create_directories(directory, "Output/Output directory");
     for (unsigned int state = 0; state <= scene.n_edits(); ++state)
       {
         const std::string state_name =
@@ -337,42 +374,6 @@ namespace ddfem::app
         for (unsigned int c = 0; c < configurations.size(); ++c)
           {
             Configuration &config = configurations[c];
-            if (state == 0)
-              {
-                coarseners.emplace_back(
-                  config.level == 0 ?
-                    nullptr :
-                    std::make_unique<coarsening::Coarsener>(
-                      coarsening::coarsening_method(config.name),
-                      config.level,
-                      scene.palette,
-                      database.point_offset(),
-                      level1 ? &*level1 : nullptr,
-                      &level2));
-                // The other fine solvers run only where they can be
-                // faster than the fine model's own.
-                std::string skip;
-                if (config.name == "fine-amg" &&
-                    configurations[0].linear_solver->method() == "cg-amg")
-                  skip = "the fine model uses cg-amg already";
-                if (config.name == "fine-direct" &&
-                    models[0]->discretization().dof_handler.n_dofs() >
-                      direct_limit)
-                  skip = "more than " + std::to_string(direct_limit) +
-                         " unknowns (Comparison/Fine direct solver limit)";
-                models.emplace_back(
-                  !skip.empty() ?
-                    nullptr :
-                    std::make_unique<ModelRun>(scene,
-                                               config.level == 0 ? degree : 1,
-                                               coarseners.back().get(),
-                                               solver_parameters,
-                                               *config.linear_solver,
-                                               quiet));
-                if (!skip.empty())
-                  out << "  " << config.name << " skipped: " << skip
-                      << std::endl;
-              }
             if (!models[c])
               continue;
             ModelRun &model = *models[c];
@@ -394,7 +395,7 @@ namespace ddfem::app
                               state == 0 ? "solution" :
                                            "edit-" + std::to_string(state));
             if (writer.enabled())
-              std::filesystem::create_directories(run_directory);
+              create_directories(run_directory, "Output/Output directory");
             row.result        = model.solve(&writer);
             row.linear_solver = config.linear_solver->method();
             // Against the fine model, which runs first.

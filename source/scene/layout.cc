@@ -1,5 +1,6 @@
 #include <deal.II/base/utilities.h>
 
+#include <ddfem/base/exceptions.h>
 #include <ddfem/base/parsing.h>
 #include <ddfem/scene/layout.h>
 #include <ddfem/scene/voxel_io.h>
@@ -208,10 +209,15 @@ namespace ddfem::scene
       if (!Utilities::trim(edit_text).empty())
         for (const std::string &edit :
              Utilities::split_string_list(edit_text, '|'))
-          edits.push_back(parse_shapes(edit,
-                                       n_materials,
-                                       "Layout/Edits, edit " +
-                                         std::to_string(edits.size() + 1)));
+          {
+            const std::string where =
+              "Layout/Edits, edit " + std::to_string(edits.size() + 1);
+            edits.push_back(parse_shapes(edit, n_materials, where));
+            AssertThrow(!edits.back().empty(),
+                        ExcMessage(where + " is empty: give its shapes as "
+                                           "'<kind> <numbers> : <material "
+                                           "id>', or remove the '|'."));
+          }
 
       prm.enter_subsection("Layers");
       layer_axis      = axis_index(prm.get("Axis"));
@@ -374,7 +380,18 @@ namespace ddfem::scene
       {
         TriangleMesh mesh = read_surface_mesh(surface_file);
         if (fit_surface)
-          fit_to_box(mesh, Point<3>(), extent);
+          try
+            {
+              fit_to_box(mesh, Point<3>(), extent);
+            }
+          catch (ExceptionBase &e)
+            {
+              AssertThrow(false,
+                          ExcMessage("Surface mesh \"" + surface_file +
+                                     "\" (Layout/Surface mesh/File name, "
+                                     "Fit to grid = true): " +
+                                     message_of(e)));
+            }
         grid = VoxelGrid(n, grid.voxel_size(), void_id);
         voxelize(mesh, material, grid);
       }

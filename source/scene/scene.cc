@@ -17,7 +17,7 @@ namespace ddfem::scene
     prm.declare_entry("Voxel size",
                       "0.01",
                       Patterns::Double(0),
-                      "Edge length of a voxel (m).");
+                      "Edge length of a voxel (m), from 1e-6 to 1e3.");
     prm.declare_entry(
       "Probe points",
       "",
@@ -40,7 +40,9 @@ namespace ddfem::scene
     const auto n = Utilities::string_to_int(
       Utilities::split_string_list(prm.get("Grid size")));
     const double h = prm.get_double("Voxel size");
-    AssertThrow(h > 0, ExcMessage("Geometry/Voxel size must be > 0."));
+    AssertThrow(h >= 1e-6 && h <= 1e3,
+                ExcMessage("Geometry/Voxel size = " + prm.get("Voxel size") +
+                           ": expected a value from 1e-6 to 1e3 (m)."));
     AssertThrow(static_cast<double>(n[0]) * n[1] * n[2] <= 2e8,
                 ExcMessage(
                   "Geometry/Grid size: at most 2e8 voxels are supported."));
@@ -61,6 +63,10 @@ namespace ddfem::scene
     layout.parse_parameters(prm, palette.size());
     boundary_conditions.parse_parameters(prm, grid.extent(), h);
     layout.fill(grid);
+    // Every edit is checked now, before anything is solved or written.
+    VoxelGrid edited = grid;
+    for (unsigned int e = 0; e < n_edits(); ++e)
+      layout.apply_edit(e, edited);
   }
 
 

@@ -357,14 +357,15 @@ namespace
                              1e-12);
       }
 
-    // An edit that makes a solid voxel void.
-    Setup bad(testing::cantilever("4, 4, 4", "0; 0; -200") +
-                "subsection Geometry\n set Voxel size = 1\nend\n"
-                "subsection Layout\n set Edits = box 0 0 0 1 1 1 : 0\nend\n",
-              "bad.h5");
+    // An edit that makes a solid voxel void: an error when the scene is
+    // read, before any model is built.
     try
       {
-        bad.scene.apply_edit(0);
+        Setup bad(
+          testing::cantilever("4, 4, 4", "0; 0; -200") +
+            "subsection Geometry\n set Voxel size = 1\nend\n"
+            "subsection Layout\n set Edits = box 0 0 0 1 1 1 : 0\nend\n",
+          "bad.h5");
         std::cout << "  no error for an edit that removes voxels" << std::endl;
       }
     catch (ExceptionBase &e)
