@@ -6,6 +6,7 @@
 #include <ddfem/app/comparison.h>
 #include <ddfem/app/model_run.h>
 #include <ddfem/base/exceptions.h>
+#include <ddfem/base/files.h>
 #include <ddfem/coarsening/builder.h>
 #include <ddfem/dg/parameters.h>
 #include <ddfem/dg/scene_solver.h>
@@ -20,6 +21,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <new>
 #include <optional>
 
 namespace ddfem::app
@@ -145,7 +147,7 @@ namespace ddfem::app
       void
       prepare_output(const ParameterHandler &prm) const
       {
-        std::filesystem::create_directories(directory);
+        create_directories(directory, "Output/Output directory");
         std::ofstream used(directory + "/parameters.prm");
         prm.print_parameters(used, ParameterHandler::ShortPRM);
         AssertThrow(used,
@@ -536,8 +538,8 @@ namespace ddfem::app
   {
     if (arguments.empty() || arguments[0] == "--help" || arguments[0] == "-h")
       {
-        (arguments.empty() ? err : out) << usage;
-        return arguments.empty() ? 1 : 0;
+        (arguments.size() == 1 ? out : err) << usage;
+        return arguments.size() == 1 ? 0 : 1;
       }
     try
       {
@@ -545,14 +547,20 @@ namespace ddfem::app
         declare_parameters(prm);
         if (arguments[0] == "--print-parameters")
           {
+            AssertThrow(arguments.size() == 1,
+                        ExcMessage("--print-parameters takes no arguments."));
             prm.print_parameters(out, ParameterHandler::PRM);
             return 0;
           }
 
         const std::string prm_file = arguments[0];
-        AssertThrow(std::ifstream(prm_file).good(),
+        AssertThrow(!std::filesystem::is_directory(prm_file) &&
+                      std::ifstream(prm_file).good(),
                     ExcMessage("Cannot read the parameter file \"" + prm_file +
-                               "\"."));
+                               "\"" +
+                               (std::filesystem::is_directory(prm_file) ?
+                                  ": it is a directory." :
+                                  ".")));
         try
           {
             prm.parse_input(prm_file);
@@ -585,6 +593,13 @@ namespace ddfem::app
     catch (ExceptionBase &e)
       {
         err << "Error: " << message_of(e) << std::endl;
+      }
+    catch (std::bad_alloc &)
+      {
+        err << "Error: out of memory. The scene needs more memory than this "
+               "machine has: use a smaller Geometry/Grid size or a coarse "
+               "method."
+            << std::endl;
       }
     catch (std::exception &e)
       {

@@ -1,6 +1,7 @@
 #include <deal.II/base/multithread_info.h>
 #include <deal.II/base/timer.h>
 
+#include <ddfem/base/files.h>
 #include <ddfem/coarsening/builder.h>
 #include <ddfem/coarsening/coarsener.h>
 
@@ -446,8 +447,9 @@ namespace ddfem::coarsening
     const CoarseElement element(1, database.point_offset());
     if (!todo.empty())
       {
-        std::filesystem::create_directories(
-          std::filesystem::absolute(database_file).parent_path());
+        create_directories(
+          std::filesystem::absolute(database_file).parent_path().string(),
+          "Database/File");
         Journal journal(database_file, database.fingerprint());
         fit_in_parallel(
           todo.size(),
@@ -529,8 +531,9 @@ namespace ddfem::coarsening
     if (!todo.empty() || compressed_now || new_tables ||
         !std::filesystem::exists(database_file))
       {
-        std::filesystem::create_directories(
-          std::filesystem::absolute(database_file).parent_path());
+        create_directories(
+          std::filesystem::absolute(database_file).parent_path().string(),
+          "Database/File");
         database.save(database_file, &level2);
         Journal::remove(database_file);
       }

@@ -343,6 +343,7 @@ namespace ddfem::coarsening
   void
   Database::save(const std::string &file, const Hierarchy *level2) const
   {
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); // our messages only
     const std::string temporary = file + ".partial";
     {
       const Handle h5(
@@ -385,7 +386,7 @@ namespace ddfem::coarsening
   Database
   Database::load(const std::string &file, Hierarchy *level2)
   {
-    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); // our messages only
     const std::string where = "The metamaterial database file '" + file + "' ";
     AssertThrow(std::filesystem::exists(file),
                 ExcMessage(where + "does not exist."));
@@ -765,6 +766,11 @@ namespace ddfem::coarsening
     if (stored != fingerprint)
       {
         std::fclose(in);
+        AssertThrow(!stored.empty(),
+                    ExcMessage("The build journal " + name +
+                               " has no readable header: it is damaged or "
+                               "not a journal. Delete it (the entries it "
+                               "held are fitted again)."));
         AssertThrow(false,
                     ExcMessage("The build journal " + name +
                                " belongs to a build with other settings (" +

@@ -8,6 +8,7 @@
 #include <deal.II/lac/solver_control.h>
 #include <deal.II/numerics/vector_tools.h>
 
+#include <ddfem/base/files.h>
 #include <ddfem/dg/studies.h>
 #include <ddfem/dg/system.h>
 #include <ddfem/report/output.h>
@@ -391,7 +392,7 @@ namespace ddfem::dg
   void
   ConvergenceStudy::run(const std::string &directory, std::ostream &out) const
   {
-    std::filesystem::create_directories(directory);
+    create_directories(directory, "Output/Output directory");
     std::ofstream text(directory + "/dg_convergence.txt");
     std::ofstream csv(directory + "/dg_convergence.csv");
     csv << "problem,method,cells,dofs,L2,H1,condition,eta\n";
@@ -620,7 +621,7 @@ namespace ddfem::dg
         file << row.str() << time_row.str() << "\n";
       }
     out << (timings ? file.str() : screen.str());
-    std::filesystem::create_directories(directory);
+    create_directories(directory, "Output/Output directory");
     std::ofstream text(directory + "/dg_cost.txt");
     text << file.str();
     AssertThrow(text,

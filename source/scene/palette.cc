@@ -64,6 +64,9 @@ namespace ddfem::scene
                         ExcMessage(where +
                                    ": expected 'name=value' pairs, got \"" +
                                    pair + "\"."));
+            AssertThrow(values.count(tokens[0]) == 0,
+                        ExcMessage(where + ": \"" + tokens[0] +
+                                   "\" is given twice."));
             values[tokens[0]] = parse_number(tokens[1], where);
           }
 

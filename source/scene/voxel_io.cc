@@ -309,7 +309,8 @@ namespace ddfem::scene
   {
     const std::string file = "Voxel file \"" + filename + "\"";
     std::ifstream     in(filename);
-    AssertThrow(in, ExcMessage(file + ": cannot be opened for reading."));
+    AssertThrow(in && !std::filesystem::is_directory(filename),
+                ExcMessage(file + ": cannot be opened for reading."));
 
     const auto       &n      = grid.size();
     const std::string header = size_string(n);
@@ -434,7 +435,8 @@ namespace ddfem::scene
                            "\"; expected .stl or .obj."));
 
     std::ifstream in(filename, std::ios::binary);
-    AssertThrow(in, ExcMessage(file + ": cannot be opened for reading."));
+    AssertThrow(in && !std::filesystem::is_directory(filename),
+                ExcMessage(file + ": cannot be opened for reading."));
     const std::string content((std::istreambuf_iterator<char>(in)),
                               std::istreambuf_iterator<char>());
 
@@ -451,7 +453,7 @@ namespace ddfem::scene
   fit_to_box(TriangleMesh &mesh, const Point<3> &lower, const Point<3> &upper)
   {
     AssertThrow(!mesh.vertices.empty(),
-                ExcMessage("fit_to_box: the mesh has no vertices."));
+                ExcMessage("the mesh has no vertices."));
 
     Point<3> min = mesh.vertices[0], max = mesh.vertices[0];
     for (const Point<3> &p : mesh.vertices)
@@ -466,7 +468,7 @@ namespace ddfem::scene
     for (unsigned int d = 0; d < 3; ++d)
       {
         AssertThrow(upper[d] > lower[d],
-                    ExcMessage("fit_to_box: the target box is empty along "
+                    ExcMessage("the target box is empty along "
                                "axis " +
                                std::to_string(d) + "."));
         if (max[d] > min[d])
@@ -474,8 +476,10 @@ namespace ddfem::scene
         mesh_center[d] = 0.5 * (min[d] + max[d]);
         box_center[d]  = 0.5 * (lower[d] + upper[d]);
       }
-    AssertThrow(std::isfinite(scale),
-                ExcMessage("fit_to_box: all mesh vertices coincide."));
+    AssertThrow(
+      std::isfinite(scale),
+      ExcMessage(
+        "all its vertices coincide, so it cannot be scaled to the grid."));
 
     for (Point<3> &p : mesh.vertices)
       p = box_center + scale * (p - mesh_center);

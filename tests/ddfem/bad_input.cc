@@ -1,5 +1,6 @@
 // Bad input: every case must give a clear message naming the parameter or
-// file, exit code 1, and leave no output directory behind.
+// file, exit code 1, and leave no output directory behind (for
+// output_directory_under_a_file: no directory can be made at all).
 
 #include <ddfem/app/application.h>
 
@@ -126,6 +127,67 @@ main(int argc, char **argv)
            cantilever +
              "subsection Boundary conditions\n  subsection Condition 2\n"
              "    set Region = box 1 1 1 2 2 2\n  end\nend\n");
+  run_case("repeated_palette_key",
+           cantilever + "subsection Materials\n  set Palette = E=1e5 nu=0.3 "
+                        "nu=0.2\nend\n");
+  run_case("tiny_voxel",
+           cantilever +
+             "subsection Geometry\n  set Voxel size = 1e-100\nend\n");
+  run_case("denormal_rotation_axis",
+           cantilever +
+             "subsection Boundary conditions\n  subsection Condition 2\n"
+             "    set Type = rotation\n    set Axis = 1e-320, 0, 0\n"
+             "  end\nend\n");
+  // Expressions that are not finite where they act, found before any solve.
+  run_case("infinite_traction",
+           cantilever +
+             "subsection Boundary conditions\n  subsection Condition 2\n"
+             "    set Value = 0; 0; 1/(y-0.04)\n  end\nend\n");
+  run_case("nan_body_force",
+           cantilever +
+             "subsection Loads\n  set Body force = 0; 0; log(x-1)\nend\n");
+  // Every edit is checked before the first state is solved.
+  run_case("second_edit_removes_voxels",
+           cantilever + "subsection Layout\n  set Edits = box 0 0 0 1 1 1 : 2 "
+                        "| box 0 0 0 0.01 0.01 0.01 : 0\nend\n");
+  run_case("empty_edit",
+           cantilever + "subsection Layout\n  set Edits = | \nend\n");
+  // A comparison checks that every coarse model's grid coarsens before the
+  // fine model is solved.
+  run_case("compare_grid_not_divisible",
+           cantilever,
+           {"--set",
+            "Run type=compare",
+            "--set",
+            "Geometry/Grid size=3, 4, 2",
+            "--set",
+            "Comparison/Methods=naive",
+            "--set",
+            "Comparison/Levels=1"});
+  // Files and directories in the way.
+  std::ofstream("a_file") << "not a directory\n";
+  run_case("output_directory_under_a_file",
+           cantilever,
+           {"--set", "Output/Output directory=a_file/out"});
+  std::filesystem::create_directories("directory.prm");
+  {
+    std::ostringstream out, err;
+    const int          code = app::run({"directory.prm"}, out, err);
+    std::cout << "* parameter_file_is_a_directory: exit code " << code << "\n  "
+              << err.str() << std::endl;
+  }
+  std::ofstream("degenerate.obj")
+    << "v 0 0 0\nv 0 0 0\nv 0 0 0\nv 0 0 0\nf 1 2 3\nf 1 3 4\n";
+  run_case(
+    "degenerate_mesh",
+    cantilever +
+      "subsection Layout\n  set Type = surface mesh\n  subsection Surface mesh\n"
+      "    set File name = degenerate.obj\n  end\nend\n");
+  std::ofstream("damaged.h5.journal") << "not a journal\n";
+  run_case("damaged_journal",
+           cantilever,
+           {"--set", "Method=ddfem", "--set", "Database/File=damaged.h5"});
+
   // Not an error: white space between words is free.
   run_case(
     "extra_spaces_are_fine",
