@@ -44,48 +44,68 @@ namespace ddfem::dg
     if (bc.has_body_force())
       data.body_force = [&bc](const Point<3> &p) { return bc.body_force(p); };
 
-    // The quadrature points of the assembly on a boundary face (bilinear
-    // map of the planar voxel face) and in a cell (an axis-aligned box).
-    const QGauss<2> face_quadrature(parameters.degree + 1);
-    const QGauss<3> cell_quadrature(parameters.degree + 1);
-    const auto      face_points = [&](const auto &cell, const unsigned int f) {
-      const auto            face = cell->face(f);
-      std::vector<Point<3>> points;
-      for (const Point<2> &q : face_quadrature.get_points())
-        {
-          Point<3> x;
-          for (unsigned int v = 0; v < 4; ++v)
-            x += face->vertex(v) *
-                 ((v % 2 ? q[0] : 1 - q[0]) * (v / 2 ? q[1] : 1 - q[1]));
-          points.push_back(x);
-        }
-      return points;
-    };
+    check_conditions();
 
-    // Where Dirichlet conditions act on a cell: with weak conditions at the
-    // quadrature points of its boundary faces, with strong ones at its
-    // nodes (the vertices).
+    element = parameters.make_element<3>();
+    dg =
+      std::make_unique<System<3>>(triangulation, *element, 3, parameters, data);
+    definiteness = dg->settle_penalty(1);
+    setup_time   = timer.wall_time();
+  }
+
+
+
+  std::vector<Point<3>>
+  SceneSolver::face_points(const Triangulation<3>::active_cell_iterator &cell,
+                           const unsigned int f) const
+  {
+    // Bilinear map of the planar voxel face.
+    const auto            face = cell->face(f);
+    std::vector<Point<3>> points;
+    const QGauss<2>       quadrature(parameters.degree + 1);
+    for (const Point<2> &q : quadrature.get_points())
+      {
+        Point<3> x;
+        for (unsigned int v = 0; v < 4; ++v)
+          x += face->vertex(v) *
+               ((v % 2 ? q[0] : 1 - q[0]) * (v / 2 ? q[1] : 1 - q[1]));
+        points.push_back(x);
+      }
+    return points;
+  }
+
+
+
+  std::vector<Point<3>>
+  SceneSolver::dirichlet_points(
+    const Triangulation<3>::active_cell_iterator &cell) const
+  {
+    std::vector<Point<3>> points;
+    if (parameters.dirichlet == Parameters::Dirichlet::strong)
+      for (const unsigned int v : cell->vertex_indices())
+        points.push_back(cell->vertex(v));
+    else
+      for (const unsigned int f : cell->face_indices())
+        if (cell->face(f)->at_boundary())
+          for (const Point<3> &x : face_points(cell, f))
+            points.push_back(x);
+    return points;
+  }
+
+
+
+  void
+  SceneSolver::check_conditions() const
+  {
+    const scene::BoundaryConditions &bc = scene.boundary_conditions;
     const bool weak = parameters.dirichlet == Parameters::Dirichlet::weak;
-    const auto dirichlet_points = [&](const auto &cell) {
-      std::vector<Point<3>> points;
-      if (!weak)
-        for (const unsigned int v : cell->vertex_indices())
-          points.push_back(cell->vertex(v));
-      else
-        for (const unsigned int f : cell->face_indices())
-          if (cell->face(f)->at_boundary())
-            for (const Point<3> &x : face_points(cell, f))
-              points.push_back(x);
-      return points;
-    };
 
-    // The loads and Dirichlet data are evaluated in the threaded assembly,
-    // where an error could not be reported. Evaluate them here first, at
-    // the same points: a value that is not finite stops the run with the
-    // parameter's name.
+    // Loads and Dirichlet data at the assembly's points (the Gauss points
+    // of the axis-aligned voxels and of their boundary faces): the
+    // evaluations throw, naming the parameter, where a value is not finite.
+    const QGauss<3> cell_quadrature(parameters.degree + 1);
     for (const auto &cell : triangulation.active_cell_iterators())
       {
-        double value;
         if (bc.has_body_force())
           for (const Point<3> &q : cell_quadrature.get_points())
             {
@@ -101,6 +121,7 @@ namespace ddfem::dg
                 bc.traction(cell->face(f)->center(),
                             x,
                             GeometryInfo<3>::unit_normal_vector[f]);
+                double value;
                 for (unsigned int d = 0; d < 3; ++d)
                   bc.prescribed_displacement(x, d, 1, value);
               }
@@ -135,9 +156,9 @@ namespace ddfem::dg
       }
 
     // DG couples cells through shared faces only, so the conditions must
-    // fix all six rigid motions of every face-connected part. (The
-    // definiteness check below cannot be relied on for this: round-off
-    // lets a singular matrix pass it.)
+    // fix all six rigid motions of every face-connected part. The
+    // definiteness check of the penalty cannot be relied on for this:
+    // round-off lets a singular matrix pass it.
     solver::Components parts(triangulation.n_active_cells());
     for (const auto &cell : triangulation.active_cell_iterators())
       for (const unsigned int f : cell->face_indices())
@@ -151,12 +172,6 @@ namespace ddfem::dg
           if (double value; bc.prescribed_displacement(x, d, 1, value))
             rows[parts.find(cell->active_cell_index())].emplace_back(x, d);
     solver::require_supported_parts(triangulation, parts, rows, "face");
-
-    element = parameters.make_element<3>();
-    dg =
-      std::make_unique<System<3>>(triangulation, *element, 3, parameters, data);
-    definiteness = dg->settle_penalty(1);
-    setup_time   = timer.wall_time();
   }
 
 

@@ -12,6 +12,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace ddfem::dg
 {
@@ -33,6 +34,7 @@ namespace ddfem::dg
     /**
      * Builds the mesh and the system and settles the penalty. Throws
      * ExcMessage on bad input (a Dirichlet region that misses the boundary,
+     * conditions that leave rigid motions free, loads that are not finite,
      * a fixed penalty that is too small), before anything is written.
      */
     void
@@ -69,6 +71,33 @@ namespace ddfem::dg
     Definiteness definiteness = Definiteness::not_checked;
 
   private:
+    /**
+     * The points where the assembly evaluates loads and weak Dirichlet
+     * data on boundary face @p f of @p cell: its Gauss points.
+     */
+    std::vector<Point<3>>
+    face_points(const Triangulation<3>::active_cell_iterator &cell,
+                const unsigned int                            f) const;
+
+    /**
+     * The points where Dirichlet conditions act on @p cell: with weak
+     * conditions the Gauss points of its boundary faces, with strong ones
+     * its nodes (the vertices).
+     */
+    std::vector<Point<3>>
+    dirichlet_points(const Triangulation<3>::active_cell_iterator &cell) const;
+
+    /**
+     * Checks the scene's conditions on the mesh before the system is built:
+     * loads and Dirichlet data are finite at every point of the assembly
+     * (whose worker threads could not report an error), every condition
+     * acts somewhere, and the Dirichlet conditions fix all six rigid
+     * motions of every face-connected part (the only coupling DG has).
+     * Throws ExcMessage naming the parameter otherwise.
+     */
+    void
+    check_conditions() const;
+
     const scene::Scene               &scene;
     const Parameters                 &parameters;
     Triangulation<3>                  triangulation;
