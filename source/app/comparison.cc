@@ -223,12 +223,12 @@ namespace ddfem::app
     prm.declare_entry(
       "Methods",
       "ddfem, naive, average",
-      Patterns::List(Patterns::Selection("ddfem|naive|average")),
+      Patterns::List(Patterns::Selection("ddfem|naive|average"), 1),
       "Run type = compare: the coarse methods compared with the fine "
       "model (which always runs).");
     prm.declare_entry("Levels",
                       "1, 2",
-                      Patterns::List(Patterns::Integer(1, 2)),
+                      Patterns::List(Patterns::Integer(1, 2), 1),
                       "Run type = compare: the coarsening levels each coarse "
                       "method runs at (1: 2x2x2 voxel blocks, 2: 4x4x4).");
     prm.declare_entry(

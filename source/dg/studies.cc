@@ -369,8 +369,11 @@ namespace ddfem::dg
   {
     dg.parse_parameters(prm);
     prm.enter_subsection("DG convergence");
-    problems       = Utilities::split_string_list(prm.get("Problems"));
-    methods        = parse_methods(prm.get("Methods"));
+    problems = Utilities::split_string_list(prm.get("Problems"));
+    methods  = parse_methods(prm.get("Methods"));
+    AssertThrow(!problems.empty() && !methods.empty(),
+                ExcMessage("DG convergence/Problems and Methods must each "
+                           "name at least one entry."));
     const auto l2d = Utilities::string_to_int(
       Utilities::split_string_list(prm.get("2D refinements")));
     const auto l3d = Utilities::string_to_int(

@@ -268,10 +268,11 @@ namespace ddfem::scene
     }
     prm.leave_subsection();
 
-    AssertThrow(type != "layers" || layer_thickness > 0,
-                ExcMessage("Layout/Layers/Thickness must be > 0."));
-    AssertThrow(type != "fibers" || fiber_pitch > 0,
-                ExcMessage("Layout/Fibers/Pitch must be > 0."));
+    // The smallest voxel size: anything thinner aliases.
+    AssertThrow(type != "layers" || layer_thickness >= 1e-6,
+                ExcMessage("Layout/Layers/Thickness must be at least 1e-6 m."));
+    AssertThrow(type != "fibers" || fiber_pitch >= 1e-6,
+                ExcMessage("Layout/Fibers/Pitch must be at least 1e-6 m."));
     AssertThrow(
       type != "voxel file" || !voxel_file.empty(),
       ExcMessage(

@@ -138,6 +138,13 @@ main(int argc, char **argv)
              "subsection Boundary conditions\n  subsection Condition 2\n"
              "    set Type = rotation\n    set Axis = 1e-320, 0, 0\n"
              "  end\nend\n");
+  run_case("thin_layers",
+           cantilever + "subsection Layout\n  set Type = layers\n"
+                        "  subsection Layers\n    set Thickness = 1e-300\n"
+                        "  end\nend\n");
+  run_case("no_compared_methods",
+           cantilever,
+           {"--set", "Run type=compare", "--set", "Comparison/Methods="});
   // Expressions that are not finite where they act, found before any solve.
   run_case("infinite_traction",
            cantilever +
