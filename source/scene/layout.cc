@@ -334,10 +334,13 @@ namespace ddfem::scene
         const double id = parse_number(parts[1], where);
         AssertThrow(id == std::round(id),
                     ExcMessage(where + ": the material id is not an integer."));
-        shape.material =
-          checked_id(static_cast<long>(std::max(-1., std::min(id, 1e6))),
-                     n_materials,
-                     where);
+        AssertThrow(id >= 0 && id <= n_materials,
+                    ExcMessage(where + ": material id " +
+                               Utilities::trim(parts[1]) +
+                               " is not in the palette; allowed are 0 (void) "
+                               "to " +
+                               std::to_string(n_materials) + "."));
+        shape.material = checked_id(static_cast<long>(id), n_materials, where);
         result.push_back(shape);
       }
     return result;
