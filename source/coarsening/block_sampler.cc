@@ -72,6 +72,14 @@ namespace ddfem::coarsening
                       Patterns::Integer(3),
                       "Number of stretching directions over the sphere used "
                       "to estimate the anisotropy directions (paper: 500).");
+    prm.declare_entry("Seed",
+                      "0",
+                      Patterns::Integer(0, 1000000),
+                      "Offsets the random generator of every block. Every "
+                      "block has its own generator, so results do not depend "
+                      "on threads; another seed draws other patterns, which "
+                      "shows how much a result owes to the sampling noise "
+                      "(doc/coarsening.md). Part of the database's settings.");
     prm.leave_subsection();
   }
 
@@ -88,6 +96,7 @@ namespace ddfem::coarsening
     max_strain           = prm.get_double("Maximum strain");
     traction_gradient    = prm.get_double("Traction gradient");
     n_stretch_directions = prm.get_integer("Stretch directions");
+    seed                 = prm.get_integer("Seed");
     prm.leave_subsection();
     AssertThrow(min_strain <= max_strain,
                 ExcMessage("Sampling/Minimum strain (" +

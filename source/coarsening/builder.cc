@@ -463,7 +463,8 @@ namespace ddfem::coarsening
                              sampling,
                              fitting,
                              element,
-                             0x9E3779B97F4A7C15ULL * (key + 1));
+                             0x9E3779B97F4A7C15ULL *
+                               (key + 1 + sampling.seed * 1000003ULL));
           },
           [&](const Entry &entry) {
             journal.append(entry);
@@ -603,7 +604,8 @@ namespace ddfem::coarsening
               [&](const std::size_t i) {
                 // A seed per composition: a fit does not depend on the
                 // representative's index in the current tables.
-                std::uint64_t seed = 0x2545F4914F6CDD1DULL;
+                std::uint64_t seed =
+                  0x2545F4914F6CDD1DULL + sampling.seed * 7919ULL;
                 for (const std::int64_t key :
                      Hierarchy::keys(database,
                                      level2.composition(database, needed[i])))

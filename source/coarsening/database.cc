@@ -55,8 +55,12 @@ namespace ddfem::coarsening
       << ", magnitudes: " << sampling.n_magnitudes
       << ", strains: " << sampling.min_strain << "-" << sampling.max_strain
       << ", traction gradient: " << sampling.traction_gradient
-      << ", stretch directions: " << sampling.n_stretch_directions
-      << " | regularization: " << fitting.regularization
+      << ", stretch directions: " << sampling.n_stretch_directions;
+    // Named only where it is not 0: files built before the seed was a
+    // setting keep their fingerprint.
+    if (sampling.seed != 0)
+      s << ", seed: " << sampling.seed;
+    s << " | regularization: " << fitting.regularization
       << ", child regularization: " << fitting.child_regularization
       << ", stiffness floor: " << fitting.stiffness_floor
       << ", point floor: " << fitting.point_floor

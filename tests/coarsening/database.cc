@@ -32,7 +32,8 @@ namespace
           const unsigned int threads  = 1,
           const unsigned int k        = 0,
           const unsigned int levels   = 1,
-          const unsigned int patterns = 30)
+          const unsigned int patterns = 30,
+          const unsigned int seed     = 0)
   {
     ParameterHandler prm;
     DatabaseBuilder::declare_parameters(prm);
@@ -52,6 +53,7 @@ namespace
     prm.set("Patterns", std::to_string(patterns));
     prm.set("Magnitudes", "2");
     prm.set("Stretch directions", "20");
+    prm.set("Seed", std::to_string(seed));
     prm.leave_subsection();
     prm.leave_subsection();
     DatabaseBuilder b;
@@ -190,6 +192,19 @@ main()
                                       palette()),
                                 full)
                 << std::endl;
+
+    // Another seed draws other samples: other entries, in a file that the
+    // settings of seed 0 do not open.
+    std::cout
+      << "seed 1 gives other entries: "
+      << !same_entries(build(builder("seed1.h5", true, "all", 1, 0, 1, 30, 1),
+                             palette()),
+                       full)
+      << std::endl;
+    expect_error("the file of seed 1 opened with seed 0", [&]() {
+      std::ostringstream log;
+      builder("seed1.h5", true).open(palette(), log);
+    });
   }
 
   {

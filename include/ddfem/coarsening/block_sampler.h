@@ -46,6 +46,8 @@ namespace ddfem::coarsening
     double traction_gradient = 0.25;
     /// Number of stretching directions over the sphere (anisotropy).
     unsigned int n_stretch_directions = 500;
+    /// Offsets every block's random generator (see DatabaseBuilder).
+    unsigned int seed = 0;
 
     /// Declares the subsection "Sampling".
     static void
