@@ -7,6 +7,7 @@
 #include <ddfem/coarsening/block_sampler.h>
 #include <ddfem/scene/scene.h>
 #include <ddfem/solver/cell_kernel.h>
+#include <ddfem/solver/supports.h>
 
 #include <algorithm>
 #include <cmath>
@@ -171,26 +172,20 @@ namespace ddfem::coarsening
                                          dof_handler,
                                          support_points);
 
-    // Face-connected groups of children (union-find over octants).
-    std::array<unsigned int, 8> group;
-    std::iota(group.begin(), group.end(), 0);
-    const auto root = [&group](unsigned int k) {
-      while (group[k] != k)
-        k = group[k];
-      return k;
-    };
+    // Face-connected groups of children (octants).
+    solver::Components groups(8);
     for (unsigned int a = 0; a < 8; ++a)
       for (unsigned int d = 0; d < 3; ++d)
         {
           const unsigned int b = a ^ (1u << d);
           if (!children[a].empty() && !children[b].empty())
-            group[root(a)] = root(b);
+            groups.join(a, b);
         }
     std::vector<std::vector<bool>>       group_dofs;
     std::map<unsigned int, unsigned int> group_number;
     for (unsigned int c = 0; c < cell_child.size(); ++c)
       {
-        const unsigned int r = root(cell_child[c]);
+        const unsigned int r = groups.find(cell_child[c]);
         if (group_number.count(r) == 0)
           {
             group_number[r] = group_dofs.size();
