@@ -74,21 +74,27 @@ namespace ddfem::scene
       return parser;
     }
 
+    /// The body force's subsection, for messages.
+    const std::string loads = "Loads";
+
     /**
      * Component @p component of @p parser at @p p; throws ExcMessage naming
-     * the parameter @p where and the point if the value is not finite.
+     * the parameter (@p subsection / @p entry) and the point if the value is
+     * not finite. The name is only built for the message: this runs at
+     * every quadrature point.
      */
     double
     finite_value(const FunctionParser<3> &parser,
                  const Point<3>          &p,
                  const unsigned int       component,
-                 const std::string       &where)
+                 const std::string       &subsection,
+                 const char              *entry)
     {
       const double value = parser.value(p, component);
       if (!std::isfinite(value))
         {
           std::ostringstream message;
-          message << where << " evaluates to "
+          message << subsection << '/' << entry << " evaluates to "
                   << (std::isnan(value) ? "nan" :
                       value > 0         ? "inf" :
                                           "-inf")
@@ -345,7 +351,8 @@ namespace ddfem::scene
           value = t * finite_value(*condition.value,
                                    p,
                                    component,
-                                   condition.where + "/Value");
+                                   condition.where,
+                                   "Value");
         else if (condition.type == "rotation")
           {
             // Rodrigues: R r = r cos(a) + (k x r) sin(a) + k (k.r)(1 - cos(a))
@@ -377,14 +384,12 @@ namespace ddfem::scene
         {
           if (condition.type == "pressure")
             t -=
-              finite_value(*condition.value, p, 0, condition.where + "/Value") *
+              finite_value(*condition.value, p, 0, condition.where, "Value") *
               normal;
           else
             for (unsigned int d = 0; d < 3; ++d)
-              t[d] += finite_value(*condition.value,
-                                   p,
-                                   d,
-                                   condition.where + "/Value");
+              t[d] +=
+                finite_value(*condition.value, p, d, condition.where, "Value");
         }
     return t;
   }
@@ -431,7 +436,7 @@ namespace ddfem::scene
   {
     Tensor<1, 3> b;
     for (unsigned int d = 0; d < 3; ++d)
-      b[d] = finite_value(*body, p, d, "Loads/Body force");
+      b[d] = finite_value(*body, p, d, loads, "Body force");
     return b;
   }
 } // namespace ddfem::scene
