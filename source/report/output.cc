@@ -2,6 +2,9 @@
 #include <deal.II/numerics/data_out.h>
 
 #include <ddfem/report/output.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <fstream>
@@ -11,14 +14,37 @@ namespace ddfem::report
   void
   run_gnuplot(const std::string &directory, const std::string &script)
   {
-    AssertThrow(
-      std::system(
-        ("cd \"" + directory + "\" && gnuplot \"" + script + "\"").c_str()) ==
-        0,
-      ExcMessage("gnuplot could not draw the plots of \"" + directory + "/" +
-                 script +
-                 "\" (gnuplot comes from the Debian package "
-                 "gnuplot-nox, which scripts/setup.sh installs)."));
+    // Started directly, not through a shell: the directory is user input.
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addchdir_np(&actions, directory.c_str());
+    std::string program = "gnuplot", argument = script;
+    char       *argv[] = {program.data(), argument.data(), nullptr};
+    pid_t       pid;
+    const int   error =
+      posix_spawnp(&pid, "gnuplot", &actions, nullptr, argv, environ);
+    posix_spawn_file_actions_destroy(&actions);
+    AssertThrow(error == 0,
+                ExcMessage("gnuplot could not be started to draw \"" +
+                           directory + "/" + script +
+                           "\": it comes from the Debian package "
+                           "gnuplot-nox, which scripts/setup.sh installs."));
+    int status = 0;
+    waitpid(pid, &status, 0);
+    AssertThrow(WIFEXITED(status) && WEXITSTATUS(status) == 0,
+                ExcMessage("gnuplot failed on \"" + directory + "/" + script +
+                           "\" (its message is above)."));
+  }
+
+
+
+  std::string
+  gnuplot_string(const std::string &text)
+  {
+    std::string quoted = "'";
+    for (const char c : text)
+      quoted += (c == '\'' ? std::string("''") : std::string(1, c));
+    return quoted + "'";
   }
 
 

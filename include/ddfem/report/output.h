@@ -18,11 +18,20 @@ namespace ddfem::report
 
   /**
    * Runs gnuplot on the script @p script in @p directory (where the script
-   * reads and writes its files). Throws ExcMessage naming the directory and
-   * the Debian package if gnuplot fails.
+   * reads and writes its files), without a shell. Throws ExcMessage naming
+   * the script if gnuplot fails, and the Debian package if it cannot be
+   * started.
    */
   void
   run_gnuplot(const std::string &directory, const std::string &script);
+
+  /**
+   * @p text as a gnuplot single-quoted string: quotes doubled, so no text
+   * (a scene name, say) can end the string or reach gnuplot's command
+   * substitution.
+   */
+  std::string
+  gnuplot_string(const std::string &text);
 
   /**
    * Attaches @p dof_handler to @p data_out with the displacement @p u
