@@ -155,7 +155,9 @@ namespace ddfem::app
              << "set xlabel 'wall time (s)'\n"
              << "set ylabel 'mean vertex error / longest side'\n"
              << "set key outside right\nset grid\n"
-             << "set title 'Error against run time: " << scene_name << "'\n";
+             << "set title "
+             << report::gnuplot_string("Error against run time: " + scene_name)
+             << "\n";
       std::vector<std::string> curves;
       unsigned int             block  = 0;
       double                   lowest = 1e300, highest = 0;
@@ -297,62 +299,77 @@ namespace ddfem::app
         << " solid, " << scene.n_edits() << " material edit"
         << (scene.n_edits() == 1 ? "" : "s") << std::endl;
 
-    // The database, completed lazily for this scene's blocks.
+    // The models, set up in order (the fine one first) before anything is
+    // solved or written: invalid input (a grid that does not coarsen, a
+    // probe outside a coarse model) stops the run with nothing written.
+    // The ddfem models come last, after their database: the others check
+    // the input before any fitting.
+    std::vector<std::unique_ptr<coarsening::Coarsener>> coarseners(
+      configurations.size());
+    std::vector<std::unique_ptr<ModelRun>> models(configurations.size());
+    std::optional<coarsening::Database>    level1;
+    coarsening::Hierarchy                  level2;
+    ConditionalOStream                     quiet(out, false);
+    const auto                             set_up = [&](const unsigned int c) {
+      const Configuration &config = configurations[c];
+      if (config.level > 0)
+        coarseners[c] =
+          std::make_unique<coarsening::Coarsener>(coarsening::coarsening_method(
+                                                    config.name),
+                                                  config.level,
+                                                  scene.palette,
+                                                  database.point_offset(),
+                                                  level1 ? &*level1 : nullptr,
+                                                  &level2);
+      // The other fine solvers run only where they can be faster than the
+      // fine model's own.
+      std::string skip;
+      if (config.name == "fine-amg" &&
+          configurations[0].linear_solver->method() == "cg-amg")
+        skip = "the fine model uses cg-amg already";
+      if (config.name == "fine-direct" &&
+          models[0]->discretization().dof_handler.n_dofs() > direct_limit)
+        skip = "more than " + std::to_string(direct_limit) +
+               " unknowns (Comparison/Fine direct solver limit)";
+      if (skip.empty())
+        models[c] = std::make_unique<ModelRun>(scene,
+                                               config.level == 0 ? degree : 1,
+                                               coarseners[c].get(),
+                                               solver_parameters,
+                                               *config.linear_solver,
+                                               quiet);
+      else
+        out << "  " << config.name << " skipped: " << skip << std::endl;
+    };
+    for (unsigned int c = 0; c < configurations.size(); ++c)
+      if (configurations[c].name != "ddfem")
+        set_up(c);
+
+    // The database, completed lazily for this scene's blocks in every
+    // state; the ddfem levels are checked with naive materials first.
     unsigned int ddfem_level = 0;
     for (const Configuration &c : configurations)
       if (c.name == "ddfem")
-        ddfem_level = std::max(ddfem_level, c.level);
-    std::optional<coarsening::Database> level1;
-    coarsening::Hierarchy               level2;
+        {
+          check_coarse_model(scene,
+                             c.level,
+                             database.point_offset(),
+                             solver_parameters,
+                             *c.linear_solver);
+          ddfem_level = std::max(ddfem_level, c.level);
+        }
     if (ddfem_level > 0)
       {
-        // Every state's blocks must be in the database.
+        check_creatable(directory, "Output/Output directory");
         Timer preparation;
         level1.emplace(database.prepare(
           scene.palette, scene.states(), ddfem_level, level2, out));
         if (screen_timings)
           out << "  database preparation " << preparation.wall_time() << " s"
               << std::endl;
-      }
-
-    // The models, set up in order (the fine one first) before anything is
-    // solved or written: invalid input (a grid that does not coarsen, a
-    // probe outside a coarse model) stops the run with nothing written.
-    std::vector<std::unique_ptr<coarsening::Coarsener>> coarseners;
-    std::vector<std::unique_ptr<ModelRun>>              models;
-    ConditionalOStream                                  quiet(out, false);
-    for (const Configuration &config : configurations)
-      {
-        coarseners.emplace_back(config.level == 0 ?
-                                  nullptr :
-                                  std::make_unique<coarsening::Coarsener>(
-                                    coarsening::coarsening_method(config.name),
-                                    config.level,
-                                    scene.palette,
-                                    database.point_offset(),
-                                    level1 ? &*level1 : nullptr,
-                                    &level2));
-        // The other fine solvers run only where they can be faster than the
-        // fine model's own.
-        std::string skip;
-        if (config.name == "fine-amg" &&
-            configurations[0].linear_solver->method() == "cg-amg")
-          skip = "the fine model uses cg-amg already";
-        if (config.name == "fine-direct" &&
-            models[0]->discretization().dof_handler.n_dofs() > direct_limit)
-          skip = "more than " + std::to_string(direct_limit) +
-                 " unknowns (Comparison/Fine direct solver limit)";
-        models.emplace_back(
-          !skip.empty() ?
-            nullptr :
-            std::make_unique<ModelRun>(scene,
-                                       config.level == 0 ? degree : 1,
-                                       coarseners.back().get(),
-                                       solver_parameters,
-                                       *config.linear_solver,
-                                       quiet));
-        if (!skip.empty())
-          out << "  " << config.name << " skipped: " << skip << std::endl;
+        for (unsigned int c = 0; c < configurations.size(); ++c)
+          if (configurations[c].name == "ddfem")
+            set_up(c);
       }
 
     std::vector<Row> rows;

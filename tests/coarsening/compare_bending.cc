@@ -94,9 +94,15 @@ main(int argc, char **argv)
 
   // A quadratic fine model against trilinear coarse ones: coarse models
   // are always trilinear, and the fine runs are compared at the vertices.
-  std::filesystem::remove_all("compare_q2");
+  // Its scene name and output directory hold quotes and shell syntax,
+  // which must reach neither gnuplot's parser nor a shell.
+  const std::string q2_directory = "compare_q2 it's \"$(touch injected)\"";
+  std::filesystem::remove_all(q2_directory);
+  std::filesystem::remove("injected");
   std::ofstream q2("compare_q2.prm");
-  q2 << compare_run("bending_q2", "2, 8, 2", "0.02, 0.16, 0.02")
+  q2 << compare_run("bending_q2 it's `touch injected`",
+                    "2, 8, 2",
+                    "0.02, 0.16, 0.02")
      << "subsection Discretization\n"
         "  set Polynomial degree = 2\n"
         "end\n"
@@ -104,9 +110,12 @@ main(int argc, char **argv)
         "  set Methods = naive\n"
         "  set Levels = 1\n"
         "end\n"
-     << output("compare_q2", "none");
+     << output(q2_directory, "none");
   q2.close();
   const int status_q2 =
     ddfem::app::run({"compare_q2.prm"}, std::cout, std::cout);
-  std::cout << "exit status " << status_q2 << std::endl;
+  std::cout << "exit status " << status_q2 << ", plot drawn: "
+            << std::filesystem::exists(q2_directory + "/error_vs_time.png")
+            << ", command run: " << std::filesystem::exists("injected")
+            << std::endl;
 }
