@@ -193,9 +193,11 @@ namespace ddfem::app
         for (const Point<3> &p : scene.probes)
           solver.point_value(p); // throws if outside
 
-        // All input is valid: from here on, results are written.
-        prepare_output(prm);
+        // All input is valid. One solve, then the results are written (a
+        // corotated iteration that does not converge writes nothing).
+        check_creatable(directory, "Output/Output directory");
         const unsigned int solves = solver.solve();
+        prepare_output(prm);
         if (vtu.enabled())
           solver.write_vtu(directory + "/solution.vtu");
 
@@ -245,6 +247,13 @@ namespace ddfem::app
           {
             if (method == "ddfem")
               {
+                // The rest of the input is checked before any fitting.
+                check_coarse_model(scene,
+                                   level,
+                                   database.point_offset(),
+                                   solver_parameters,
+                                   linear_solver);
+                check_creatable(directory, "Output/Output directory");
                 level1.emplace(database.prepare(scene.palette,
                                                 scene.states(),
                                                 level,
@@ -596,9 +605,9 @@ namespace ddfem::app
       }
     catch (std::bad_alloc &)
       {
-        err << "Error: out of memory. The scene needs more memory than this "
-               "machine has: use a smaller Geometry/Grid size or a coarse "
-               "method."
+        err << "Error: out of memory. The run needs more memory than this "
+               "machine has: make it smaller (Geometry/Grid size, a coarse "
+               "method, or the refinements or resolution of a DG study)."
             << std::endl;
       }
     catch (std::exception &e)

@@ -1,5 +1,7 @@
 #include <ddfem/app/model_run.h>
 
+#include <sstream>
+
 namespace ddfem::app
 {
   namespace
@@ -164,5 +166,23 @@ namespace ddfem::app
     for (const Point<3> &p : scene.probes)
       result.probes.push_back(solver->point_value(u, p));
     return result;
+  }
+
+
+
+  void
+  check_coarse_model(const scene::Scene                     &scene,
+                     const unsigned int                      level,
+                     const double                            point_offset,
+                     const solver::StaticSolver::Parameters &parameters,
+                     solver::LinearSolver                   &linear_solver)
+  {
+    std::ostringstream          quiet_stream;
+    ConditionalOStream          quiet(quiet_stream, false);
+    const coarsening::Coarsener naive(coarsening::CoarseningMethod::naive,
+                                      level,
+                                      scene.palette,
+                                      point_offset);
+    const ModelRun model(scene, 1, &naive, parameters, linear_solver, quiet);
   }
 } // namespace ddfem::app

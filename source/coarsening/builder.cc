@@ -145,6 +145,9 @@ namespace ddfem::coarsening
                              "lambda >= 0, so Method = ddfem and Run type = "
                              "database need nu >= 0 (lambda >= 0)."));
     const DatabaseSettings settings = this->settings(palette);
+    check_creatable(
+      std::filesystem::absolute(database_file).parent_path().string(),
+      "Database/File");
 
     Database database(settings, palette.size());
     if (std::filesystem::exists(database_file))

@@ -382,7 +382,14 @@ namespace ddfem::coarsening
       if (level2 != nullptr && !level2->empty())
         level2->save(h5);
     }
-    std::filesystem::rename(temporary, file);
+    std::error_code error;
+    std::filesystem::rename(temporary, file, error);
+    if (error)
+      std::filesystem::remove(temporary);
+    AssertThrow(!error,
+                ExcMessage("Cannot replace the database file " + file +
+                           " (Database/File): " + error.message() +
+                           ". Its journal keeps the new entries."));
   }
 
 

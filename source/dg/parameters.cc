@@ -72,9 +72,9 @@ namespace ddfem::dg
     prm.declare_entry(
       "Corotation tolerance",
       "1e-8",
-      Patterns::Double(0),
-      "The corotated iteration stops when the solution changes by less "
-      "than this, relative to its norm.");
+      Patterns::Double(1e-14, 1e-2),
+      "From 1e-14 to 1e-2. The corotated iteration stops when the solution "
+      "changes by less than this, relative to its norm.");
     prm.declare_entry(
       "Definiteness check limit",
       "5e7",

@@ -395,13 +395,14 @@ namespace ddfem::dg
   void
   ConvergenceStudy::run(const std::string &directory, std::ostream &out) const
   {
-    create_directories(directory, "Output/Output directory");
-    std::ofstream text(directory + "/dg_convergence.txt");
-    std::ofstream csv(directory + "/dg_convergence.csv");
+    // The tables are written once the study is complete: a study that
+    // fails (out of memory, say) leaves no partial files.
+    check_creatable(directory, "Output/Output directory");
+    std::ostringstream text, csv;
     csv << "problem,method,cells,dofs,L2,H1,condition,eta\n";
     csv << std::setprecision(6);
     // The same numbers as gnuplot data blocks, one per problem and method.
-    std::ofstream dat(directory + "/dg_convergence.dat");
+    std::ostringstream dat;
     dat << std::setprecision(6);
     std::vector<std::pair<std::string, std::string>> blocks;
     out << "DG convergence study, element " << dg.element_name()
@@ -466,12 +467,19 @@ namespace ddfem::dg
           table.write_text(text);
           text << verdict;
         }
-    text.close();
-    csv.close();
-    dat.close(); // flushed before gnuplot reads it
-    AssertThrow(text && csv && dat,
-                ExcMessage("Cannot write the convergence tables into \"" +
-                           directory + "\" (Output/Output directory)."));
+    create_directories(directory, "Output/Output directory");
+    for (const auto &[name, content] :
+         {std::make_pair("dg_convergence.txt", text.str()),
+          std::make_pair("dg_convergence.csv", csv.str()),
+          std::make_pair("dg_convergence.dat", dat.str())})
+      {
+        std::ofstream file(directory + "/" + name);
+        file << content;
+        file.close(); // flushed before gnuplot reads it
+        AssertThrow(file,
+                    ExcMessage("Cannot write \"" + directory + "/" + name +
+                               "\" (Output/Output directory)."));
+      }
     plot(directory, blocks);
   }
 
@@ -563,6 +571,7 @@ namespace ddfem::dg
                  const bool         timings,
                  std::ostream      &out) const
   {
+    check_creatable(directory, "Output/Output directory");
     // One thread, as the paper's timings and so that integration and
     // assembly times are separable.
     MultithreadInfo::set_thread_limit(1);

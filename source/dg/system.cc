@@ -821,7 +821,18 @@ namespace ddfem::dg
   {
     Timer               timer;
     SparseDirectUMFPACK direct;
-    direct.initialize(matrix);
+    try
+      {
+        direct.initialize(matrix);
+      }
+    catch (const ExceptionBase &)
+      {
+        AssertThrow(false,
+                    ExcMessage("UMFPACK could not factorize the DG system (" +
+                               std::to_string(dof_handler.n_dofs()) +
+                               " DoFs), most likely for lack of memory: "
+                               "make the grid smaller."));
+      }
     direct.vmult(solution, rhs);
     constraints.distribute(solution);
     solve_time = timer.wall_time();

@@ -79,8 +79,8 @@ namespace ddfem::solver
     prm.declare_entry(
       "Newton tolerance",
       "1e-8",
-      Patterns::Double(0, 1),
-      "Converged when the residual at the free unknowns is this "
+      Patterns::Double(1e-14, 1e-2),
+      "From 1e-14 to 1e-2. Converged when the residual at the free unknowns is this "
       "fraction of the largest of (the largest residual seen in the "
       "increment, the external load).");
     prm.leave_subsection();

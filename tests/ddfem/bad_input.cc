@@ -171,6 +171,18 @@ main(int argc, char **argv)
             "Comparison/Methods=naive",
             "--set",
             "Comparison/Levels=1"});
+  // Method = ddfem checks the rest of its input before it fits anything:
+  // no database file is written (it would go into the output directory).
+  run_case("ddfem_probe_outside",
+           cantilever +
+             "subsection Geometry\n  set Probe points = 0.01, 0.02, 0.5\nend\n",
+           {"--set",
+            "Method=ddfem",
+            "--set",
+            "Database/File=out_ddfem_probe_outside/db.h5"});
+  run_case("newton_tolerance_one",
+           cantilever,
+           {"--set", "Nonlinear solver/Newton tolerance=1"});
   // Files and directories in the way.
   std::ofstream("a_file") << "not a directory\n";
   run_case("output_directory_under_a_file",

@@ -114,6 +114,20 @@ namespace ddfem::app
     double       pending_coarsening = 0;
     unsigned int pending_cells      = 0;
   };
+
+  /**
+   * Checks what a ddfem model of @p scene at coarsening level @p level
+   * needs besides its database, before the database is prepared (which may
+   * fit for minutes): builds the model with naive materials (the same
+   * mesh, supports, loads and probes) and discards it. Throws ExcMessage
+   * like the ModelRun constructor.
+   */
+  void
+  check_coarse_model(const scene::Scene                     &scene,
+                     const unsigned int                      level,
+                     const double                            point_offset,
+                     const solver::StaticSolver::Parameters &parameters,
+                     solver::LinearSolver                   &linear_solver);
 } // namespace ddfem::app
 
 #endif

@@ -26,6 +26,25 @@ namespace ddfem
                   ")" + (error ? ": " + error.message() : std::string()) +
                   "."));
   }
+
+  /**
+   * Throws like create_directories() if the directory @p path could not be
+   * made. To find out it makes the missing part of the path and removes it
+   * again, so nothing is left behind: for checks before a long run.
+   */
+  inline void
+  check_creatable(const std::string &path, const std::string &where)
+  {
+    std::filesystem::path missing;
+    if (!path.empty())
+      for (std::filesystem::path p = std::filesystem::absolute(path);
+           !p.empty() && !std::filesystem::exists(p) && p != p.parent_path();
+           p = p.parent_path())
+        missing = p;
+    create_directories(path, where);
+    if (!missing.empty())
+      std::filesystem::remove_all(missing);
+  }
 } // namespace ddfem
 
 #endif
