@@ -243,6 +243,7 @@ namespace ddfem::app
         std::optional<coarsening::Database>    level1;
         coarsening::Hierarchy                  level2;
         std::unique_ptr<coarsening::Coarsener> coarsener;
+        double                                 database_time = 0;
         if (method != "fine")
           {
             if (method == "ddfem")
@@ -254,11 +255,13 @@ namespace ddfem::app
                                    solver_parameters,
                                    linear_solver);
                 check_creatable(directory, "Output/Output directory");
+                Timer preparation;
                 level1.emplace(database.prepare(scene.palette,
                                                 scene.states(),
                                                 level,
                                                 level2,
                                                 pcout.get_stream()));
+                database_time = preparation.wall_time();
               }
             coarsener = std::make_unique<coarsening::Coarsener>(
               coarsening::coarsening_method(method),
@@ -268,7 +271,6 @@ namespace ddfem::app
               level1 ? &*level1 : nullptr,
               &level2);
           }
-        const double database_time = total.wall_time();
 
         ModelRun    run(scene,
                      degree,

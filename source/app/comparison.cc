@@ -225,12 +225,12 @@ namespace ddfem::app
     prm.declare_entry(
       "Methods",
       "ddfem, naive, average",
-      Patterns::List(Patterns::Selection("ddfem|naive|average"), 1),
+      Patterns::List(Patterns::Selection("ddfem|naive|average")),
       "Run type = compare: the coarse methods compared with the fine "
       "model (which always runs).");
     prm.declare_entry("Levels",
                       "1, 2",
-                      Patterns::List(Patterns::Integer(1, 2), 1),
+                      Patterns::List(Patterns::Integer(1, 2)),
                       "Run type = compare: the coarsening levels each coarse "
                       "method runs at (1: 2x2x2 voxel blocks, 2: 4x4x4).");
     prm.declare_entry(
@@ -255,6 +255,10 @@ namespace ddfem::app
       Utilities::string_to_int(Utilities::split_string_list(prm.get("Levels")));
     direct_limit = prm.get_integer("Fine direct solver limit");
     prm.leave_subsection();
+    // No methods compares the fine solvers alone; methods need levels.
+    AssertThrow(method_names.empty() || !level_list.empty(),
+                ExcMessage("Comparison/Levels is empty: give the coarsening "
+                           "levels (1, 2) of Comparison/Methods."));
     prm.enter_subsection("Discretization");
     degree = prm.get_integer("Polynomial degree");
     prm.leave_subsection();
@@ -304,12 +308,12 @@ namespace ddfem::app
     // probe outside a coarse model) stops the run with nothing written.
     // The ddfem models come last, after their database: the others check
     // the input before any fitting.
+    std::optional<coarsening::Database>                 level1;
+    coarsening::Hierarchy                               level2;
+    ConditionalOStream                                  quiet(out, false);
     std::vector<std::unique_ptr<coarsening::Coarsener>> coarseners(
       configurations.size());
     std::vector<std::unique_ptr<ModelRun>> models(configurations.size());
-    std::optional<coarsening::Database>    level1;
-    coarsening::Hierarchy                  level2;
-    ConditionalOStream                     quiet(out, false);
     const auto                             set_up = [&](const unsigned int c) {
       const Configuration &config = configurations[c];
       if (config.level > 0)

@@ -385,7 +385,10 @@ namespace ddfem::coarsening
     std::error_code error;
     std::filesystem::rename(temporary, file, error);
     if (error)
-      std::filesystem::remove(temporary);
+      {
+        std::error_code ignored;
+        std::filesystem::remove(temporary, ignored);
+      }
     AssertThrow(!error,
                 ExcMessage("Cannot replace the database file " + file +
                            " (Database/File): " + error.message() +

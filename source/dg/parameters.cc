@@ -37,7 +37,7 @@ namespace ddfem::dg
       "jump, lambda on its normal component). 'automatic': start at eta = 1 "
       "and double until the stiffness matrix is positive definite (checked "
       "by a banded Cholesky factorization, see 'Definiteness check limit'). "
-      "A number in (0, 1e8]: that eta; if the matrix is not positive definite "
+      "A number in (0, 2^30]: that eta; if the matrix is not positive definite "
       "the run stops with an error. With babuska-zlamal every eta > 0 is "
       "positive definite, so 'automatic' gives eta = 1, a soft glue; its "
       "error is O(1/eta), so give a fixed eta (the paper uses 10 to 100).");
@@ -106,11 +106,12 @@ namespace ddfem::dg
     else
       {
         penalty = parse_number(penalty_text, "DG/Penalty");
-        // Beyond 1e8 the penalty terms swamp the elastic ones to round-off.
-        AssertThrow(penalty > 0 && penalty <= 1e8,
+        // The automatic penalty's range; beyond it the penalty terms swamp
+        // the elastic ones to round-off.
+        AssertThrow(penalty > 0 && penalty <= 1073741824.,
                     ExcMessage("DG/Penalty = " + penalty_text +
                                ": expected 'automatic' or a number in (0, "
-                               "1e8]."));
+                               "2^30 = 1073741824]."));
       }
     dirichlet =
       prm.get("Dirichlet") == "weak" ? Dirichlet::weak : Dirichlet::strong;

@@ -44,9 +44,9 @@ namespace ddfem::dg
     if (bc.has_body_force())
       data.body_force = [&bc](const Point<3> &p) { return bc.body_force(p); };
 
+    element = parameters.make_element<3>();
     check_conditions();
 
-    element = parameters.make_element<3>();
     dg =
       std::make_unique<System<3>>(triangulation, *element, 3, parameters, data);
     definiteness = dg->settle_penalty(1);
@@ -81,14 +81,25 @@ namespace ddfem::dg
     const Triangulation<3>::active_cell_iterator &cell) const
   {
     std::vector<Point<3>> points;
-    if (parameters.dirichlet == Parameters::Dirichlet::strong)
-      for (const unsigned int v : cell->vertex_indices())
-        points.push_back(cell->vertex(v));
-    else
-      for (const unsigned int f : cell->face_indices())
-        if (cell->face(f)->at_boundary())
-          for (const Point<3> &x : face_points(cell, f))
-            points.push_back(x);
+    for (const unsigned int f : cell->face_indices())
+      if (cell->face(f)->at_boundary())
+        {
+          if (parameters.dirichlet == Parameters::Dirichlet::weak)
+            for (const Point<3> &x : face_points(cell, f))
+              points.push_back(x);
+          else
+            // The element's support points on the face, as the system
+            // constrains them (the cell is an axis-aligned box).
+            for (const Point<3> &q : element->get_unit_support_points())
+              if (std::abs(q[GeometryInfo<3>::unit_normal_direction[f]] -
+                           f % 2) < 1e-12)
+                {
+                  Point<3> x = cell->vertex(0);
+                  for (unsigned int d = 0; d < 3; ++d)
+                    x[d] += q[d] * (cell->vertex(7)[d] - cell->vertex(0)[d]);
+                  points.push_back(x);
+                }
+        }
     return points;
   }
 
@@ -117,14 +128,13 @@ namespace ddfem::dg
         for (const unsigned int f : cell->face_indices())
           if (cell->face(f)->at_boundary())
             for (const Point<3> &x : face_points(cell, f))
-              {
-                bc.traction(cell->face(f)->center(),
-                            x,
-                            GeometryInfo<3>::unit_normal_vector[f]);
-                double value;
-                for (unsigned int d = 0; d < 3; ++d)
-                  bc.prescribed_displacement(x, d, 1, value);
-              }
+              bc.traction(cell->face(f)->center(),
+                          x,
+                          GeometryInfo<3>::unit_normal_vector[f]);
+        double value;
+        for (const Point<3> &x : dirichlet_points(cell))
+          for (unsigned int d = 0; d < 3; ++d)
+            bc.prescribed_displacement(x, d, 1, value);
       }
 
     // Every condition must act somewhere.
@@ -134,12 +144,9 @@ namespace ddfem::dg
         for (const unsigned int f : cell->face_indices())
           if (cell->face(f)->at_boundary())
             face_centers.push_back(cell->face(f)->center());
-        if (weak)
-          for (const Point<3> &x : dirichlet_points(cell))
-            points.push_back(x);
+        for (const Point<3> &x : dirichlet_points(cell))
+          points.push_back(x);
       }
-    if (!weak)
-      points = triangulation.get_vertices();
     try
       {
         bc.check_regions(points, face_centers);

@@ -6,6 +6,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cctype>
+#include <cerrno>
 #include <cstdlib>
 #include <fstream>
 
@@ -29,9 +31,12 @@ namespace ddfem::report
                            directory + "/" + script +
                            "\": it comes from the Debian package "
                            "gnuplot-nox, which scripts/setup.sh installs."));
-    int status = 0;
-    waitpid(pid, &status, 0);
-    AssertThrow(WIFEXITED(status) && WEXITSTATUS(status) == 0,
+    int   status = 0;
+    pid_t waited;
+    do
+      waited = waitpid(pid, &status, 0);
+    while (waited == -1 && errno == EINTR);
+    AssertThrow(waited == pid && WIFEXITED(status) && WEXITSTATUS(status) == 0,
                 ExcMessage("gnuplot failed on \"" + directory + "/" + script +
                            "\" (its message is above)."));
   }
@@ -43,7 +48,10 @@ namespace ddfem::report
   {
     std::string quoted = "'";
     for (const char c : text)
-      quoted += (c == '\'' ? std::string("''") : std::string(1, c));
+      quoted += c == '\'' ? std::string("''") :
+                std::iscntrl(static_cast<unsigned char>(c)) ?
+                             std::string(" ") : // a newline would end the line
+                             std::string(1, c);
     return quoted + "'";
   }
 

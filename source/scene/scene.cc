@@ -64,9 +64,12 @@ namespace ddfem::scene
     boundary_conditions.parse_parameters(prm, grid.extent(), h);
     layout.fill(grid);
     // Every edit is checked now, before anything is solved or written.
-    VoxelGrid edited = grid;
-    for (unsigned int e = 0; e < n_edits(); ++e)
-      layout.apply_edit(e, edited);
+    if (n_edits() > 0)
+      {
+        VoxelGrid edited = grid;
+        for (unsigned int e = 0; e < n_edits(); ++e)
+          layout.apply_edit(e, edited);
+      }
   }
 
 

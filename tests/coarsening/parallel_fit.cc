@@ -4,7 +4,7 @@
 // - a fit that throws does not terminate the program: the exception
 //   reaches the caller after all threads have joined, the other threads
 //   start no new work (fewer than n/2 entries stored, where the failure
-//   comes at 37 and the other fits take a millisecond), and the entries of
+//   comes at 37 and the fits after it take 20 ms), and the entries of
 //   the indices before it, which were all handed out earlier, are stored
 //   (each once, the failing index not among them);
 // - an exception from store() (a journal that cannot be written) reaches
@@ -33,8 +33,10 @@ namespace
   fit(const std::size_t i, const std::size_t fail)
   {
     AssertThrow(i != fail, ExcMessage("fit " + std::to_string(i) + " failed"));
-    // Long enough for the threads to interleave.
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    // Long enough for the threads to interleave; the fits after a failing
+    // one take longer, so that the stop is seen well before n/2 even on a
+    // loaded machine.
+    std::this_thread::sleep_for(std::chrono::milliseconds(i > fail ? 20 : 1));
     coarsening::Entry entry;
     entry.key = i;
     return entry;

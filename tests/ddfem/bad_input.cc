@@ -142,9 +142,9 @@ main(int argc, char **argv)
            cantilever + "subsection Layout\n  set Type = layers\n"
                         "  subsection Layers\n    set Thickness = 1e-300\n"
                         "  end\nend\n");
-  run_case("no_compared_methods",
+  run_case("no_compared_levels",
            cantilever,
-           {"--set", "Run type=compare", "--set", "Comparison/Methods="});
+           {"--set", "Run type=compare", "--set", "Comparison/Levels="});
   // Expressions that are not finite where they act, found before any solve.
   run_case("infinite_traction",
            cantilever +

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <string>
 #include <system_error>
+#include <vector>
 
 namespace ddfem
 {
@@ -20,7 +21,8 @@ namespace ddfem
     std::error_code error;
     if (!path.empty())
       std::filesystem::create_directories(path, error);
-    AssertThrow(!path.empty() && !error && std::filesystem::is_directory(path),
+    AssertThrow(!path.empty() && !error &&
+                  std::filesystem::is_directory(path, error),
                 dealii::ExcMessage(
                   "Cannot create the directory \"" + path + "\" (" + where +
                   ")" + (error ? ": " + error.message() : std::string()) +
@@ -29,21 +31,38 @@ namespace ddfem
 
   /**
    * Throws like create_directories() if the directory @p path could not be
-   * made. To find out it makes the missing part of the path and removes it
-   * again, so nothing is left behind: for checks before a long run.
+   * made. To find out it makes the missing directories of the path one by
+   * one and removes them again (only those it made, only while empty), so
+   * nothing is left behind: for checks before a long run.
    */
   inline void
   check_creatable(const std::string &path, const std::string &where)
   {
-    std::filesystem::path missing;
+    std::vector<std::filesystem::path> made;
+    std::error_code                    error;
+    std::filesystem::path              partial;
     if (!path.empty())
-      for (std::filesystem::path p = std::filesystem::absolute(path);
-           !p.empty() && !std::filesystem::exists(p) && p != p.parent_path();
-           p = p.parent_path())
-        missing = p;
-    create_directories(path, where);
-    if (!missing.empty())
-      std::filesystem::remove_all(missing);
+      for (const auto &part : std::filesystem::path(path).lexically_normal())
+        {
+          partial /= part;
+          if (!std::filesystem::exists(partial, error) &&
+              std::filesystem::create_directory(partial, error))
+            made.push_back(partial);
+          if (error)
+            break;
+        }
+    const bool ok =
+      !path.empty() && !error && std::filesystem::is_directory(path, error);
+    for (auto p = made.rbegin(); p != made.rend(); ++p)
+      {
+        std::error_code ignored;
+        std::filesystem::remove(*p, ignored);
+      }
+    AssertThrow(ok,
+                dealii::ExcMessage(
+                  "Cannot create the directory \"" + path + "\" (" + where +
+                  ")" + (error ? ": " + error.message() : std::string()) +
+                  "."));
   }
 } // namespace ddfem
 

@@ -82,7 +82,7 @@ namespace ddfem::dg
     /**
      * The points where Dirichlet conditions act on @p cell: with weak
      * conditions the Gauss points of its boundary faces, with strong ones
-     * its nodes (the vertices).
+     * the element's support points on them (needs the element).
      */
     std::vector<Point<3>>
     dirichlet_points(const Triangulation<3>::active_cell_iterator &cell) const;
