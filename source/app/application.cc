@@ -16,6 +16,7 @@
 #include <ddfem/solver/discretization.h>
 #include <ddfem/solver/linear_solver.h>
 #include <ddfem/solver/static_solver.h>
+#include <ddfem/solver/supports.h>
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
@@ -246,6 +247,9 @@ namespace ddfem::app
         double                                 database_time = 0;
         if (method != "fine")
           {
+            // The voxels must be supported as they are, not only through
+            // blocks that bridge a gap between them.
+            solver::require_supported_voxels(scene);
             if (method == "ddfem")
               {
                 // The rest of the input is checked before any fitting.

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <iomanip>
+#include <map>
 #include <numeric>
 #include <set>
 #include <sstream>
@@ -145,5 +146,41 @@ namespace ddfem::solver
             std::to_string(fixed) +
             " of their 6 rigid body motions. Remove or connect them."));
       }
+  }
+
+
+
+  void
+  require_supported_voxels(const scene::Scene &scene)
+  {
+    Triangulation<3> tria;
+    scene::make_voxel_mesh(scene.grid, 0, tria);
+    Components                parts(tria.n_active_cells());
+    std::vector<unsigned int> first_cell_at_vertex(
+      tria.n_vertices(), numbers::invalid_unsigned_int);
+    for (const auto &cell : tria.active_cell_iterators())
+      for (const unsigned int v : cell->vertex_indices())
+        {
+          unsigned int &first = first_cell_at_vertex[cell->vertex_index(v)];
+          if (first == numbers::invalid_unsigned_int)
+            first = cell->active_cell_index();
+          else
+            parts.join(cell->active_cell_index(), first);
+        }
+    std::map<std::size_t, std::vector<ConstrainedRow>> rows;
+    std::vector<bool> seen(tria.n_vertices(), false);
+    for (const auto &cell : tria.active_cell_iterators())
+      for (const unsigned int v : cell->vertex_indices())
+        if (!seen[cell->vertex_index(v)])
+          {
+            seen[cell->vertex_index(v)] = true;
+            for (unsigned int d = 0; d < 3; ++d)
+              if (double value;
+                  scene.boundary_conditions.prescribed_displacement(
+                    cell->vertex(v), d, 1, value))
+                rows[parts.find(cell->active_cell_index())].emplace_back(
+                  cell->vertex(v), d);
+          }
+    require_supported_parts(tria, parts, rows, "node");
   }
 } // namespace ddfem::solver

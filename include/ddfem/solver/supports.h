@@ -4,6 +4,8 @@
 #include <deal.II/base/point.h>
 #include <deal.II/grid/tria.h>
 
+#include <ddfem/scene/scene.h>
+
 #include <map>
 #include <string>
 #include <utility>
@@ -64,6 +66,17 @@ namespace ddfem::solver
     Components                                               &parts,
     const std::map<std::size_t, std::vector<ConstrainedRow>> &rows,
     const std::string                                        &shared);
+
+  /**
+   * The supports check of the fine voxels themselves, for coarse models,
+   * whose blocks may bridge a gap between voxels: the Dirichlet conditions
+   * of @p scene at the vertices of its solid voxels must fix all six rigid
+   * body motions of every part whose voxels share vertices. Throws
+   * ExcMessage like require_supported_parts() otherwise. Builds only the
+   * fine mesh, no degrees of freedom.
+   */
+  void
+  require_supported_voxels(const scene::Scene &scene);
 } // namespace ddfem::solver
 
 #endif
