@@ -166,12 +166,7 @@ namespace ddfem::dg
     // fix all six rigid motions of every face-connected part. The
     // definiteness check of the penalty cannot be relied on for this:
     // round-off lets a singular matrix pass it.
-    solver::Components parts(triangulation.n_active_cells());
-    for (const auto &cell : triangulation.active_cell_iterators())
-      for (const unsigned int f : cell->face_indices())
-        if (!cell->at_boundary(f))
-          parts.join(cell->active_cell_index(),
-                     cell->neighbor(f)->active_cell_index());
+    solver::Components parts = solver::face_connected_parts(triangulation);
     std::map<std::size_t, std::vector<solver::ConstrainedRow>> rows;
     for (const auto &cell : triangulation.active_cell_iterators())
       for (const Point<3> &x : dirichlet_points(cell))

@@ -242,26 +242,9 @@ namespace ddfem::solver
         "motions are not prevented. Add one in 'Boundary conditions'."));
 
     // Parts sharing nodes (vertex-connected cells) and parts sharing faces.
-    const Triangulation<3>   &tria    = discretization.triangulation;
-    const unsigned int        n_cells = tria.n_active_cells();
-    Components                by_vertex(n_cells), by_face(n_cells);
-    std::vector<unsigned int> first_cell_at_vertex(
-      tria.n_vertices(), numbers::invalid_unsigned_int);
-    for (const auto &cell : tria.active_cell_iterators())
-      {
-        const unsigned int c = cell->active_cell_index();
-        for (const unsigned int v : cell->vertex_indices())
-          {
-            unsigned int &first = first_cell_at_vertex[cell->vertex_index(v)];
-            if (first == numbers::invalid_unsigned_int)
-              first = c;
-            else
-              by_vertex.join(c, first);
-          }
-        for (const unsigned int f : cell->face_indices())
-          if (!cell->at_boundary(f))
-            by_face.join(c, cell->neighbor(f)->active_cell_index());
-      }
+    const Triangulation<3> &tria      = discretization.triangulation;
+    Components              by_vertex = vertex_connected_parts(tria);
+    Components              by_face   = face_connected_parts(tria);
 
     // Constrained rows per vertex-connected part, keyed by the node's
     // vertex; and per vertex the face-connected parts touching it.

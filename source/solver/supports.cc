@@ -37,6 +37,40 @@ namespace ddfem::solver
 
 
 
+  Components
+  vertex_connected_parts(const Triangulation<3> &tria)
+  {
+    Components                parts(tria.n_active_cells());
+    std::vector<unsigned int> first_cell_at_vertex(
+      tria.n_vertices(), numbers::invalid_unsigned_int);
+    for (const auto &cell : tria.active_cell_iterators())
+      for (const unsigned int v : cell->vertex_indices())
+        {
+          unsigned int &first = first_cell_at_vertex[cell->vertex_index(v)];
+          if (first == numbers::invalid_unsigned_int)
+            first = cell->active_cell_index();
+          else
+            parts.join(cell->active_cell_index(), first);
+        }
+    return parts;
+  }
+
+
+
+  Components
+  face_connected_parts(const Triangulation<3> &tria)
+  {
+    Components parts(tria.n_active_cells());
+    for (const auto &cell : tria.active_cell_iterators())
+      for (const unsigned int f : cell->face_indices())
+        if (!cell->at_boundary(f))
+          parts.join(cell->active_cell_index(),
+                     cell->neighbor(f)->active_cell_index());
+    return parts;
+  }
+
+
+
   unsigned int
   fixed_rigid_modes(const std::vector<ConstrainedRow> &rows)
   {
@@ -155,18 +189,7 @@ namespace ddfem::solver
   {
     Triangulation<3> tria;
     scene::make_voxel_mesh(scene.grid, 0, tria);
-    Components                parts(tria.n_active_cells());
-    std::vector<unsigned int> first_cell_at_vertex(
-      tria.n_vertices(), numbers::invalid_unsigned_int);
-    for (const auto &cell : tria.active_cell_iterators())
-      for (const unsigned int v : cell->vertex_indices())
-        {
-          unsigned int &first = first_cell_at_vertex[cell->vertex_index(v)];
-          if (first == numbers::invalid_unsigned_int)
-            first = cell->active_cell_index();
-          else
-            parts.join(cell->active_cell_index(), first);
-        }
+    Components parts = vertex_connected_parts(tria);
     std::map<std::size_t, std::vector<ConstrainedRow>> rows;
     std::vector<bool> seen(tria.n_vertices(), false);
     for (const auto &cell : tria.active_cell_iterators())

@@ -40,6 +40,14 @@ namespace ddfem::solver
     std::vector<std::size_t> parent;
   };
 
+  /// The parts of @p tria's active cells that share vertices (nodes).
+  Components
+  vertex_connected_parts(const Triangulation<3> &tria);
+
+  /// The parts of @p tria's active cells that share faces.
+  Components
+  face_connected_parts(const Triangulation<3> &tria);
+
   /**
    * The number of the six rigid body modes that prescribing the (point,
    * component) pairs of @p rows fixes: the rank of the Gram matrix of the
