@@ -350,16 +350,22 @@ namespace ddfem::app
         set_up(c);
 
     // The database, completed lazily for this scene's blocks in every
-    // state; the ddfem levels are checked with naive materials first.
+    // state. A ddfem level without a baseline model on the same mesh is
+    // checked with naive materials first.
     unsigned int ddfem_level = 0;
     for (const Configuration &c : configurations)
       if (c.name == "ddfem")
         {
-          check_coarse_model(scene,
-                             c.level,
-                             database.point_offset(),
-                             solver_parameters,
-                             *c.linear_solver);
+          bool checked = false;
+          for (unsigned int b = 0; b < configurations.size(); ++b)
+            checked =
+              checked || (models[b] && configurations[b].level == c.level);
+          if (!checked)
+            check_coarse_model(scene,
+                               c.level,
+                               database.point_offset(),
+                               solver_parameters,
+                               *c.linear_solver);
           ddfem_level = std::max(ddfem_level, c.level);
         }
     if (ddfem_level > 0)

@@ -55,6 +55,19 @@ namespace ddfem::dg
 
 
 
+  Point<3>
+  SceneSolver::cell_point(const Triangulation<3>::active_cell_iterator &cell,
+                          const Point<3> &unit_point) const
+  {
+    // Voxels are axis-aligned boxes from vertex 0 to vertex 7.
+    Point<3> x = cell->vertex(0);
+    for (unsigned int d = 0; d < 3; ++d)
+      x[d] += unit_point[d] * (cell->vertex(7)[d] - cell->vertex(0)[d]);
+    return x;
+  }
+
+
+
   std::vector<Point<3>>
   SceneSolver::face_points(const Triangulation<3>::active_cell_iterator &cell,
                            const unsigned int f) const
@@ -93,12 +106,7 @@ namespace ddfem::dg
             for (const Point<3> &q : element->get_unit_support_points())
               if (std::abs(q[GeometryInfo<3>::unit_normal_direction[f]] -
                            f % 2) < 1e-12)
-                {
-                  Point<3> x = cell->vertex(0);
-                  for (unsigned int d = 0; d < 3; ++d)
-                    x[d] += q[d] * (cell->vertex(7)[d] - cell->vertex(0)[d]);
-                  points.push_back(x);
-                }
+                points.push_back(cell_point(cell, q));
         }
     return points;
   }
@@ -111,42 +119,40 @@ namespace ddfem::dg
     const scene::BoundaryConditions &bc = scene.boundary_conditions;
     const bool weak = parameters.dirichlet == Parameters::Dirichlet::weak;
 
-    // Loads and Dirichlet data at the assembly's points (the Gauss points
-    // of the axis-aligned voxels and of their boundary faces): the
-    // evaluations throw, naming the parameter, where a value is not finite.
-    const QGauss<3> cell_quadrature(parameters.degree + 1);
+    // One pass over the cells evaluates the loads and Dirichlet data at the
+    // assembly's points (the evaluations throw, naming the parameter, where
+    // a value is not finite) and collects where conditions act, and the
+    // prescribed components of each face-connected part: DG couples cells
+    // through shared faces only.
+    const QGauss<3>       cell_quadrature(parameters.degree + 1);
+    solver::Components    parts = solver::face_connected_parts(triangulation);
+    std::vector<Point<3>> face_centers, points;
+    std::map<std::size_t, std::vector<solver::ConstrainedRow>> rows;
     for (const auto &cell : triangulation.active_cell_iterators())
       {
         if (bc.has_body_force())
           for (const Point<3> &q : cell_quadrature.get_points())
-            {
-              Point<3> x = cell->vertex(0);
-              for (unsigned int d = 0; d < 3; ++d)
-                x[d] += q[d] * (cell->vertex(7)[d] - cell->vertex(0)[d]);
-              bc.body_force(x);
-            }
+            bc.body_force(cell_point(cell, q));
         for (const unsigned int f : cell->face_indices())
           if (cell->face(f)->at_boundary())
-            for (const Point<3> &x : face_points(cell, f))
-              bc.traction(cell->face(f)->center(),
-                          x,
-                          GeometryInfo<3>::unit_normal_vector[f]);
-        double value;
+            {
+              face_centers.push_back(cell->face(f)->center());
+              for (const Point<3> &x : face_points(cell, f))
+                bc.traction(face_centers.back(),
+                            x,
+                            GeometryInfo<3>::unit_normal_vector[f]);
+            }
+        const std::size_t part = parts.find(cell->active_cell_index());
         for (const Point<3> &x : dirichlet_points(cell))
-          for (unsigned int d = 0; d < 3; ++d)
-            bc.prescribed_displacement(x, d, 1, value);
+          {
+            points.push_back(x);
+            for (unsigned int d = 0; d < 3; ++d)
+              if (double value; bc.prescribed_displacement(x, d, 1, value))
+                rows[part].emplace_back(x, d);
+          }
       }
 
     // Every condition must act somewhere.
-    std::vector<Point<3>> face_centers, points;
-    for (const auto &cell : triangulation.active_cell_iterators())
-      {
-        for (const unsigned int f : cell->face_indices())
-          if (cell->face(f)->at_boundary())
-            face_centers.push_back(cell->face(f)->center());
-        for (const Point<3> &x : dirichlet_points(cell))
-          points.push_back(x);
-      }
     try
       {
         bc.check_regions(points, face_centers);
@@ -162,17 +168,9 @@ namespace ddfem::dg
         throw;
       }
 
-    // DG couples cells through shared faces only, so the conditions must
-    // fix all six rigid motions of every face-connected part. The
-    // definiteness check of the penalty cannot be relied on for this:
-    // round-off lets a singular matrix pass it.
-    solver::Components parts = solver::face_connected_parts(triangulation);
-    std::map<std::size_t, std::vector<solver::ConstrainedRow>> rows;
-    for (const auto &cell : triangulation.active_cell_iterators())
-      for (const Point<3> &x : dirichlet_points(cell))
-        for (unsigned int d = 0; d < 3; ++d)
-          if (double value; bc.prescribed_displacement(x, d, 1, value))
-            rows[parts.find(cell->active_cell_index())].emplace_back(x, d);
+    // The conditions must fix all six rigid motions of every face-connected
+    // part. The definiteness check of the penalty cannot be relied on for
+    // this: round-off lets a singular matrix pass it.
     solver::require_supported_parts(triangulation, parts, rows, "face");
   }
 

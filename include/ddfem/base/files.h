@@ -10,6 +10,20 @@
 
 namespace ddfem
 {
+  namespace internal
+  {
+    /// "Cannot create the directory ..." for @p path from parameter @p where.
+    inline dealii::ExcMessage
+    directory_error(const std::string     &path,
+                    const std::string     &where,
+                    const std::error_code &error)
+    {
+      return dealii::ExcMessage(
+        "Cannot create the directory \"" + path + "\" (" + where + ")" +
+        (error ? ": " + error.message() : std::string()) + ".");
+    }
+  } // namespace internal
+
   /**
    * Creates the directory @p path and its parents where missing. Throws
    * ExcMessage naming @p path and the parameter @p where it comes from if
@@ -23,10 +37,7 @@ namespace ddfem
       std::filesystem::create_directories(path, error);
     AssertThrow(!path.empty() && !error &&
                   std::filesystem::is_directory(path, error),
-                dealii::ExcMessage(
-                  "Cannot create the directory \"" + path + "\" (" + where +
-                  ")" + (error ? ": " + error.message() : std::string()) +
-                  "."));
+                internal::directory_error(path, where, error));
   }
 
   /**
@@ -58,11 +69,7 @@ namespace ddfem
         std::error_code ignored;
         std::filesystem::remove(*p, ignored);
       }
-    AssertThrow(ok,
-                dealii::ExcMessage(
-                  "Cannot create the directory \"" + path + "\" (" + where +
-                  ")" + (error ? ": " + error.message() : std::string()) +
-                  "."));
+    AssertThrow(ok, internal::directory_error(path, where, error));
   }
 } // namespace ddfem
 

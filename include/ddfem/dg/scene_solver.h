@@ -71,6 +71,11 @@ namespace ddfem::dg
     Definiteness definiteness = Definiteness::not_checked;
 
   private:
+    /// The point of @p cell at @p unit_point of the reference cell.
+    Point<3>
+    cell_point(const Triangulation<3>::active_cell_iterator &cell,
+               const Point<3>                               &unit_point) const;
+
     /**
      * The points where the assembly evaluates loads and weak Dirichlet
      * data on boundary face @p f of @p cell: its Gauss points.
