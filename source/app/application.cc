@@ -335,8 +335,11 @@ namespace ddfem::app
                   << " after " << statistics.load_steps << " load steps and "
                   << statistics.newton_iterations << " Newton iterations\n"
                   << "  min J = " << std::setprecision(4) << result.min_J
-                  << ", max |u| = " << result.max_displacement << " m"
-                  << std::endl;
+                  << ", max |u| = " << result.max_displacement << " m\n"
+                  << "  principal strain per cell: median "
+                  << result.strain_quantiles[0] << ", 99 % "
+                  << result.strain_quantiles[1] << ", max "
+                  << result.strain_quantiles[2] << std::endl;
             for (unsigned int p = 0; p < scene.probes.size(); ++p)
               pcout << "  probe (" << scene.probes[p] << "): u = ("
                     << result.probes[p] << ")" << std::endl;

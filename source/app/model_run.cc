@@ -1,5 +1,7 @@
 #include <ddfem/app/model_run.h>
 
+#include <algorithm>
+#include <cmath>
 #include <sstream>
 
 namespace ddfem::app
@@ -30,6 +32,24 @@ namespace ddfem::app
         }
       return max_u;
     }
+
+
+
+    /// The median, 99th percentile (nearest rank) and largest entry of @p v.
+    std::array<double, 3>
+    quantiles(const Vector<double> &v)
+    {
+      std::vector<double> sorted(v.begin(), v.end());
+      if (sorted.empty())
+        return {{0, 0, 0}};
+      std::sort(sorted.begin(), sorted.end());
+      const auto rank = [&](const double q) {
+        return sorted[std::min<std::size_t>(
+          sorted.size() - 1,
+          static_cast<std::size_t>(std::ceil(q * sorted.size())) - 1)];
+      };
+      return {{rank(0.5), rank(0.99), sorted.back()}};
+    }
   } // namespace
 
 
@@ -46,6 +66,9 @@ namespace ddfem::app
     if (!statistics.converged)
       json["failure"] = statistics.failure;
     json["min_J"]             = min_J;
+    json["principal_strain"]  = {{"median", strain_quantiles[0]},
+                                 {"p99", strain_quantiles[1]},
+                                 {"max", strain_quantiles[2]}};
     json["max_displacement"]  = max_displacement;
     json["coarsening_time_s"] = coarsening_time;
     json["cells_updated"]     = cells_updated;
@@ -162,6 +185,7 @@ namespace ddfem::app
 
     const Vector<double> &u = solver->solution();
     result.min_J            = result.statistics.min_J;
+    result.strain_quantiles = quantiles(solver->cell_fields(u).strain);
     result.max_displacement = max_node_displacement(*model, u);
     for (const Point<3> &p : scene.probes)
       result.probes.push_back(solver->point_value(u, p));

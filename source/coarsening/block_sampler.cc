@@ -680,12 +680,7 @@ namespace ddfem::coarsening
   double
   BlockSampler::finite_strain(const Vector<double> &u) const
   {
-    return largest_over_points(u, [](const Tensor<2, 3> &F) {
-      double strain = 0;
-      for (const double c : eigenvalues(symmetrize(transpose(F) * F)))
-        strain = std::max(strain, std::abs(std::sqrt(c) - 1.));
-      return strain;
-    });
+    return largest_over_points(u, material::principal_strain);
   }
 
 

@@ -70,6 +70,17 @@ namespace ddfem::material
 
 
 
+  double
+  principal_strain(const Tensor<2, 3> &F)
+  {
+    double strain = 0;
+    for (const double c : eigenvalues(symmetrize(transpose(F) * F)))
+      strain = std::max(strain, std::abs(std::sqrt(c) - 1.));
+    return strain;
+  }
+
+
+
   Tensor<2, 3>
   cauchy_stress(const Tensor<2, 3> &P, const Tensor<2, 3> &F)
   {

@@ -132,6 +132,7 @@ namespace ddfem::report
                                    material_id);
     data_out.add_data_vector(fields.J, "J");
     data_out.add_data_vector(fields.von_mises, "von_Mises_stress");
+    data_out.add_data_vector(fields.strain, "principal_strain");
     data_out.build_patches(discretization.mapping, discretization.fe.degree);
 
     const std::string name =

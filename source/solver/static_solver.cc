@@ -664,6 +664,7 @@ namespace ddfem::solver
     const unsigned int n_cells = discretization.triangulation.n_active_cells();
     CellFields         fields{Vector<double>(n_cells),
                       Vector<double>(n_cells),
+                      Vector<double>(n_cells),
                       infinity};
     FEValues<3>        fe_values(discretization.mapping,
                           discretization.fe,
@@ -683,6 +684,8 @@ namespace ddfem::solver
             const double J = determinant(F[q]);
             fields.min_J   = std::min(fields.min_J, J);
             fields.J(c) += J / F.size();
+            fields.strain(c) =
+              std::max(fields.strain(c), material::principal_strain(F[q]));
             if (material::evaluate(F[q],
                                    discretization.material(c, q),
                                    material::KernelOutput::stress,

@@ -188,6 +188,13 @@ namespace
     testing::check_below("  axial force error, relative",
                          std::abs(force - P11) / P11,
                          1e-8);
+    // Every cell's largest principal strain is the axial one, 0.5.
+    const Vector<double> strain =
+      problem.solver->cell_fields(problem.solver->solution()).strain;
+    double strain_error = 0;
+    for (const double e : strain)
+      strain_error = std::max(strain_error, std::abs(e - (stretch - 1)));
+    testing::check_below("  cell principal strain error", strain_error, 1e-8);
   }
 
   void

@@ -5,6 +5,7 @@
 
 #include <ddfem/material/kernel.h>
 
+#include <algorithm>
 #include <random>
 
 #include "../tests.h"
@@ -124,6 +125,33 @@ main()
   sigma[1][1] = 2e5;
   std::cout << "von Mises of uniaxial 2e5 Pa: " << material::von_mises(sigma)
             << std::endl;
+
+  // The largest principal stretch deviation: a rotated stretch (1.2, 0.9,
+  // 1) gives 0.2, a rotation 0, a compression to half 0.5, and a simple
+  // shear of 0.5 gives the stretch 1/4 + sqrt(1 + 1/16) - 1.
+  const double angle    = 0.7;
+  Tensor<2, 3> rotation = unit_symmetric_tensor<3>();
+  rotation[0][0] = rotation[1][1] = std::cos(angle);
+  rotation[0][1]                  = -std::sin(angle);
+  rotation[1][0]                  = std::sin(angle);
+  Tensor<2, 3> stretch;
+  stretch[0][0]            = 1.2;
+  stretch[1][1]            = 0.9;
+  stretch[2][2]            = 1;
+  Tensor<2, 3> compression = unit_symmetric_tensor<3>();
+  compression[2][2]        = 0.5;
+  Tensor<2, 3> shear       = unit_symmetric_tensor<3>();
+  shear[0][1]              = 0.5;
+  const double strain_error =
+    std::max({std::abs(material::principal_strain(rotation * stretch *
+                                                  transpose(rotation)) -
+                       0.2),
+              std::abs(material::principal_strain(rotation * stretch) - 0.2),
+              std::abs(material::principal_strain(rotation)),
+              std::abs(material::principal_strain(compression) - 0.5),
+              std::abs(material::principal_strain(shear) -
+                       (0.25 + std::sqrt(1 + 1. / 16) - 1))});
+  testing::check_below("principal strain error", strain_error, 1e-14);
 
   // Inverted or degenerate states are inadmissible.
   Tensor<2, 3> inverted = unit_symmetric_tensor<3>();

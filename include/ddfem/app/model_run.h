@@ -13,6 +13,7 @@
 #include <ddfem/solver/static_solver.h>
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <map>
 #include <memory>
 #include <string>
@@ -48,6 +49,9 @@ namespace ddfem::app
       std::map<std::string, double> phases;
       /// Smallest det F at any quadrature point.
       double min_J = 1;
+      /// Median, 99th percentile and largest over the cells of each cell's
+      /// largest principal strain (StaticSolver::CellFields::strain).
+      std::array<double, 3> strain_quantiles = {{0, 0, 0}};
       /// Largest vertex displacement (m).
       double max_displacement = 0;
       /// Displacement at each probe point (m).

@@ -73,6 +73,15 @@ namespace ddfem::material
            KernelResult        &result);
 
   /**
+   * The largest principal stretch deviation max_i |lambda_i - 1| of @p F,
+   * where lambda_i are the principal stretches (square roots of the
+   * eigenvalues of F^T F): the strain measure that the database's sampling
+   * range and the runs' strain statistics share.
+   */
+  double
+  principal_strain(const Tensor<2, 3> &F);
+
+  /**
    * Cauchy stress sigma = P F^T / J from a first Piola-Kirchhoff stress.
    * Requires det F > 0.
    */

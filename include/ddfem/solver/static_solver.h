@@ -82,13 +82,16 @@ namespace ddfem::solver
       std::string failure;
     };
 
-    /// Per-cell results for output: averages over quadrature points.
+    /// Per-cell results for output.
     struct CellFields
     {
       /// Average det F of each active cell.
       Vector<double> J;
       /// Average von Mises Cauchy stress of each active cell (Pa).
       Vector<double> von_mises;
+      /// Largest material::principal_strain at any quadrature point of each
+      /// active cell.
+      Vector<double> strain;
       /// Smallest det F at any quadrature point.
       double min_J;
     };
