@@ -1,4 +1,5 @@
 #include <deal.II/base/conditional_ostream.h>
+#include <deal.II/base/mpi.h>
 #include <deal.II/base/timer.h>
 #include <deal.II/base/utilities.h>
 
@@ -561,6 +562,21 @@ namespace ddfem::app
       }
     try
       {
+        // Every MPI process would run the whole job and write the same
+        // output and database files.
+        if (Utilities::MPI::job_supports_mpi() &&
+            Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) > 1)
+          {
+            if (Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0)
+              err << "Error: ddfem runs as one process and does its parallel "
+                     "work with threads (assembly, and Database/Threads in "
+                     "database builds), but it was started as "
+                  << Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD)
+                  << " MPI processes, which would all write the same files. "
+                     "Start it without mpirun."
+                  << std::endl;
+            return 1;
+          }
         ParameterHandler prm;
         declare_parameters(prm);
         if (arguments[0] == "--print-parameters")

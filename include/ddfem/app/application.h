@@ -23,8 +23,9 @@ namespace ddfem::app
    * `ddfem --help`, `ddfem --print-parameters`. @p arguments excludes the
    * program name. Screen output goes to @p out, error messages to @p err.
    * Returns the process exit code: 0 on success, 1 on bad input or a solve
-   * that did not converge. All input is validated before anything is
-   * written to the output directory.
+   * that did not converge, or when started as more than one MPI process.
+   * All input is validated before anything is written to the output
+   * directory.
    */
   int
   run(const std::vector<std::string> &arguments,
