@@ -127,6 +127,19 @@ namespace ddfem::coarsening
 
 
 
+  std::unique_ptr<FileLock>
+  DatabaseBuilder::lock(std::ostream &out) const
+  {
+    create_directories(
+      std::filesystem::absolute(database_file).parent_path().string(),
+      "Database/File");
+    return std::make_unique<FileLock>(database_file + ".lock",
+                                      "Database/File",
+                                      out);
+  }
+
+
+
   Database
   DatabaseBuilder::open(const scene::Palette &palette, std::ostream &out) const
   {
@@ -663,7 +676,8 @@ namespace ddfem::coarsening
     lazy.levels            = level;
     lazy.run_scope         = Scope::scene;
     lazy.n_representatives = 0; // only a complete database is compressed
-    Database database      = lazy.open(palette, out);
+    const auto held        = lazy.lock(out);
+    Database   database    = lazy.open(palette, out);
     lazy.build(palette, database, &grids, out, false, &level2);
     return database;
   }

@@ -4,6 +4,7 @@
 #include <deal.II/base/exceptions.h>
 
 #include <filesystem>
+#include <ostream>
 #include <string>
 #include <system_error>
 #include <vector>
@@ -71,6 +72,32 @@ namespace ddfem
       }
     AssertThrow(ok, internal::directory_error(path, where, error));
   }
+
+  /**
+   * An exclusive advisory lock (flock(2)) on the file @p path, which is
+   * created if missing and left in place. The lock is held until the
+   * object is destroyed or the process ends, also when it is killed, so no
+   * stale lock survives a crash. While another process holds it, the
+   * constructor prints what it waits for to @p out and waits.
+   */
+  class FileLock
+  {
+  public:
+    /// Locks @p path (from parameter @p where, named in errors).
+    FileLock(const std::string &path,
+             const std::string &where,
+             std::ostream      &out);
+
+    /// Releases the lock.
+    ~FileLock();
+
+    FileLock(const FileLock &) = delete;
+    FileLock &
+    operator=(const FileLock &) = delete;
+
+  private:
+    int descriptor;
+  };
 } // namespace ddfem
 
 #endif

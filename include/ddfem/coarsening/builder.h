@@ -3,12 +3,14 @@
 
 #include <deal.II/base/parameter_handler.h>
 
+#include <ddfem/base/files.h>
 #include <ddfem/coarsening/database.h>
 #include <ddfem/coarsening/hierarchy.h>
 #include <ddfem/scene/palette.h>
 #include <ddfem/scene/voxel_grid.h>
 
 #include <functional>
+#include <memory>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -91,6 +93,17 @@ namespace ddfem::coarsening
     /// The settings a build for @p palette uses.
     DatabaseSettings
     settings(const scene::Palette &palette) const;
+
+    /**
+     * Locks file() for this process until the returned object is destroyed
+     * (a FileLock on file() + ".lock"; its directory is made if missing).
+     * Hold it from open() to the end of build(): two ddfem processes that
+     * use the same file then take turns instead of overwriting each
+     * other's entries. Waits, with a message on @p out, while another
+     * process holds it.
+     */
+    std::unique_ptr<FileLock>
+    lock(std::ostream &out) const;
 
     /**
      * Loads the database for @p palette from file(), or starts an empty one
