@@ -411,7 +411,7 @@ namespace ddfem::app
       const bool show_timings = prm.get_bool("Screen timings");
       prm.leave_subsection();
 
-      const auto           held     = builder.lock(out);
+      const auto           held     = builder.lock(scene.palette, out);
       coarsening::Database database = builder.open(scene.palette, out);
       const std::vector<scene::VoxelGrid> grids = {scene.grid};
       builder.build(scene.palette,

@@ -1,7 +1,8 @@
 #include <ddfem/app/model_run.h>
+#include <ddfem/base/statistics.h>
 
 #include <algorithm>
-#include <cmath>
+#include <optional>
 #include <sstream>
 
 namespace ddfem::app
@@ -35,7 +36,7 @@ namespace ddfem::app
 
 
 
-    /// The median, 99th percentile (nearest rank) and largest entry of @p v.
+    /// The median, 99th percentile and largest entry of @p v (quantile()).
     std::array<double, 3>
     quantiles(const Vector<double> &v)
     {
@@ -43,12 +44,7 @@ namespace ddfem::app
       if (sorted.empty())
         return {{0, 0, 0}};
       std::sort(sorted.begin(), sorted.end());
-      const auto rank = [&](const double q) {
-        return sorted[std::min<std::size_t>(
-          sorted.size() - 1,
-          static_cast<std::size_t>(std::ceil(q * sorted.size())) - 1)];
-      };
-      return {{rank(0.5), rank(0.99), sorted.back()}};
+      return {{quantile(sorted, 0.5), quantile(sorted, 0.99), sorted.back()}};
     }
   } // namespace
 
@@ -159,17 +155,19 @@ namespace ddfem::app
     Result result;
     Timer  total;
     double output_time = 0;
+    // The fields of the full load, if written: the strain statistics reuse
+    // them.
+    std::optional<solver::StaticSolver::CellFields> final_fields;
     result.statistics =
       solver->solve([&](const unsigned int step, const double t) {
-        if (vtu != nullptr && vtu->enabled())
+        const bool last = t >= 1 - 1e-12;
+        if (vtu != nullptr && vtu->writes(last))
           {
             Timer output;
-            vtu->write(*model,
-                       solver->solution(),
-                       solver->cell_fields(solver->solution()),
-                       step,
-                       t,
-                       t >= 1 - 1e-12);
+            auto  fields = solver->cell_fields(solver->solution());
+            vtu->write(*model, solver->solution(), fields, step, t, last);
+            if (last)
+              final_fields = std::move(fields);
             output_time += output.wall_time();
           }
       });
@@ -185,7 +183,9 @@ namespace ddfem::app
 
     const Vector<double> &u = solver->solution();
     result.min_J            = result.statistics.min_J;
-    result.strain_quantiles = quantiles(solver->cell_fields(u).strain);
+    if (!final_fields)
+      final_fields = solver->cell_fields(u);
+    result.strain_quantiles = quantiles(final_fields->strain);
     result.max_displacement = max_node_displacement(*model, u);
     for (const Point<3> &p : scene.probes)
       result.probes.push_back(solver->point_value(u, p));

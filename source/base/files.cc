@@ -5,41 +5,101 @@
 
 #include <cerrno>
 #include <cstring>
+#include <mutex>
+#include <set>
 
 namespace ddfem
 {
+  namespace
+  {
+    /// The paths this process holds a FileLock on (flock would make a
+    /// second lock of the same file in one process wait forever).
+    std::set<std::string> held_paths;
+    std::mutex            held_paths_mutex;
+
+    /// Whether @p error says the file system does not support flock.
+    bool
+    unsupported(const int error)
+    {
+      return error == ENOLCK || error == EOPNOTSUPP || error == ENOSYS ||
+             error == EINVAL;
+    }
+  } // namespace
+
+
+
   FileLock::FileLock(const std::string &path,
                      const std::string &where,
                      std::ostream      &out)
-    : descriptor(::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644))
+    : path(path)
+    , descriptor(-1)
   {
-    AssertThrow(descriptor >= 0,
-                dealii::ExcMessage("Cannot create the lock file \"" + path +
-                                   "\" (" + where +
-                                   "): " + std::strerror(errno) + "."));
+    {
+      std::lock_guard<std::mutex> guard(held_paths_mutex);
+      AssertThrow(held_paths.insert(path).second,
+                  dealii::ExcMessage("\"" + path + "\" (" + where +
+                                     ") is locked twice by this process."));
+    }
+    const auto fail = [&](const std::string &what, const int error) {
+      if (descriptor >= 0)
+        ::close(descriptor);
+      std::lock_guard<std::mutex> guard(held_paths_mutex);
+      held_paths.erase(path);
+      AssertThrow(false,
+                  dealii::ExcMessage(what + " \"" + path + "\" (" + where +
+                                     "): " + std::strerror(error) + "."));
+    };
+
+    descriptor = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0666);
+    if (descriptor < 0 && (errno == EACCES || errno == EROFS))
+      {
+        // A read-only place: another user's lock file, or a database that
+        // this process can read but not change (nor can any writer
+        // without the rights to make the lock file). flock works on a
+        // read-only descriptor; without one, there is nothing to guard.
+        descriptor = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+        if (descriptor < 0 && (errno == ENOENT || errno == EACCES))
+          return;
+      }
+    if (descriptor < 0)
+      fail("Cannot create the lock file", errno);
+
     if (::flock(descriptor, LOCK_EX | LOCK_NB) == 0)
       return;
-    if (errno == EWOULDBLOCK)
-      out << "Waiting for another ddfem process that is using \"" << path
-          << "\" (" << where << ") to finish" << std::endl;
-    int result = -1;
-    if (errno == EWOULDBLOCK)
-      while ((result = ::flock(descriptor, LOCK_EX)) != 0 && errno == EINTR)
-        ;
-    if (result != 0)
+    int error = errno;
+    if (unsupported(error))
       {
-        const std::string error = std::strerror(errno);
+        out << "Warning: the file system of \"" << path
+            << "\" does not support locks (" << std::strerror(error)
+            << "); runs that use the file at the same time may lose each "
+               "other's entries."
+            << std::endl;
         ::close(descriptor);
-        AssertThrow(false,
-                    dealii::ExcMessage("Cannot lock \"" + path + "\" (" +
-                                       where + "): " + error + "."));
+        descriptor = -1;
+        return;
       }
+    if (error == EWOULDBLOCK)
+      {
+        out << "Waiting for another ddfem process that is using \"" << path
+            << "\" (" << where << ") to finish" << std::endl;
+        int result;
+        do
+          result = ::flock(descriptor, LOCK_EX);
+        while (result != 0 && errno == EINTR);
+        if (result == 0)
+          return;
+        error = errno;
+      }
+    fail("Cannot lock", error);
   }
 
 
 
   FileLock::~FileLock()
   {
-    ::close(descriptor); // releases the lock
+    if (descriptor >= 0)
+      ::close(descriptor); // releases the lock
+    std::lock_guard<std::mutex> guard(held_paths_mutex);
+    held_paths.erase(path);
   }
 } // namespace ddfem

@@ -2,6 +2,7 @@
 #include <deal.II/base/timer.h>
 
 #include <ddfem/base/files.h>
+#include <ddfem/base/statistics.h>
 #include <ddfem/coarsening/builder.h>
 #include <ddfem/coarsening/coarsener.h>
 
@@ -26,7 +27,8 @@ namespace ddfem::coarsening
                       "The metamaterial database (HDF5). A build extends or "
                       "resumes it if it exists (same palette and settings "
                       "required); its journal FILE.journal holds the entries "
-                      "finished since the last save.");
+                      "finished since the last save, and FILE.lock makes "
+                      "runs that use it at the same time take turns.");
     prm.declare_entry("Include void",
                       "true",
                       Patterns::Bool(),
@@ -127,21 +129,8 @@ namespace ddfem::coarsening
 
 
 
-  std::unique_ptr<FileLock>
-  DatabaseBuilder::lock(std::ostream &out) const
-  {
-    create_directories(
-      std::filesystem::absolute(database_file).parent_path().string(),
-      "Database/File");
-    return std::make_unique<FileLock>(database_file + ".lock",
-                                      "Database/File",
-                                      out);
-  }
-
-
-
-  Database
-  DatabaseBuilder::open(const scene::Palette &palette, std::ostream &out) const
+  void
+  DatabaseBuilder::check_input(const scene::Palette &palette) const
   {
     const unsigned int n_ids = palette.size() + (with_void ? 1 : 0);
     AssertThrow(n_ids <= 9,
@@ -157,10 +146,32 @@ namespace ddfem::coarsening
                              " < 0 (nu < 0). Metamaterials are fitted with "
                              "lambda >= 0, so Method = ddfem and Run type = "
                              "database need nu >= 0 (lambda >= 0)."));
-    const DatabaseSettings settings = this->settings(palette);
     check_creatable(
       std::filesystem::absolute(database_file).parent_path().string(),
       "Database/File");
+  }
+
+
+
+  std::unique_ptr<FileLock>
+  DatabaseBuilder::lock(const scene::Palette &palette, std::ostream &out) const
+  {
+    check_input(palette);
+    const std::filesystem::path file = std::filesystem::weakly_canonical(
+      std::filesystem::absolute(database_file));
+    create_directories(file.parent_path().string(), "Database/File");
+    return std::make_unique<FileLock>(file.string() + ".lock",
+                                      "Database/File",
+                                      out);
+  }
+
+
+
+  Database
+  DatabaseBuilder::open(const scene::Palette &palette, std::ostream &out) const
+  {
+    check_input(palette);
+    const DatabaseSettings settings = this->settings(palette);
 
     Database database(settings, palette.size());
     if (std::filesystem::exists(database_file))
@@ -420,16 +431,12 @@ namespace ddfem::coarsening
       if (errors.empty())
         return;
       std::sort(errors.begin(), errors.end());
-      const auto percentile = [&errors](const double p) {
-        return errors[std::min<std::size_t>(errors.size() - 1,
-                                            p * errors.size())];
-      };
       out << std::setprecision(3) << "  strain range sampled: " << min_strain
           << " to " << max_strain << " (largest principal stretch deviation)\n"
           << "  held-out relative energy error per entry (median of each): "
-          << "10% " << percentile(0.1) << ", 50% " << percentile(0.5)
-          << ", 90% " << percentile(0.9) << ", max " << errors.back()
-          << std::setprecision(6) << std::endl;
+          << "10% " << quantile(errors, 0.1) << ", 50% "
+          << quantile(errors, 0.5) << ", 90% " << quantile(errors, 0.9)
+          << ", max " << errors.back() << std::setprecision(6) << std::endl;
     }
   } // namespace
 
@@ -676,7 +683,7 @@ namespace ddfem::coarsening
     lazy.levels            = level;
     lazy.run_scope         = Scope::scene;
     lazy.n_representatives = 0; // only a complete database is compressed
-    const auto held        = lazy.lock(out);
+    const auto held        = lazy.lock(palette, out);
     Database   database    = lazy.open(palette, out);
     lazy.build(palette, database, &grids, out, false, &level2);
     return database;

@@ -1,3 +1,4 @@
+#include <ddfem/base/statistics.h>
 #include <ddfem/coarsening/fitting.h>
 
 #include <algorithm>
@@ -299,7 +300,7 @@ namespace ddfem::coarsening
     if (!errors.empty())
       {
         std::sort(errors.begin(), errors.end());
-        result.median_error = errors[errors.size() / 2];
+        result.median_error = quantile(errors, 0.5);
         result.max_error    = errors.back();
       }
     return result;

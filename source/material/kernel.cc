@@ -75,7 +75,7 @@ namespace ddfem::material
   {
     double strain = 0;
     for (const double c : eigenvalues(symmetrize(transpose(F) * F)))
-      strain = std::max(strain, std::abs(std::sqrt(c) - 1.));
+      strain = std::max(strain, std::abs(std::sqrt(std::max(c, 0.)) - 1.));
     return strain;
   }
 

@@ -121,7 +121,7 @@ namespace ddfem::report
                    const double                            t,
                    const bool                              last)
   {
-    if (when == "none" || (when == "last step" && !last))
+    if (!writes(last))
       return;
 
     DataOut<3>     data_out;

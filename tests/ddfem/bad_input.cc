@@ -1,5 +1,6 @@
 // Bad input: every case must give a clear message naming the parameter or
-// file, exit code 1, and leave no output directory behind (for
+// file, exit code 1, and leave no output directory behind, nor a database,
+// journal or lock file of the cases that name one out_<name>.h5 (for
 // output_directory_under_a_file: no directory can be made at all).
 
 #include <ddfem/app/application.h>
@@ -28,11 +29,17 @@ namespace
     std::vector<std::string> arguments = {file};
     arguments.insert(arguments.end(), extra.begin(), extra.end());
     std::ostringstream out, err;
-    const int          code = app::run(arguments, out, err);
+    const int          code    = app::run(arguments, out, err);
+    const std::string  written = "out_" + name;
+    bool               any     = false;
+    for (const auto &f : std::filesystem::directory_iterator("."))
+      {
+        const std::string n = f.path().filename().string();
+        any = any || n == written || n.rfind(written + ".", 0) == 0;
+      }
     std::cout << "* " << name << ": exit code " << code
-              << ", output written: " << std::boolalpha
-              << std::filesystem::exists("out_" + name) << "\n  " << err.str()
-              << std::endl;
+              << ", output written: " << std::boolalpha << any << "\n  "
+              << err.str() << std::endl;
   }
 } // namespace
 

@@ -28,11 +28,12 @@ main(int argc, char **argv)
     dealii::Utilities::MPI::sum(code == 1 ? 1u : 0u, MPI_COMM_WORLD);
   const unsigned int reported =
     dealii::Utilities::MPI::sum(err.str().empty() ? 0u : 1u, MPI_COMM_WORLD);
+  const unsigned int written = dealii::Utilities::MPI::sum(
+    !out.str().empty() || std::filesystem::exists("written") ? 1u : 0u,
+    MPI_COMM_WORLD);
   if (rank == 0)
     std::cout << "processes that returned 1: " << refused << std::endl
               << "processes that reported an error: " << reported << std::endl
-              << "output written: " << std::boolalpha
-              << (!out.str().empty() || std::filesystem::exists("written"))
-              << std::endl
+              << "processes that wrote output: " << written << std::endl
               << err.str();
 }

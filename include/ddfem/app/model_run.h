@@ -50,7 +50,8 @@ namespace ddfem::app
       /// Smallest det F at any quadrature point.
       double min_J = 1;
       /// Median, 99th percentile and largest over the cells of each cell's
-      /// largest principal strain (StaticSolver::CellFields::strain).
+      /// largest principal strain (StaticSolver::CellFields::strain), by
+      /// ddfem::quantile().
       std::array<double, 3> strain_quantiles = {{0, 0, 0}};
       /// Largest vertex displacement (m).
       double max_displacement = 0;

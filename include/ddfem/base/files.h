@@ -79,6 +79,12 @@ namespace ddfem
    * object is destroyed or the process ends, also when it is killed, so no
    * stale lock survives a crash. While another process holds it, the
    * constructor prints what it waits for to @p out and waits.
+   *
+   * Where the lock file can neither be created nor opened for lack of
+   * rights (a read-only place), no lock is taken: no writer without those
+   * rights can be there either. On a file system without locks, a warning
+   * goes to @p out and no lock is taken. Locking one path twice in one
+   * process is an error (flock would wait forever).
    */
   class FileLock
   {
@@ -96,6 +102,9 @@ namespace ddfem
     operator=(const FileLock &) = delete;
 
   private:
+    /// The lock file.
+    std::string path;
+    /// Its open file descriptor, which holds the lock (-1: no lock).
     int descriptor;
   };
 } // namespace ddfem

@@ -95,21 +95,31 @@ namespace ddfem::coarsening
     settings(const scene::Palette &palette) const;
 
     /**
-     * Locks file() for this process until the returned object is destroyed
-     * (a FileLock on file() + ".lock"; its directory is made if missing).
-     * Hold it from open() to the end of build(): two ddfem processes that
-     * use the same file then take turns instead of overwriting each
-     * other's entries. Waits, with a message on @p out, while another
-     * process holds it.
+     * Throws ExcMessage if a database for @p palette cannot be built with
+     * these settings (more than 8 materials, lambda < 0) or file()'s
+     * directory cannot be made. Writes nothing.
      */
-    std::unique_ptr<FileLock>
-    lock(std::ostream &out) const;
+    void
+    check_input(const scene::Palette &palette) const;
 
     /**
-     * Loads the database for @p palette from file(), or starts an empty one
-     * if there is none, and adds what the file's journal holds. Throws
-     * ExcMessage if the file was built for another palette or with other
-     * settings.
+     * After check_input(), locks file() for this process until the
+     * returned object is destroyed: a FileLock on the canonical path of
+     * file() + ".lock", whose directory is made if missing. Hold it from
+     * open() to the end of build(): two ddfem processes that use the same
+     * file then take turns instead of overwriting each other's entries.
+     * Waits, with a message on @p out, while another process holds it.
+     * prepare() takes it itself.
+     */
+    std::unique_ptr<FileLock>
+    lock(const scene::Palette &palette, std::ostream &out) const;
+
+    /**
+     * After check_input(), loads the database for @p palette from file(),
+     * or starts an empty one if there is none, and adds what the file's
+     * journal holds. Throws ExcMessage if the file was built for another
+     * palette or with other settings. Reads only: call it under lock() if
+     * build() follows.
      */
     Database
     open(const scene::Palette &palette, std::ostream &out) const;
@@ -141,10 +151,10 @@ namespace ddfem::coarsening
 
     /**
      * Lazy mode for a coarse simulation at coarsening @p level (1 or 2):
-     * opens the database, fits the metamaterials the blocks of @p grids
-     * (the states of a scene) need at that level if they are missing
-     * (appending them to the file), and
-     * returns the database, with the level-2 tables and entries in
+     * locks (lock()) and opens the database, fits the metamaterials the blocks
+     * of @p grids (the states of a scene) need at that level if they are
+     * missing (appending them to the file), and returns the database, with the
+     * level-2 tables and entries in
      * @p level2 at level 2.
      */
     Database

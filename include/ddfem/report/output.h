@@ -89,6 +89,14 @@ namespace ddfem::report
       return when != "none";
     }
 
+    /// Whether write() writes the state of a load step (@p last: the
+    /// final state).
+    bool
+    writes(const bool last) const
+    {
+      return when == "every step" || (when == "last step" && last);
+    }
+
   private:
     /// 'Write VTU': every step, last step or none.
     std::string when;

@@ -1,0 +1,26 @@
+#ifndef ddfem_base_statistics_h
+#define ddfem_base_statistics_h
+
+#include <deal.II/base/exceptions.h>
+
+#include <algorithm>
+#include <cstddef>
+#include <vector>
+
+namespace ddfem
+{
+  /**
+   * The @p q quantile (0 <= q <= 1) of the ascending values @p sorted:
+   * sorted[min(n - 1, floor(q n))], so that at most a fraction 1 - q of the
+   * values lies above it. The median of an even count is the upper middle
+   * value; q = 1 gives the largest. @p sorted must not be empty.
+   */
+  inline double
+  quantile(const std::vector<double> &sorted, const double q)
+  {
+    Assert(!sorted.empty(), dealii::ExcEmptyObject());
+    return sorted[std::min<std::size_t>(sorted.size() - 1, q * sorted.size())];
+  }
+} // namespace ddfem
+
+#endif
