@@ -104,8 +104,7 @@ namespace ddfem::dg
             // The element's support points on the face, as the system
             // constrains them (the cell is an axis-aligned box).
             for (const Point<3> &q : element->get_unit_support_points())
-              if (std::abs(q[GeometryInfo<3>::unit_normal_direction[f]] -
-                           f % 2) < 1e-12)
+              if (on_unit_face(q, f))
                 points.push_back(cell_point(cell, q));
         }
     return points;

@@ -313,9 +313,7 @@ namespace ddfem::dg
                 if (cell->face(f)->at_boundary())
                   for (unsigned int i = 0; i < dofs.size(); ++i)
                     {
-                      const unsigned int direction =
-                        GeometryInfo<dim>::unit_normal_direction[f];
-                      if (std::abs(unit_points[i][direction] - f % 2) > 1e-12 ||
+                      if (!on_unit_face(unit_points[i], f) ||
                           constraints.is_constrained(dofs[i]))
                         continue;
                       const Point<dim> p =

@@ -2,6 +2,7 @@
 #define ddfem_dg_system_h
 
 #include <deal.II/base/function.h>
+#include <deal.II/base/geometry_info.h>
 #include <deal.II/base/point.h>
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/base/tensor.h>
@@ -16,12 +17,27 @@
 
 #include <ddfem/dg/parameters.h>
 
+#include <cmath>
 #include <functional>
 #include <vector>
 
 namespace ddfem::dg
 {
   using namespace dealii;
+
+  /**
+   * Whether the point @p unit_point of the reference cell lies on its face
+   * @p f: the support points that strong Dirichlet conditions constrain
+   * (System::make_constraints(); the scene solver's supports check uses
+   * the same points).
+   */
+  template <int dim>
+  inline bool
+  on_unit_face(const Point<dim> &unit_point, const unsigned int f)
+  {
+    return std::abs(unit_point[GeometryInfo<dim>::unit_normal_direction[f]] -
+                    f % 2) < 1e-12;
+  }
 
   /**
    * The linear material of one cell. For a vector field (dim components):
