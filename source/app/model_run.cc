@@ -69,7 +69,7 @@ namespace ddfem::app
     json["coarsening_time_s"] = coarsening_time;
     json["cells_updated"]     = cells_updated;
     json["wall_time_s"]       = wall_time;
-    json["time_per_newton_iteration_s"] =
+    json["time_per_iteration_s"] =
       wall_time / std::max(1u, statistics.newton_iterations);
     json["phase_wall_time_s"] = phases;
     json["probes"]            = nlohmann::json::array();

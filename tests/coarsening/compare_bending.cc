@@ -5,8 +5,12 @@
 // run writes are checked for their columns. A second, smaller run compares
 // a quadratic fine model with the trilinear naive one.
 
+#include <nlohmann/json.hpp>
+
 #include <filesystem>
 #include <fstream>
+#include <set>
+#include <sstream>
 
 #include "../tests.h"
 
@@ -83,6 +87,21 @@ main(int argc, char **argv)
   for (std::string line; std::getline(csv, line);)
     ++lines;
   std::cout << "comparison.csv rows: " << lines << std::endl;
+
+  // comparison.json has every column of the CSV in every run.
+  std::ifstream         json_file("compare/comparison.json");
+  const nlohmann::json  json = nlohmann::json::parse(json_file);
+  std::set<std::string> missing;
+  std::stringstream     columns(header);
+  for (std::string column; std::getline(columns, column, ',');)
+    for (const auto &run : json.at("runs"))
+      if (!run.contains(column))
+        missing.insert(column);
+  std::cout << "comparison.json runs: " << json.at("runs").size()
+            << ", CSV columns missing in them:";
+  for (const std::string &column : missing)
+    std::cout << ' ' << column;
+  std::cout << (missing.empty() ? " none" : "") << std::endl;
   for (const char *file : {"compare/comparison.json",
                            "compare/error_vs_time.png",
                            "compare/fine/solution.pvd",
