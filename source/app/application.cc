@@ -255,6 +255,7 @@ namespace ddfem::app
               {
                 // The rest of the input is checked before any fitting.
                 check_coarse_model(scene,
+                                   degree,
                                    level,
                                    database.point_offset(),
                                    solver_parameters,

@@ -361,7 +361,9 @@ namespace ddfem::app
             checked =
               checked || (models[b] && configurations[b].level == c.level);
           if (!checked)
+            // Coarse models are trilinear whatever the fine degree.
             check_coarse_model(scene,
+                               1,
                                c.level,
                                database.point_offset(),
                                solver_parameters,

@@ -196,6 +196,7 @@ namespace ddfem::app
 
   void
   check_coarse_model(const scene::Scene                     &scene,
+                     const unsigned int                      degree,
                      const unsigned int                      level,
                      const double                            point_offset,
                      const solver::StaticSolver::Parameters &parameters,
@@ -207,6 +208,7 @@ namespace ddfem::app
                                       level,
                                       scene.palette,
                                       point_offset);
-    const ModelRun model(scene, 1, &naive, parameters, linear_solver, quiet);
+    const ModelRun              model(
+      scene, degree, &naive, parameters, linear_solver, quiet);
   }
 } // namespace ddfem::app

@@ -187,6 +187,14 @@ main(int argc, char **argv)
             "Method=ddfem",
             "--set",
             "Database/File=out_ddfem_probe_outside/db.h5"});
+  run_case("ddfem_quadratic",
+           cantilever,
+           {"--set",
+            "Method=ddfem",
+            "--set",
+            "Discretization/Polynomial degree=2",
+            "--set",
+            "Database/File=out_ddfem_quadratic/db.h5"});
   run_case("newton_tolerance_one",
            cantilever,
            {"--set", "Nonlinear solver/Newton tolerance=1"});

@@ -122,13 +122,15 @@ namespace ddfem::app
 
   /**
    * Checks what a ddfem model of @p scene at coarsening level @p level
-   * needs besides its database, before the database is prepared (which may
-   * fit for minutes): builds the model with naive materials (the same
-   * mesh, supports, loads and probes) and discards it. Throws ExcMessage
-   * like the ModelRun constructor.
+   * with polynomial degree @p degree needs besides its database, before the
+   * database is prepared (which may fit for minutes): builds the model with
+   * naive materials (the same mesh, supports, loads and probes) and
+   * discards it. Throws ExcMessage like the ModelRun constructor, e.g. for
+   * a degree other than 1.
    */
   void
   check_coarse_model(const scene::Scene                     &scene,
+                     const unsigned int                      degree,
                      const unsigned int                      level,
                      const double                            point_offset,
                      const solver::StaticSolver::Parameters &parameters,
