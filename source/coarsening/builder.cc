@@ -192,7 +192,9 @@ namespace ddfem::coarsening
                                "settings."));
       }
     const std::vector<Entry> journaled =
-      Journal::read(database_file, settings.fingerprint());
+      Journal::read(database_file,
+                    settings.fingerprint(),
+                    database.combinations().size());
     unsigned int recovered = 0;
     for (const Entry &e : journaled)
       if (!database.contains(database.combinations().combination(e.key)))
@@ -594,7 +596,9 @@ namespace ddfem::coarsening
                              level2.entries.end(),
                              [r](const Entry &e) { return e.key == r; });
         };
-        for (const Entry &e : Journal::read(level2_journal, fingerprint))
+        for (const Entry &e : Journal::read(level2_journal,
+                                            fingerprint,
+                                            level2.n_representatives()))
           if (!has(e.key))
             level2.entries.push_back(e);
         std::sort(needed.begin(), needed.end());

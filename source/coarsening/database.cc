@@ -101,6 +101,16 @@ namespace ddfem::coarsening
 
 
 
+    bool
+    is_physical(const material::MaterialPoint &p)
+    {
+      return std::isfinite(p.mu) && p.mu > 0 && std::isfinite(p.lambda) &&
+             p.lambda >= 0 && std::isfinite(p.anisotropy) &&
+             p.anisotropy >= 0 && std::abs(p.direction.norm() - 1) < 1e-6;
+    }
+
+
+
     void
     append_values(const Metamaterial &m, std::vector<double> &values)
     {
@@ -196,9 +206,7 @@ namespace ddfem::coarsening
                              const unsigned int         q) {
         const material::MaterialPoint p =
           point_from(&values[(e * n_points + q) * n_values]);
-        check(std::isfinite(p.mu) && p.mu > 0 && std::isfinite(p.lambda) &&
-                p.lambda >= 0 && std::isfinite(p.anisotropy) &&
-                p.anisotropy >= 0 && std::abs(p.direction.norm() - 1) < 1e-6,
+        check(is_physical(p),
               "has non-physical " + name + " at " + group + " " +
                 std::to_string(e) + ", point " + std::to_string(q));
         return p;
@@ -426,7 +434,11 @@ namespace ddfem::coarsening
         const std::string with_void = read_attribute(h5, "with void");
         check(with_void == "0" || with_void == "1",
               "has an invalid 'with void' attribute '" + with_void + "'");
-        settings.with_void = with_void == "1";
+        settings.with_void             = with_void == "1";
+        const unsigned int n_materials = count_materials(settings.palette);
+        check(n_materials + (settings.with_void ? 1 : 0) <= 9,
+              "has a palette of " + std::to_string(n_materials) +
+                " materials; databases hold at most 8 materials plus void");
         settings.point_offset =
           read_number_attribute(h5, "coarse point offset");
         check(settings.point_offset > 0 && settings.point_offset < 1,
@@ -434,7 +446,7 @@ namespace ddfem::coarsening
                 Utilities::to_string(settings.point_offset) +
                 ", which is not in (0, 1)");
         const std::string fingerprint = read_attribute(h5, "settings");
-        Database          db(settings, count_materials(settings.palette));
+        Database          db(settings, n_materials);
         db.settings_fingerprint = fingerprint;
         const double representatives =
           read_number_attribute(h5, "representatives");
@@ -762,7 +774,8 @@ namespace ddfem::coarsening
 
   std::vector<Entry>
   Journal::read(const std::string &database_file,
-                const std::string &fingerprint)
+                const std::string &fingerprint,
+                const std::size_t  n_keys)
   {
     std::vector<Entry> entries;
     const std::string  name = journal_name(database_file);
@@ -814,6 +827,8 @@ namespace ddfem::coarsening
             std::fread(&sum, sizeof(sum), 1, in) != 1 ||
             sum != checksum(values))
           break;
+        if (!(values[0] >= 0 && values[0] < n_keys))
+          break;
         Entry e;
         e.key          = values[0];
         e.median_error = values[1];
@@ -828,6 +843,11 @@ namespace ddfem::coarsening
         for (unsigned int q = 0; q < n_children; ++q)
           e.child_material.points.push_back(
             point_from(&values[n_header + (n_points + q) * n_values]));
+        const auto physical = [](const Metamaterial &m) {
+          return std::all_of(m.points.begin(), m.points.end(), is_physical);
+        };
+        if (!(physical(e.material) && physical(e.child_material)))
+          break;
         entries.push_back(e);
         values.resize(n_header);
       }

@@ -273,8 +273,18 @@ namespace ddfem::coarsening
           }
       }
 
-    const Vector<double> x      = nonnegative_least_squares(A, b);
-    Metamaterial         result = prior;
+    const Vector<double> x = nonnegative_least_squares(A, b);
+    // Without regularization, too few samples can leave the normal
+    // equations singular.
+    AssertThrow(std::all_of(x.begin(),
+                            x.end(),
+                            [](const double v) { return std::isfinite(v); }),
+                ExcMessage("A metamaterial fit is singular: its samples do "
+                           "not determine the parameters. Give "
+                           "Database/Fitting/Regularization (and Child "
+                           "regularization) a value above 0, or more "
+                           "Database/Sampling/Patterns."));
+    Metamaterial result = prior;
     for (unsigned int q = 0; q < prior.points.size(); ++q)
       {
         auto &p      = result.points[q];

@@ -224,6 +224,14 @@ namespace ddfem::coarsening::hdf5
   material::MaterialPoint
   point_from(const double *values);
 
+  /**
+   * Whether a stored material record is physical: finite, mu > 0,
+   * lambda >= 0, C >= 0 and a unit direction. The fits guarantee it; the
+   * readers of files and journals check it.
+   */
+  bool
+  is_physical(const material::MaterialPoint &p);
+
   /// Appends the n_values stored numbers of every point of @p m to @p values.
   void
   append_values(const Metamaterial &m, std::vector<double> &values);

@@ -14,6 +14,7 @@
 #include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <random>
 #include <set>
 
@@ -156,14 +157,15 @@ main()
     // Kill the build once a few entries are in its journal.
     const std::string fingerprint =
       builder("killed.h5", true).settings(palette()).fingerprint();
-    while (Journal::read("killed.h5", fingerprint).size() < 20 &&
+    const std::size_t n_keys = CombinationIndex(2, true).size();
+    while (Journal::read("killed.h5", fingerprint, n_keys).size() < 20 &&
            !std::filesystem::exists("killed.h5") &&
            waitpid(child, nullptr, WNOHANG) == 0)
       usleep(1000);
     kill(child, SIGKILL);
     waitpid(child, nullptr, 0);
     const std::size_t journaled =
-      Journal::read("killed.h5", fingerprint).size();
+      Journal::read("killed.h5", fingerprint, n_keys).size();
     std::cout << "killed before the end: " << std::boolalpha
               << !std::filesystem::exists("killed.h5")
               << ", at least 20 entries journaled: " << (journaled >= 20)
@@ -182,6 +184,27 @@ main()
               << same_entries(Database::load("killed.h5"), full)
               << ", journal removed: "
               << !std::filesystem::exists("killed.h5.journal") << std::endl;
+
+    // A journal is read up to its first damaged record, also one whose
+    // checksum holds: a key beyond the palette or a negative modulus.
+    for (const auto &[damage, spoil] :
+         std::vector<std::pair<std::string, std::function<void(Entry &)>>>{
+           {"key beyond the palette", [&](Entry &e) { e.key = n_keys; }},
+           {"negative mu", [](Entry &e) { e.material.points[3].mu = -1; }}})
+      {
+        std::filesystem::remove("forged.h5.journal");
+        {
+          Journal journal("forged.h5", fingerprint);
+          Entry   bad = full.entries()[1];
+          spoil(bad);
+          journal.append(full.entries()[0]);
+          journal.append(bad);
+          journal.append(full.entries()[2]);
+        }
+        std::cout << "journal with a record of " << damage << ": records read "
+                  << Journal::read("forged.h5", fingerprint, n_keys).size()
+                  << " of 3" << std::endl;
+      }
     for (const unsigned int threads : {2u, 3u})
       std::cout << threads << " threads give the same entries: "
                 << same_entries(build(builder("threads" +
@@ -715,26 +738,40 @@ main()
                                    std::filesystem::file_size("small.h5") / 2);
     }
     expect_error("truncated", [] { Database::load("truncated.h5"); });
-    {
-      std::filesystem::copy_file(
-        "small.h5",
-        "bad_attribute.h5",
-        std::filesystem::copy_options::overwrite_existing);
-      const hid_t file = H5Fopen("bad_attribute.h5", H5F_ACC_RDWR, H5P_DEFAULT);
-      H5Adelete(file, "representatives");
-      const hid_t type = H5Tcopy(H5T_C_S1);
-      H5Tset_size(type, 4);
-      const hid_t space     = H5Screate(H5S_SCALAR);
-      const hid_t attribute = H5Acreate2(
-        file, "representatives", type, space, H5P_DEFAULT, H5P_DEFAULT);
-      H5Awrite(attribute, type, "many");
-      H5Aclose(attribute);
-      H5Sclose(space);
-      H5Tclose(type);
-      H5Fclose(file);
-    }
+    // A copy of small.h5 named @p copy with the string attributes
+    // @p attributes (name, value) replaced.
+    const auto edited_copy =
+      [](const std::string                                      &copy,
+         const std::vector<std::pair<std::string, std::string>> &attributes) {
+        std::filesystem::copy_file(
+          "small.h5", copy, std::filesystem::copy_options::overwrite_existing);
+        const hid_t file = H5Fopen(copy.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+        for (const auto &[name, value] : attributes)
+          {
+            H5Adelete(file, name.c_str());
+            const hid_t type = H5Tcopy(H5T_C_S1);
+            H5Tset_size(type, value.size());
+            const hid_t space     = H5Screate(H5S_SCALAR);
+            const hid_t attribute = H5Acreate2(
+              file, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT);
+            H5Awrite(attribute, type, value.c_str());
+            H5Aclose(attribute);
+            H5Sclose(space);
+            H5Tclose(type);
+          }
+        H5Fclose(file);
+      };
+    edited_copy("bad_attribute.h5", {{"representatives", "many"}});
     expect_error("damaged attribute",
                  [] { Database::load("bad_attribute.h5"); });
+    // A palette beyond the tables' limit is named before any table is
+    // allocated for it (20 materials would ask for 21^8 entries).
+    std::string twenty = "E=1e5 nu=0.45";
+    for (unsigned int m = 1; m < 20; ++m)
+      twenty += "; E=1e5 nu=0.45";
+    edited_copy("large_palette.h5",
+                {{"palette", twenty}, {"palette hash", palette_hash(twenty)}});
+    expect_error("20 materials", [] { Database::load("large_palette.h5"); });
     expect_error("other palette", [&log] {
       builder("small.h5", false)
         .open(palette("E=1e5 nu=0.45; E=2e6 nu=0.45"), log);

@@ -305,12 +305,15 @@ namespace ddfem::coarsening
 
     /**
      * Reads the complete records of the journal of @p database_file
-     * (none if it does not exist); a torn last record is ignored. Throws
-     * ExcMessage if the journal was written with settings other than
-     * @p fingerprint.
+     * (none if it does not exist). Reading stops at a torn or damaged
+     * record: a bad checksum, a key not below @p n_keys, or a non-physical
+     * parameter. Throws ExcMessage if the journal was written with settings
+     * other than @p fingerprint.
      */
     static std::vector<Entry>
-    read(const std::string &database_file, const std::string &fingerprint);
+    read(const std::string &database_file,
+         const std::string &fingerprint,
+         std::size_t        n_keys);
 
     /// Deletes the journal of @p database_file.
     static void
