@@ -712,32 +712,46 @@ namespace ddfem::coarsening
     {
       return database_file + ".journal";
     }
+
+    /// The message for a journal file that cannot be written.
+    std::string
+    cannot_write(const std::string &journal)
+    {
+      return "Cannot write the build journal " + journal +
+             " (next to Database/File): is the disk full or the directory "
+             "read-only?";
+    }
   } // namespace
 
 
 
   Journal::Journal(const std::string &database_file,
                    const std::string &fingerprint)
+    : name(journal_name(database_file))
   {
-    const std::string name = journal_name(database_file);
     // A new journal gets its header under another name first: a reader
     // (or a build killed meanwhile) never sees half a header.
     if (!std::filesystem::exists(name))
       {
         const std::string partial = name + ".partial";
         std::FILE        *header  = std::fopen(partial.c_str(), "wb");
-        AssertThrow(header != nullptr,
-                    ExcMessage("Cannot write the build journal " + partial +
-                               "."));
+        AssertThrow(header != nullptr, ExcMessage(cannot_write(partial)));
         const std::uint64_t length = fingerprint.size();
-        std::fwrite(&length, sizeof(length), 1, header);
-        std::fwrite(fingerprint.data(), 1, length, header);
-        std::fclose(header);
-        std::filesystem::rename(partial, name);
+        const bool          written =
+          std::fwrite(&length, sizeof(length), 1, header) == 1 &&
+          std::fwrite(fingerprint.data(), 1, length, header) == length;
+        const bool      closed = std::fclose(header) == 0;
+        std::error_code renamed;
+        if (written && closed)
+          std::filesystem::rename(partial, name, renamed);
+        if (!written || !closed || renamed)
+          {
+            std::filesystem::remove(partial);
+            AssertThrow(false, ExcMessage(cannot_write(name)));
+          }
       }
     file = std::fopen(name.c_str(), "ab");
-    AssertThrow(file != nullptr,
-                ExcMessage("Cannot write the build journal " + name + "."));
+    AssertThrow(file != nullptr, ExcMessage(cannot_write(name)));
   }
 
 
@@ -764,10 +778,14 @@ namespace ddfem::coarsening
     append_values(entry.material, values);
     append_values(entry.child_material, values);
     const std::uint64_t sum = checksum(values);
-    std::fwrite(&record_magic, sizeof(record_magic), 1, file);
-    std::fwrite(values.data(), sizeof(double), values.size(), file);
-    std::fwrite(&sum, sizeof(sum), 1, file);
-    std::fflush(file);
+    // A record that is not written whole is ignored by read(); the build
+    // stops here rather than fit on without saving.
+    AssertThrow(
+      std::fwrite(&record_magic, sizeof(record_magic), 1, file) == 1 &&
+        std::fwrite(values.data(), sizeof(double), values.size(), file) ==
+          values.size() &&
+        std::fwrite(&sum, sizeof(sum), 1, file) == 1 && std::fflush(file) == 0,
+      ExcMessage(cannot_write(name)));
   }
 
 

@@ -205,6 +205,15 @@ main()
                   << Journal::read("forged.h5", fingerprint, n_keys).size()
                   << " of 3" << std::endl;
       }
+    // A record that cannot be written stops the build (/dev/full fails
+    // every write with ENOSPC).
+    std::filesystem::remove("full_disk.h5.journal");
+    std::filesystem::create_symlink("/dev/full", "full_disk.h5.journal");
+    expect_error("journal on a full disk", [&] {
+      Journal journal("full_disk.h5", fingerprint);
+      journal.append(full.entries()[0]);
+    });
+    std::filesystem::remove("full_disk.h5.journal");
     for (const unsigned int threads : {2u, 3u})
       std::cout << threads << " threads give the same entries: "
                 << same_entries(build(builder("threads" +

@@ -320,6 +320,9 @@ namespace ddfem::coarsening
     remove(const std::string &database_file);
 
   private:
+    /// The journal's file name.
+    std::string name;
+    /// The journal, open for appending.
     std::FILE *file;
   };
 } // namespace ddfem::coarsening
