@@ -1,4 +1,4 @@
-#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/base/geometry_info.h>
 #include <deal.II/base/symmetric_tensor.h>
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/fe_q.h>
@@ -150,16 +150,13 @@ namespace ddfem::coarsening
       solver::coarse_quadrature(1, child_point_offset),
       update_gradients | update_JxW_values);
     fe_values->reinit(dof_handler.begin_active());
-    dof_component.resize(dof_handler.n_dofs());
+    dof_component = solver::dof_components(dof_handler);
     std::map<unsigned int, std::array<types::global_dof_index, 3>> vertices;
     for (const auto &cell : dof_handler.active_cell_iterators())
       {
         cell_dofs.emplace_back(fe.n_dofs_per_cell());
         cell->get_dof_indices(cell_dofs.back());
         cell_child.push_back(blocks[cell->active_cell_index()]);
-        for (unsigned int i = 0; i < fe.n_dofs_per_cell(); ++i)
-          dof_component[cell_dofs.back()[i]] =
-            fe.system_to_component_index(i).first;
         for (const unsigned int v : cell->vertex_indices())
           for (unsigned int c = 0; c < 3; ++c)
             vertices[cell->vertex_index(v)][c] = cell->vertex_dof_index(v, c);
@@ -203,15 +200,11 @@ namespace ddfem::coarsening
       for (unsigned int i = 0; i < dof_handler.n_dofs(); ++i)
         if (group_dofs[g][i])
           {
-            const unsigned int c      = dof_component[i];
-            const Tensor<1, 3> x      = support_points[i] - center;
-            constraints(6 * g + c, i) = 1;
-            for (unsigned int r = 0; r < 3; ++r)
-              {
-                Tensor<1, 3> axis;
-                axis[r]                       = 1;
-                constraints(6 * g + 3 + r, i) = cross_product_3d(axis, x)[c];
-              }
+            const std::array<double, 6> modes =
+              solver::rigid_body_modes(support_points[i] - center,
+                                       dof_component[i]);
+            for (unsigned int m = 0; m < 6; ++m)
+              constraints(6 * g + m, i) = modes[m];
           }
     for (unsigned int r = 0; r < constraints.m(); ++r)
       {
@@ -235,16 +228,10 @@ namespace ddfem::coarsening
     std::vector<Point<3>> node_points;
     for (const auto &dofs : node_dofs)
       node_points.push_back(support_points[dofs[0]]);
-    const auto trilinear = [](const unsigned int v, const Point<3> &x) {
-      double value = 1;
-      for (unsigned int d = 0; d < 3; ++d)
-        value *= (v & (1u << d)) ? x[d] : 1. - x[d];
-      return value;
-    };
     FullMatrix<double> B(node_points.size(), 8), BtB(8, 8);
     for (unsigned int n = 0; n < node_points.size(); ++n)
       for (unsigned int v = 0; v < 8; ++v)
-        B(n, v) = trilinear(v, node_points[n]);
+        B(n, v) = GeometryInfo<3>::d_linear_shape_function(node_points[n], v);
     B.Tmmult(BtB, B);
     BtB.gauss_jordan();
     corner_weights.reinit(8, node_points.size());
@@ -666,13 +653,7 @@ namespace ddfem::coarsening
   double
   BlockSampler::linearized_strain(const Vector<double> &u) const
   {
-    return largest_over_points(u, [](const Tensor<2, 3> &F) {
-      double strain = 0;
-      for (const double e :
-           eigenvalues(symmetrize(F - unit_symmetric_tensor<3>())))
-        strain = std::max(strain, std::abs(e));
-      return strain;
-    });
+    return largest_over_points(u, material::linearized_strain);
   }
 
 

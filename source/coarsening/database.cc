@@ -32,13 +32,27 @@ namespace ddfem::coarsening
 
 
 
+  namespace
+  {
+    /// The 64-bit FNV-1a hash of @p n bytes at @p data.
+    std::uint64_t
+    fnv1a(const void *data, const std::size_t n)
+    {
+      std::uint64_t h     = 1469598103934665603ULL;
+      const auto   *bytes = static_cast<const unsigned char *>(data);
+      for (std::size_t i = 0; i < n; ++i)
+        h = (h ^ bytes[i]) * 1099511628211ULL;
+      return h;
+    }
+  } // namespace
+
+
+
   std::string
   palette_hash(const std::string &palette)
   {
-    std::uint64_t h = 1469598103934665603ULL; // FNV-1a
-    for (const unsigned char c : palette)
-      h = (h ^ c) * 1099511628211ULL;
-    std::ostringstream s;
+    const std::uint64_t h = fnv1a(palette.data(), palette.size());
+    std::ostringstream  s;
     s << std::hex << std::setw(16) << std::setfill('0') << h;
     return s.str();
   }
@@ -695,16 +709,11 @@ namespace ddfem::coarsening
   {
     constexpr std::uint32_t record_magic = 0x4444464dU; // "DDFM"
 
-    /// FNV-1a over a byte range.
+    /// The checksum of a journal record: FNV-1a over its bytes.
     std::uint64_t
     checksum(const std::vector<double> &values)
     {
-      std::uint64_t h = 1469598103934665603ULL;
-      const auto   *bytes =
-        reinterpret_cast<const unsigned char *>(values.data());
-      for (std::size_t i = 0; i < values.size() * sizeof(double); ++i)
-        h = (h ^ bytes[i]) * 1099511628211ULL;
-      return h;
+      return fnv1a(values.data(), values.size() * sizeof(double));
     }
 
     std::string

@@ -1,8 +1,10 @@
+#include <deal.II/base/geometry_info.h>
+
 #include <ddfem/coarsening/hierarchy.h>
+#include <ddfem/material/kernel.h>
 
 #include <iomanip>
 #include <map>
-#include <random>
 #include <sstream>
 
 #include "hdf5_io.h"
@@ -193,18 +195,13 @@ namespace ddfem::coarsening
                     for (unsigned int i = 0; i < 3; ++i)
                       x[i] = (((p >> i) & 1) + ((v >> i) & 1)) / size[i];
                     for (unsigned int w = 0; w < 8; ++w)
-                      {
-                        double N = 1;
-                        for (unsigned int i = 0; i < 3; ++i)
-                          N *= (w & (1u << i)) ? x[i] : 1. - x[i];
-                        child[p][v] += N * composite[w];
-                      }
+                      child[p][v] +=
+                        GeometryInfo<3>::d_linear_shape_function(x, w) *
+                        composite[w];
                   }
                 element.deformation_gradients(child[p], F);
                 for (const auto &Fq : F)
-                  for (const double e :
-                       eigenvalues(symmetrize(Fq - unit_symmetric_tensor<3>())))
-                    largest = std::max(largest, std::abs(e));
+                  largest = std::max(largest, material::linearized_strain(Fq));
               }
             for (unsigned int p = 0; p < n_positions; ++p)
               {

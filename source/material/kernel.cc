@@ -81,6 +81,18 @@ namespace ddfem::material
 
 
 
+  double
+  linearized_strain(const Tensor<2, 3> &F)
+  {
+    double strain = 0;
+    for (const double e :
+         eigenvalues(symmetrize(F - unit_symmetric_tensor<3>())))
+      strain = std::max(strain, std::abs(e));
+    return strain;
+  }
+
+
+
   Tensor<2, 3>
   cauchy_stress(const Tensor<2, 3> &P, const Tensor<2, 3> &F)
   {

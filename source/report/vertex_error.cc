@@ -1,3 +1,4 @@
+#include <deal.II/base/geometry_info.h>
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/fe_q.h>
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
@@ -69,17 +70,12 @@ namespace ddfem::report
               if (done[index])
                 continue;
               done[index] = true;
+              Point<3> xi;
+              for (unsigned int d = 0; d < 3; ++d)
+                xi[d] = (cell->vertex(v)[d] - origin[d]) / size[d];
               std::array<double, 8> N;
               for (const unsigned int w : coarse_cell->vertex_indices())
-                {
-                  N[w] = 1;
-                  for (unsigned int d = 0; d < 3; ++d)
-                    {
-                      const double xi =
-                        (cell->vertex(v)[d] - origin[d]) / size[d];
-                      N[w] *= (w & (1u << d)) ? xi : 1. - xi;
-                    }
-                }
+                N[w] = GeometryInfo<3>::d_linear_shape_function(xi, w);
               f(index, coarse_cell, N);
             }
         }

@@ -5,6 +5,7 @@
 
 #include <Teuchos_ParameterList.hpp>
 #include <ddfem/solver/linear_solver.h>
+#include <ddfem/solver/supports.h>
 
 namespace ddfem::solver
 {
@@ -117,28 +118,14 @@ namespace ddfem::solver
     Point<3> centroid;
     for (const Point<3> &p : points)
       centroid += p / static_cast<double>(n);
-    std::vector<unsigned int>            component(n);
-    std::vector<types::global_dof_index> dofs(
-      dof_handler.get_fe().n_dofs_per_cell());
-    for (const auto &cell : dof_handler.active_cell_iterators())
-      {
-        cell->get_dof_indices(dofs);
-        for (unsigned int i = 0; i < dofs.size(); ++i)
-          component[dofs[i]] =
-            dof_handler.get_fe().system_to_component_index(i).first;
-      }
-    rigid_body_modes.assign(6 * n, 0.);
+    const std::vector<unsigned int> component = dof_components(dof_handler);
+    rigid_body_modes.resize(6 * n);
     for (types::global_dof_index i = 0; i < n; ++i)
       {
-        const Tensor<1, 3> r        = points[i] - centroid;
-        const unsigned int c        = component[i];
-        rigid_body_modes[c * n + i] = 1.;
-        for (unsigned int axis = 0; axis < 3; ++axis)
-          {
-            Tensor<1, 3> e;
-            e[axis]                              = 1.;
-            rigid_body_modes[(3 + axis) * n + i] = cross_product_3d(e, r)[c];
-          }
+        const std::array<double, 6> modes =
+          solver::rigid_body_modes(points[i] - centroid, component[i]);
+        for (unsigned int m = 0; m < 6; ++m)
+          rigid_body_modes[m * n + i] = modes[m];
       }
   }
 

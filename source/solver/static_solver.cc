@@ -142,14 +142,7 @@ namespace ddfem::solver
     DoFTools::map_dofs_to_support_points(discretization.mapping,
                                          dof_handler,
                                          points);
-    std::vector<unsigned int> component(n, numbers::invalid_unsigned_int);
-    std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
-    for (const auto &cell : dof_handler.active_cell_iterators())
-      {
-        cell->get_dof_indices(dofs);
-        for (unsigned int i = 0; i < dofs.size(); ++i)
-          component[dofs[i]] = fe.system_to_component_index(i).first;
-      }
+    const std::vector<unsigned int> component = dof_components(dof_handler);
     dirichlet_dofs.clear();
     for (types::global_dof_index i = 0; i < n; ++i)
       {
@@ -180,17 +173,18 @@ namespace ddfem::solver
 
     // Dead external loads: body force and surface tractions at t = 1.
     external_force.reinit(n);
-    const unsigned int degree = fe.degree;
-    FEValues<3>        fe_values(discretization.mapping,
+    const unsigned int                   degree = fe.degree;
+    FEValues<3>                          fe_values(discretization.mapping,
                           fe,
                           discretization.quadrature,
                           update_values | update_quadrature_points |
                             update_JxW_values);
-    FEFaceValues<3>    fe_face_values(discretization.mapping,
+    FEFaceValues<3>                      fe_face_values(discretization.mapping,
                                    fe,
                                    QGauss<2>(degree + 1),
                                    update_values | update_quadrature_points |
                                      update_normal_vectors | update_JxW_values);
+    std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
     for (const auto &cell : dof_handler.active_cell_iterators())
       {
         cell->get_dof_indices(dofs);
@@ -664,8 +658,7 @@ namespace ddfem::solver
     const unsigned int n_cells = discretization.triangulation.n_active_cells();
     CellFields         fields{Vector<double>(n_cells),
                       Vector<double>(n_cells),
-                      Vector<double>(n_cells),
-                      infinity};
+                      Vector<double>(n_cells)};
     FEValues<3>        fe_values(discretization.mapping,
                           discretization.fe,
                           discretization.quadrature,
@@ -681,9 +674,7 @@ namespace ddfem::solver
         const unsigned int c = cell->active_cell_index();
         for (unsigned int q = 0; q < F.size(); ++q)
           {
-            const double J = determinant(F[q]);
-            fields.min_J   = std::min(fields.min_J, J);
-            fields.J(c) += J / F.size();
+            fields.J(c) += determinant(F[q]) / F.size();
             fields.strain(c) =
               std::max(fields.strain(c), material::principal_strain(F[q]));
             if (material::evaluate(F[q],

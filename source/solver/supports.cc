@@ -1,4 +1,5 @@
 #include <deal.II/base/exceptions.h>
+#include <deal.II/fe/fe.h>
 
 #include <ddfem/solver/supports.h>
 
@@ -71,6 +72,39 @@ namespace ddfem::solver
 
 
 
+  std::array<double, 6>
+  rigid_body_modes(const Tensor<1, 3> &r, const unsigned int component)
+  {
+    std::array<double, 6> m = {};
+    m[component]            = 1;
+    for (unsigned int k = 0; k < 3; ++k)
+      {
+        Tensor<1, 3> e;
+        e[k]     = 1;
+        m[3 + k] = cross_product_3d(e, r)[component];
+      }
+    return m;
+  }
+
+
+
+  std::vector<unsigned int>
+  dof_components(const DoFHandler<3> &dof_handler)
+  {
+    const FiniteElement<3>              &fe = dof_handler.get_fe();
+    std::vector<unsigned int>            component(dof_handler.n_dofs());
+    std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      {
+        cell->get_dof_indices(dofs);
+        for (unsigned int i = 0; i < dofs.size(); ++i)
+          component[dofs[i]] = fe.system_to_component_index(i).first;
+      }
+    return component;
+  }
+
+
+
   unsigned int
   fixed_rigid_modes(const std::vector<ConstrainedRow> &rows)
   {
@@ -87,15 +121,8 @@ namespace ddfem::solver
     double gram[6][6] = {};
     for (const auto &row : rows)
       {
-        const Tensor<1, 3> r = (row.first - centroid) / scale;
-        double             m[6];
-        for (unsigned int k = 0; k < 3; ++k)
-          {
-            Tensor<1, 3> e;
-            e[k]     = 1;
-            m[k]     = (k == row.second ? 1. : 0.);
-            m[3 + k] = cross_product_3d(e, r)[row.second];
-          }
+        const std::array<double, 6> m =
+          rigid_body_modes((row.first - centroid) / scale, row.second);
         for (unsigned int a = 0; a < 6; ++a)
           for (unsigned int b = 0; b < 6; ++b)
             gram[a][b] += m[a] * m[b];

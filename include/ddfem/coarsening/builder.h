@@ -76,12 +76,6 @@ namespace ddfem::coarsening
       return coarse_point_offset;
     }
 
-    /// The database file.
-    const std::string &
-    file() const
-    {
-      return database_file;
-    }
 
     /// What a run fits.
     Scope

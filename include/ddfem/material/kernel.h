@@ -82,6 +82,14 @@ namespace ddfem::material
   principal_strain(const Tensor<2, 3> &F);
 
   /**
+   * The largest principal linearized strain max_i |e_i| of @p F, where e_i
+   * are the eigenvalues of sym(F - I): the measure by which the database's
+   * sampling scales its magnitudes.
+   */
+  double
+  linearized_strain(const Tensor<2, 3> &F);
+
+  /**
    * Cauchy stress sigma = P F^T / J from a first Piola-Kirchhoff stress.
    * Requires det F > 0.
    */

@@ -92,8 +92,6 @@ namespace ddfem::solver
       /// Largest material::principal_strain at any quadrature point of each
       /// active cell.
       Vector<double> strain;
-      /// Smallest det F at any quadrature point.
-      double min_J;
     };
 
     /**

@@ -2,10 +2,12 @@
 #define ddfem_solver_supports_h
 
 #include <deal.II/base/point.h>
+#include <deal.II/dofs/dof_handler.h>
 #include <deal.II/grid/tria.h>
 
 #include <ddfem/scene/scene.h>
 
+#include <array>
 #include <map>
 #include <string>
 #include <utility>
@@ -55,6 +57,18 @@ namespace ddfem::solver
    */
   unsigned int
   fixed_rigid_modes(const std::vector<ConstrainedRow> &rows);
+
+  /**
+   * Component @p component of the six rigid body modes at the position
+   * @p r relative to their centre: the translations e_0, e_1, e_2, then the
+   * rotations e_k x r about the three axes.
+   */
+  std::array<double, 6>
+  rigid_body_modes(const Tensor<1, 3> &r, const unsigned int component);
+
+  /// The vector component of every DoF of @p dof_handler (an FESystem).
+  std::vector<unsigned int>
+  dof_components(const DoFHandler<3> &dof_handler);
 
   /// "(x, y, z)" with 4 significant digits.
   std::string
