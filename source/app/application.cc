@@ -25,6 +25,7 @@
 #include <iomanip>
 #include <new>
 #include <optional>
+#include <sstream>
 
 namespace ddfem::app
 {
@@ -40,15 +41,6 @@ namespace ddfem::app
       "'Output/Output directory'. --set overrides any parameter (repeatable);\n"
       "nested subsections are separated by '/'. --print-parameters lists\n"
       "every parameter with its documentation and default.\n";
-
-    /// Peak resident memory of this process (MB).
-    double
-    peak_memory_mb()
-    {
-      Utilities::System::MemoryStats stats;
-      Utilities::System::get_memory_stats(stats);
-      return stats.VmHWM / 1024.;
-    }
 
     /// The scene's name: 'Scene name', or the stem of @p prm_file.
     std::string
@@ -103,6 +95,30 @@ namespace ddfem::app
         }
       for (unsigned int i = 0; i + 1 < path.size(); ++i)
         prm.leave_subsection();
+    }
+
+    /**
+     * Prints the displacements @p u at the probe points @p points and
+     * returns them as summary.json's "probes" (point and displacement).
+     */
+    nlohmann::json
+    report_probes(const std::vector<Point<3>>     &points,
+                  const std::vector<Tensor<1, 3>> &u,
+                  const ConditionalOStream        &pcout)
+    {
+      nlohmann::json probes = nlohmann::json::array();
+      for (unsigned int p = 0; p < points.size(); ++p)
+        {
+          const Point<3>     &x = points[p];
+          const Tensor<1, 3> &d = u[p];
+          probes.push_back({{"point", {x[0], x[1], x[2]}},
+                            {"displacement", {d[0], d[1], d[2]}}});
+          std::ostringstream line;
+          line << "  probe (" << x << "): u = (" << std::setprecision(5) << d
+               << ")";
+          pcout << line.str() << std::endl;
+        }
+      return probes;
     }
 
     /**
@@ -178,9 +194,7 @@ namespace ddfem::app
         const auto &n      = scene.grid.size();
         const auto &system = solver.system();
         pcout << "Scene \"" << scene_name << "\", method dg\n"
-              << "  grid " << n[0] << " x " << n[1] << " x " << n[2]
-              << " voxels of " << scene.grid.voxel_size() << " m, "
-              << scene.grid.n_solid_voxels() << " solid\n"
+              << "  grid " << scene.grid.describe() << "\n"
               << "  " << system.dof_handler.get_triangulation().n_active_cells()
               << " cells, " << system.dof_handler.n_dofs() << " DoFs ("
               << dg_parameters.element_name() << "(" << dg_parameters.degree
@@ -211,15 +225,10 @@ namespace ddfem::app
         solver.summarize(summary);
         pcout << "Solved with " << solves << " linear solve"
               << (solves == 1 ? "" : "s") << std::endl;
-        summary["probes"] = nlohmann::json::array();
+        std::vector<Tensor<1, 3>> probes;
         for (const Point<3> &p : scene.probes)
-          {
-            const Tensor<1, 3> d = solver.point_value(p);
-            summary["probes"].push_back({{"point", {p[0], p[1], p[2]}},
-                                         {"displacement", {d[0], d[1], d[2]}}});
-            pcout << "  probe (" << p << "): u = (" << std::setprecision(5) << d
-                  << ")" << std::endl;
-          }
+          probes.push_back(solver.point_value(p));
+        summary["probes"]         = report_probes(scene.probes, probes, pcout);
         summary["wall_time_s"]    = total.wall_time();
         summary["peak_memory_mb"] = peak_memory_mb();
         write_summary(summary);
@@ -290,9 +299,7 @@ namespace ddfem::app
         if (coarsener)
           pcout << ", coarsening level " << level;
         pcout << "\n"
-              << "  grid " << n[0] << " x " << n[1] << " x " << n[2]
-              << " voxels of " << scene.grid.voxel_size() << " m, "
-              << scene.grid.n_solid_voxels() << " solid\n"
+              << "  grid " << scene.grid.describe() << "\n"
               << "  " << model.triangulation.n_active_cells() << " cells";
         if (coarsener)
           pcout << " (blocks of " << (1u << level) << "^3 voxels, "
@@ -342,20 +349,8 @@ namespace ddfem::app
                   << result.strain_quantiles[0] << ", 99 % "
                   << result.strain_quantiles[1] << ", max "
                   << result.strain_quantiles[2] << std::endl;
-            for (unsigned int p = 0; p < scene.probes.size(); ++p)
-              pcout << "  probe (" << scene.probes[p] << "): u = ("
-                    << result.probes[p] << ")" << std::endl;
-
             nlohmann::json json = result.to_json();
-            json["probes"]      = nlohmann::json::array();
-            for (unsigned int p = 0; p < scene.probes.size(); ++p)
-              {
-                const auto &x = scene.probes[p];
-                const auto &d = result.probes[p];
-                json["probes"].push_back(
-                  {{"point", {x[0], x[1], x[2]}},
-                   {"displacement", {d[0], d[1], d[2]}}});
-              }
+            json["probes"] = report_probes(scene.probes, result.probes, pcout);
             if (state == 0)
               summary.update(json);
             else
@@ -408,9 +403,7 @@ namespace ddfem::app
       scene.parse_parameters(prm);
       coarsening::DatabaseBuilder builder;
       builder.parse_parameters(prm);
-      prm.enter_subsection("Output");
-      const bool show_timings = prm.get_bool("Screen timings");
-      prm.leave_subsection();
+      const OutputSettings output(prm);
 
       const auto           held     = builder.lock(scene.palette, out);
       coarsening::Database database = builder.open(scene.palette, out);
@@ -421,7 +414,7 @@ namespace ddfem::app
                       nullptr :
                       &grids,
                     out,
-                    show_timings);
+                    output.screen_timings);
       return 0;
     }
 

@@ -6,12 +6,10 @@
 #include <ddfem/report/vertex_error.h>
 #include <nlohmann/json.hpp>
 
-#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <map>
 #include <optional>
-#include <sstream>
 
 namespace ddfem::app
 {
@@ -297,10 +295,8 @@ namespace ddfem::app
                   std::ostream      &out)
   {
     const auto &n = scene.grid.size();
-    out << "Comparison of scene \"" << scene_name << "\": grid " << n[0]
-        << " x " << n[1] << " x " << n[2] << " voxels of "
-        << scene.grid.voxel_size() << " m, " << scene.grid.n_solid_voxels()
-        << " solid, " << scene.n_edits() << " material edit"
+    out << "Comparison of scene \"" << scene_name << "\": grid "
+        << scene.grid.describe() << ", " << scene.n_edits() << " material edit"
         << (scene.n_edits() == 1 ? "" : "s") << std::endl;
 
     // The models, set up in order (the fine one first) before anything is
@@ -521,9 +517,8 @@ namespace ddfem::app
         run["grid_fit_lower_bound"]       = r.grid_bound;
         json["runs"].push_back(run);
       }
-    Utilities::System::MemoryStats memory;
-    Utilities::System::get_memory_stats(memory);
-    json["peak_memory_mb"] = memory.VmHWM / 1024.;
+    const double peak_memory = peak_memory_mb();
+    json["peak_memory_mb"]   = peak_memory;
     std::ofstream file(directory + "/comparison.json");
     file << json.dump(2) << std::endl;
     AssertThrow(file,
@@ -532,7 +527,7 @@ namespace ddfem::app
     write_csv(rows, directory + "/comparison.csv");
     plot(rows, scene_name, directory);
     if (screen_timings)
-      out << "Peak memory " << memory.VmHWM / 1024. << " MB" << std::endl;
+      out << "Peak memory " << peak_memory << " MB" << std::endl;
     return all_converged ? 0 : 1;
   }
 } // namespace ddfem::app

@@ -1,3 +1,5 @@
+#include <deal.II/base/utilities.h>
+
 #include <ddfem/app/model_run.h>
 #include <ddfem/base/statistics.h>
 
@@ -190,6 +192,16 @@ namespace ddfem::app
     for (const Point<3> &p : scene.probes)
       result.probes.push_back(solver->point_value(u, p));
     return result;
+  }
+
+
+
+  double
+  peak_memory_mb()
+  {
+    Utilities::System::MemoryStats stats;
+    Utilities::System::get_memory_stats(stats);
+    return stats.VmHWM / 1024.;
   }
 
 

@@ -146,9 +146,15 @@ namespace ddfem::coarsening
                              " < 0 (nu < 0). Metamaterials are fitted with "
                              "lambda >= 0, so Method = ddfem and Run type = "
                              "database need nu >= 0 (lambda >= 0)."));
-    check_creatable(
-      std::filesystem::absolute(database_file).parent_path().string(),
-      "Database/File");
+    check_creatable(directory(), "Database/File");
+  }
+
+
+
+  std::string
+  DatabaseBuilder::directory() const
+  {
+    return std::filesystem::absolute(database_file).parent_path().string();
   }
 
 
@@ -472,9 +478,7 @@ namespace ddfem::coarsening
     const CoarseElement element(1, database.point_offset());
     if (!todo.empty())
       {
-        create_directories(
-          std::filesystem::absolute(database_file).parent_path().string(),
-          "Database/File");
+        create_directories(directory(), "Database/File");
         Journal journal(database_file, database.fingerprint());
         fit_in_parallel(
           todo.size(),
@@ -557,9 +561,7 @@ namespace ddfem::coarsening
     if (!todo.empty() || compressed_now || new_tables ||
         !std::filesystem::exists(database_file))
       {
-        create_directories(
-          std::filesystem::absolute(database_file).parent_path().string(),
-          "Database/File");
+        create_directories(directory(), "Database/File");
         database.save(database_file, &level2);
         Journal::remove(database_file);
       }

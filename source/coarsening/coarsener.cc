@@ -1,7 +1,6 @@
 #include <ddfem/coarsening/coarsener.h>
 
 #include <algorithm>
-#include <cmath>
 #include <set>
 
 namespace ddfem::coarsening

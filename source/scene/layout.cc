@@ -340,7 +340,7 @@ namespace ddfem::scene
                                " is not in the palette; allowed are 0 (void) "
                                "to " +
                                std::to_string(n_materials) + "."));
-        shape.material = checked_id(static_cast<long>(id), n_materials, where);
+        shape.material = static_cast<MaterialId>(id);
         result.push_back(shape);
       }
     return result;

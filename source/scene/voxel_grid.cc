@@ -3,6 +3,7 @@
 #include <ddfem/scene/voxel_grid.h>
 
 #include <algorithm>
+#include <sstream>
 
 namespace ddfem::scene
 {
@@ -23,6 +24,17 @@ namespace ddfem::scene
   VoxelGrid::n_solid_voxels() const
   {
     return ids.size() - std::count(ids.begin(), ids.end(), void_id);
+  }
+
+
+
+  std::string
+  VoxelGrid::describe() const
+  {
+    std::ostringstream s;
+    s << n[0] << " x " << n[1] << " x " << n[2] << " voxels of " << h << " m, "
+      << n_solid_voxels() << " solid";
+    return s.str();
   }
 
 

@@ -4,6 +4,7 @@
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/numerics/vector_tools.h>
 
+#include <ddfem/material/kernel.h>
 #include <ddfem/solver/cell_kernel.h>
 #include <ddfem/solver/probe.h>
 #include <ddfem/solver/static_solver.h>
@@ -12,7 +13,6 @@
 #include <cmath>
 #include <iomanip>
 #include <limits>
-#include <numeric>
 
 namespace ddfem::solver
 {

@@ -4,7 +4,6 @@
 #include <deal.II/base/parameter_handler.h>
 
 #include <ddfem/coarsening/builder.h>
-#include <ddfem/coarsening/coarsener.h>
 #include <ddfem/report/output.h>
 #include <ddfem/scene/scene.h>
 #include <ddfem/solver/linear_solver.h>

@@ -120,6 +120,10 @@ namespace ddfem::app
     unsigned int pending_cells      = 0;
   };
 
+  /// Peak resident memory of this process (MB), for the run summaries.
+  double
+  peak_memory_mb();
+
   /**
    * Checks what a ddfem model of @p scene at coarsening level @p level
    * with polynomial degree @p degree needs besides its database, before the

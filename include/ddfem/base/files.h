@@ -97,7 +97,9 @@ namespace ddfem
     /// Releases the lock.
     ~FileLock();
 
+    /// Not copyable: it owns the lock.
     FileLock(const FileLock &) = delete;
+    /// Not copyable.
     FileLock &
     operator=(const FileLock &) = delete;
 

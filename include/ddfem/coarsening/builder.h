@@ -209,6 +209,10 @@ namespace ddfem::coarsening
                const std::vector<Sample> &samples,
                Entry                     &entry);
 
+    /// The absolute path of the directory that holds the database file.
+    std::string
+    directory() const;
+
     std::string       database_file;
     bool              with_void           = true;
     Scope             run_scope           = Scope::all;

@@ -68,6 +68,10 @@ namespace ddfem::scene
     std::size_t
     n_solid_voxels() const;
 
+    /// "nx x ny x nz voxels of h m, N solid", for the run logs.
+    std::string
+    describe() const;
+
     /// Linear index of voxel (i,j,k).
     std::size_t
     index(const unsigned int i,

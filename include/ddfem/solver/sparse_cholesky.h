@@ -28,7 +28,9 @@ namespace ddfem::solver
     /// Frees the factor and ends CHOLMOD.
     ~SparseCholesky();
 
+    /// Not copyable: it owns the factor.
     SparseCholesky(const SparseCholesky &) = delete;
+    /// Not copyable.
     SparseCholesky &
     operator=(const SparseCholesky &) = delete;
 

@@ -9,7 +9,6 @@
 #include <deal.II/lac/sparsity_pattern.h>
 #include <deal.II/lac/vector.h>
 
-#include <ddfem/material/kernel.h>
 #include <ddfem/scene/boundary_conditions.h>
 #include <ddfem/solver/discretization.h>
 #include <ddfem/solver/linear_solver.h>
