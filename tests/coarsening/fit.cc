@@ -7,7 +7,9 @@
 // 3. the bounds hold: no fitted parameter is below its floor, even for a
 //    block with void children and a 1000x stiffness contrast, and with a
 //    point floor of 1/2 no point keeps less than half its fine mu and
-//    lambda.
+//    lambda;
+// 4. the bounded least-squares solver agrees with the enumeration of all
+//    active sets on random problems.
 
 #include <ddfem/coarsening/block_sampler.h>
 #include <ddfem/coarsening/fitting.h>
@@ -207,5 +209,80 @@ main()
               << (fit.median_error <
                   0.1 * naive_errors[naive_errors.size() / 2])
               << std::endl;
+  }
+
+  {
+    std::cout << "Bounded least squares" << std::endl;
+    // min 1/2 x^T H x - g^T x subject to x >= 0 with H = A^T A positive
+    // definite: the solution is the one active set whose passive solution
+    // is >= 0 and whose gradient g - H x is <= 0 on the active variables.
+    std::mt19937                     generator(7);
+    std::normal_distribution<double> normal;
+    const unsigned int               n                  = 6;
+    double                           largest_difference = 0;
+    unsigned int                     with_bounds        = 0;
+    for (unsigned int problem = 0; problem < 200; ++problem)
+      {
+        FullMatrix<double> A(10, n), H(n, n);
+        Vector<double>     b(10), g(n);
+        for (unsigned int i = 0; i < 10; ++i)
+          {
+            b(i) = normal(generator);
+            for (unsigned int j = 0; j < n; ++j)
+              A(i, j) = normal(generator);
+          }
+        A.Tmmult(H, A);
+        A.Tvmult(g, b);
+        const Vector<double> x = nonnegative_least_squares(H, g);
+
+        Vector<double> exact(n);
+        unsigned int   n_solutions = 0;
+        for (unsigned int set = 0; set < (1u << n); ++set)
+          {
+            std::vector<unsigned int> P;
+            for (unsigned int j = 0; j < n; ++j)
+              if (set & (1u << j))
+                P.push_back(j);
+            Vector<double> z(n);
+            if (!P.empty())
+              {
+                FullMatrix<double> H_PP(P.size(), P.size());
+                Vector<double>     g_P(P.size()), z_P(P.size());
+                for (unsigned int a = 0; a < P.size(); ++a)
+                  {
+                    g_P(a) = g(P[a]);
+                    for (unsigned int c = 0; c < P.size(); ++c)
+                      H_PP(a, c) = H(P[a], P[c]);
+                  }
+                H_PP.gauss_jordan();
+                H_PP.vmult(z_P, g_P);
+                for (unsigned int a = 0; a < P.size(); ++a)
+                  z(P[a]) = z_P(a);
+              }
+            Vector<double> w(n);
+            H.vmult(w, z);
+            w.sadd(-1., 1., g);
+            bool kkt = true;
+            for (unsigned int j = 0; j < n; ++j)
+              kkt = kkt && ((set & (1u << j)) ? z(j) >= 0 : w(j) <= 1e-12);
+            if (kkt)
+              {
+                exact = z;
+                ++n_solutions;
+              }
+          }
+        AssertThrow(n_solutions == 1, ExcInternalError());
+        with_bounds += (exact.linfty_norm() > 0 &&
+                        std::count(exact.begin(), exact.end(), 0.) > 0);
+        Vector<double> difference = x;
+        difference -= exact;
+        largest_difference = std::max(largest_difference,
+                                      difference.linfty_norm() /
+                                        std::max(exact.linfty_norm(), 1e-300));
+      }
+    std::cout << "200 random problems, " << with_bounds
+              << " with active bounds: the solver equals the enumeration "
+                 "within 1e-12: "
+              << (largest_difference < 1e-12) << std::endl;
   }
 }
