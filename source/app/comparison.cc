@@ -3,6 +3,7 @@
 #include <ddfem/app/comparison.h>
 #include <ddfem/app/model_run.h>
 #include <ddfem/base/files.h>
+#include <ddfem/coarsening/coarsener.h>
 #include <ddfem/report/vertex_error.h>
 #include <nlohmann/json.hpp>
 

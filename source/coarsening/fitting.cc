@@ -32,13 +32,13 @@ namespace ddfem::coarsening
                       "doc/coarsening.md, 'Level-1 weight'.");
     prm.declare_entry("Stiffness floor",
                       "1e-3",
-                      Patterns::Double(0, 1),
+                      Patterns::Double(1e-12, 1),
                       "Lower bound of every quadrature point's fitted shear "
                       "modulus, as a fraction of the block's largest fine "
                       "shear modulus. Keeps points over void children "
                       "slightly stiff so a coarse element never has "
-                      "zero-energy modes. Lambda and C are bounded below "
-                      "by 0.");
+                      "zero-energy modes (so it must be above 0). Lambda "
+                      "and C are bounded below by 0.");
     prm.declare_entry("Point floor",
                       "0",
                       Patterns::Double(0, 1),
@@ -280,10 +280,11 @@ namespace ddfem::coarsening
                             x.end(),
                             [](const double v) { return std::isfinite(v); }),
                 ExcMessage("A metamaterial fit is singular: its samples do "
-                           "not determine the parameters. Give "
-                           "Database/Fitting/Regularization (and Child "
-                           "regularization) a value above 0, or more "
-                           "Database/Sampling/Patterns."));
+                           "not determine the parameters. Give the "
+                           "regularization weights (Database/Fitting/"
+                           "Regularization and Child regularization, "
+                           "Database/Level 2/Regularization) values above "
+                           "0, or more Database/Sampling/Patterns."));
     Metamaterial result = prior;
     for (unsigned int q = 0; q < prior.points.size(); ++q)
       {

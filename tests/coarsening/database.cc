@@ -214,6 +214,17 @@ main()
       journal.append(full.entries()[0]);
     });
     std::filesystem::remove("full_disk.h5.journal");
+    // A new journal's header is written under another name first; if that
+    // fails, the partial file goes too.
+    std::filesystem::remove("full_disk.h5.journal.partial");
+    std::filesystem::create_symlink("/dev/full",
+                                    "full_disk.h5.journal.partial");
+    expect_error("new journal on a full disk",
+                 [&] { Journal journal("full_disk.h5", fingerprint); });
+    std::cout << "partial header removed: "
+              << !std::filesystem::is_symlink("full_disk.h5.journal.partial")
+              << ", no journal: "
+              << !std::filesystem::exists("full_disk.h5.journal") << std::endl;
     for (const unsigned int threads : {2u, 3u})
       std::cout << threads << " threads give the same entries: "
                 << same_entries(build(builder("threads" +

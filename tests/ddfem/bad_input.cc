@@ -187,6 +187,14 @@ main(int argc, char **argv)
             "Method=ddfem",
             "--set",
             "Database/File=out_ddfem_probe_outside/db.h5"});
+  run_case("zero_stiffness_floor",
+           cantilever,
+           {"--set",
+            "Method=ddfem",
+            "--set",
+            "Database/Fitting/Stiffness floor=0",
+            "--set",
+            "Database/File=out_zero_stiffness_floor.h5"});
   run_case("ddfem_quadratic",
            cantilever,
            {"--set",

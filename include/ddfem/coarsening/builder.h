@@ -90,16 +90,16 @@ namespace ddfem::coarsening
 
     /**
      * Throws ExcMessage if a database for @p palette cannot be built with
-     * these settings (more than 8 materials, lambda < 0) or file()'s
+     * these settings (more than 8 materials, lambda < 0) or Database/File's
      * directory cannot be made. Writes nothing.
      */
     void
     check_input(const scene::Palette &palette) const;
 
     /**
-     * After check_input(), locks file() for this process until the
+     * After check_input(), locks Database/File for this process until the
      * returned object is destroyed: a FileLock on the canonical path of
-     * file() + ".lock", whose directory is made if missing. Hold it from
+     * Database/File + ".lock", whose directory is made if missing. Hold it from
      * open() to the end of build(): two ddfem processes that use the same
      * file then take turns instead of overwriting each other's entries.
      * Waits, with a message on @p out, while another process holds it.
@@ -109,9 +109,9 @@ namespace ddfem::coarsening
     lock(const scene::Palette &palette, std::ostream &out) const;
 
     /**
-     * After check_input(), loads the database for @p palette from file(),
-     * or starts an empty one if there is none, and adds what the file's
-     * journal holds. Throws ExcMessage if the file was built for another
+     * After check_input(), loads the database for @p palette from
+     * Database/File, or starts an empty one if there is none, and adds what the
+     * file's journal holds. Throws ExcMessage if the file was built for another
      * palette or with other settings. Reads only: call it under lock() if
      * build() follows.
      */
@@ -121,7 +121,7 @@ namespace ddfem::coarsening
     /**
      * Fits the missing orbit representatives of every combination (or, if
      * @p scene_grids is given, of their 2x2x2 blocks) into @p database, in
-     * parallel and journaled, compresses if asked, saves to file(); with
+     * parallel and journaled, compresses if asked, saves to Database/File; with
      * Levels = 2 then builds the staged level-2 tables and fits the
      * level-2 representatives (all, or those of @p scene_grids' 4x4x4
      * blocks), journaled too. Prints a report to @p out; with

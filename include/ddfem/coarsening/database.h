@@ -293,13 +293,23 @@ namespace ddfem::coarsening
   public:
     /**
      * Opens the journal of @p database_file for appending; a new journal
-     * starts with @p fingerprint (DatabaseSettings::fingerprint()).
+     * starts with @p fingerprint (DatabaseSettings::fingerprint()). Throws
+     * ExcMessage if the journal cannot be created or written.
      */
     Journal(const std::string &database_file, const std::string &fingerprint);
     /// Closes the file.
     ~Journal();
 
-    /// Appends @p entry and flushes it to the operating system.
+    /// Not copyable: it owns the open file.
+    Journal(const Journal &) = delete;
+    /// Not copyable.
+    Journal &
+    operator=(const Journal &) = delete;
+
+    /**
+     * Appends @p entry and flushes it to the operating system. Throws
+     * ExcMessage if it cannot be written whole (e.g. a full disk).
+     */
     void
     append(const Entry &entry);
 
