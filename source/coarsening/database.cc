@@ -554,6 +554,28 @@ namespace ddfem::coarsening
 
 
 
+  namespace
+  {
+    /// The log-energies of @p m under @p deformations (a feature vector).
+    std::vector<double>
+    log_energies(const CoarseElement                    &element,
+                 const Metamaterial                     &m,
+                 const std::vector<CornerDisplacements> &deformations)
+    {
+      std::vector<double> result;
+      for (const auto &u : deformations)
+        {
+          double energy;
+          AssertThrow(element.energy(u, m, energy) && energy > 0,
+                      ExcInternalError());
+          result.push_back(std::log(energy));
+        }
+      return result;
+    }
+  } // namespace
+
+
+
   std::vector<std::vector<double>>
   Database::features(const CoarseElement                    &element,
                      const std::vector<CornerDisplacements> &deformations,
@@ -569,24 +591,6 @@ namespace ddfem::coarsening
           continue;
         result.push_back(log_energies(element, lookup(c, fit), deformations));
         keys.push_back(key);
-      }
-    return result;
-  }
-
-
-
-  std::vector<double>
-  log_energies(const CoarseElement                    &element,
-               const Metamaterial                     &m,
-               const std::vector<CornerDisplacements> &deformations)
-  {
-    std::vector<double> result;
-    for (const auto &u : deformations)
-      {
-        double energy;
-        AssertThrow(element.energy(u, m, energy) && energy > 0,
-                    ExcInternalError());
-        result.push_back(std::log(energy));
       }
     return result;
   }

@@ -105,10 +105,9 @@ namespace ddfem::app
       return solver->solution();
     }
 
-    /// The timer receiving this model's sections.
-    TimerOutput timer;
-
   private:
+    /// The timer receiving this model's sections.
+    TimerOutput                             timer;
     const scene::Scene                     &scene;
     const coarsening::Coarsener            *coarsener;
     std::unique_ptr<solver::Discretization> model;

@@ -190,23 +190,10 @@ namespace ddfem::coarsening
     anisotropy_directions(const SamplingSettings &settings,
                           const CoarseElement    &element) const;
 
-    /**
-     * Solves the block under nodal forces @p f; @p u is the initial guess
-     * on input. Returns false if Newton's method fails.
-     */
-    bool
-    solve(const Vector<double> &f, Vector<double> &u) const;
-
     /// The fine strain energy of the block for nodal displacements @p u;
     /// false if inadmissible (det F <= 0).
     bool
     energy(const Vector<double> &u, double &energy) const;
-
-    /// The fine strain energy of each child (0 for void children) for
-    /// nodal displacements @p u; false if inadmissible (det F <= 0).
-    bool
-    child_energies(const Vector<double>  &u,
-                   std::array<double, 8> &energies) const;
 
     /**
      * The corner displacements the coarse element sees (the restriction r
@@ -215,19 +202,6 @@ namespace ddfem::coarsening
      */
     CornerDisplacements
     corners(const Vector<double> &u) const;
-
-    /**
-     * Nodal forces of the traction sigma(x) n on the block's outer
-     * boundary (lumped to the vertices of the solid children's faces that
-     * lie on the unit cube's surface).
-     */
-    Vector<double>
-    boundary_forces(
-      const std::function<Tensor<2, 3>(const Point<3> &)> &stress) const;
-
-    /// The nodal vector of a displacement field given at every node.
-    Vector<double>
-    interpolate(const std::function<Tensor<1, 3>(const Point<3> &)> &u) const;
 
     /// The nodal vector of the homogeneous strain u = H (x - centre) of the
     /// unit block.
@@ -256,6 +230,32 @@ namespace ddfem::coarsening
     }
 
   private:
+    /**
+     * Solves the block under nodal forces @p f; @p u is the initial guess
+     * on input. Returns false if Newton's method fails.
+     */
+    bool
+    solve(const Vector<double> &f, Vector<double> &u) const;
+
+    /// The fine strain energy of each child (0 for void children) for
+    /// nodal displacements @p u; false if inadmissible (det F <= 0).
+    bool
+    child_energies(const Vector<double>  &u,
+                   std::array<double, 8> &energies) const;
+
+    /**
+     * Nodal forces of the traction sigma(x) n on the block's outer
+     * boundary (lumped to the vertices of the solid children's faces that
+     * lie on the unit cube's surface).
+     */
+    Vector<double>
+    boundary_forces(
+      const std::function<Tensor<2, 3>(const Point<3> &)> &stress) const;
+
+    /// The nodal vector of a displacement field given at every node.
+    Vector<double>
+    interpolate(const std::function<Tensor<1, 3>(const Point<3> &)> &u) const;
+
     /// Energy, internal forces and, if @p tangent, stiffness at @p u.
     bool
     assemble(const Vector<double> &u,

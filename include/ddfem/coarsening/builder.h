@@ -187,6 +187,7 @@ namespace ddfem::coarsening
               const CoarseElement    &element,
               const std::uint64_t     seed);
 
+  private:
     /**
      * Samples and fits second-level representative @p r of @p level2: its
      * block of eight level-1 metamaterials (their child fits), force-space
@@ -202,7 +203,6 @@ namespace ddfem::coarsening
                      const CoarseElement    &element,
                      const std::uint64_t     seed);
 
-  private:
     /// Copies a fit's statistics into @p entry.
     static void
     record_fit(const FitResult           &fit,

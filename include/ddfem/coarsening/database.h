@@ -233,12 +233,6 @@ namespace ddfem::coarsening
     unsigned int              representatives = 0;
   };
 
-  /// The log-energies of @p m under @p deformations (a feature vector).
-  std::vector<double>
-  log_energies(const CoarseElement                    &element,
-               const Metamaterial                     &m,
-               const std::vector<CornerDisplacements> &deformations);
-
   /// A clustering of feature vectors around representatives.
   struct Clustering
   {
