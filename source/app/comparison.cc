@@ -89,11 +89,9 @@ namespace ddfem::app
             {
               out << std::fixed << std::setprecision(3) << std::setw(10)
                   << row.result.wall_time << std::setw(12)
-                  << row.result.wall_time /
-                       std::max(1u, row.result.statistics.newton_iterations)
-                  << std::setw(13) << 1e3 * row.result.coarsening_time
-                  << std::setprecision(1) << std::setw(9) << row.speedup
-                  << std::setw(15);
+                  << row.result.time_per_iteration() << std::setw(13)
+                  << 1e3 * row.result.coarsening_time << std::setprecision(1)
+                  << std::setw(9) << row.speedup << std::setw(15);
               if (row.speedup_direct > 0)
                 out << row.speedup_direct;
               else
@@ -123,10 +121,8 @@ namespace ddfem::app
         csv << r.state << ',' << r.method << ',' << r.level << ',' << r.grid
             << ',' << r.cells << ',' << r.dofs << ','
             << r.result.statistics.newton_iterations << ','
-            << r.result.wall_time /
-                 std::max(1u, r.result.statistics.newton_iterations)
-            << ',' << r.result.wall_time << ',' << r.result.coarsening_time
-            << ',' << r.speedup << ','
+            << r.result.time_per_iteration() << ',' << r.result.wall_time << ','
+            << r.result.coarsening_time << ',' << r.speedup << ','
             << (r.speedup_direct > 0 ? std::to_string(r.speedup_direct) : "")
             << ',' << r.error.mean << ',' << r.error.max << ','
             << r.grid_fit.mean << ',' << r.grid_fit.max << ',' << r.grid_bound

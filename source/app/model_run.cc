@@ -63,18 +63,17 @@ namespace ddfem::app
     json["regularized_iterations"] = statistics.regularized_iterations;
     if (!statistics.converged)
       json["failure"] = statistics.failure;
-    json["min_J"]             = min_J;
-    json["principal_strain"]  = {{"median", strain_quantiles[0]},
-                                 {"p99", strain_quantiles[1]},
-                                 {"max", strain_quantiles[2]}};
-    json["max_displacement"]  = max_displacement;
-    json["coarsening_time_s"] = coarsening_time;
-    json["cells_updated"]     = cells_updated;
-    json["wall_time_s"]       = wall_time;
-    json["time_per_iteration_s"] =
-      wall_time / std::max(1u, statistics.newton_iterations);
-    json["phase_wall_time_s"] = phases;
-    json["probes"]            = nlohmann::json::array();
+    json["min_J"]                = min_J;
+    json["principal_strain"]     = {{"median", strain_quantiles[0]},
+                                    {"p99", strain_quantiles[1]},
+                                    {"max", strain_quantiles[2]}};
+    json["max_displacement"]     = max_displacement;
+    json["coarsening_time_s"]    = coarsening_time;
+    json["cells_updated"]        = cells_updated;
+    json["wall_time_s"]          = wall_time;
+    json["time_per_iteration_s"] = time_per_iteration();
+    json["phase_wall_time_s"]    = phases;
+    json["probes"]               = nlohmann::json::array();
     for (const auto &d : probes)
       json["probes"].push_back({d[0], d[1], d[2]});
     return json;

@@ -3,7 +3,6 @@
 #include <ddfem/base/parsing.h>
 #include <ddfem/scene/palette.h>
 
-
 namespace ddfem::scene
 {
   material::MaterialPoint

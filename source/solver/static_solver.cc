@@ -173,17 +173,18 @@ namespace ddfem::solver
 
     // Dead external loads: body force and surface tractions at t = 1.
     external_force.reinit(n);
-    const unsigned int                   degree = fe.degree;
-    FEValues<3>                          fe_values(discretization.mapping,
+    const unsigned int degree = fe.degree;
+    FEValues<3>        fe_values(discretization.mapping,
                           fe,
                           discretization.quadrature,
                           update_values | update_quadrature_points |
                             update_JxW_values);
-    FEFaceValues<3>                      fe_face_values(discretization.mapping,
+    FEFaceValues<3>    fe_face_values(discretization.mapping,
                                    fe,
                                    QGauss<2>(degree + 1),
                                    update_values | update_quadrature_points |
                                      update_normal_vectors | update_JxW_values);
+
     std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
     for (const auto &cell : dof_handler.active_cell_iterators())
       {

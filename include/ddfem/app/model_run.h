@@ -13,6 +13,7 @@
 #include <ddfem/solver/static_solver.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <array>
 #include <map>
 #include <memory>
@@ -57,6 +58,13 @@ namespace ddfem::app
       double max_displacement = 0;
       /// Displacement at each probe point (m).
       std::vector<Tensor<1, 3>> probes;
+
+      /// Wall time per Newton iteration (s; the whole wall time if none).
+      double
+      time_per_iteration() const
+      {
+        return wall_time / std::max(1u, statistics.newton_iterations);
+      }
 
       /// The result as JSON (times in seconds, lengths in meters).
       nlohmann::json
