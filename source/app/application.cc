@@ -3,6 +3,7 @@
 #include <deal.II/base/timer.h>
 #include <deal.II/base/utilities.h>
 
+#include <boost/io/ios_state.hpp>
 #include <ddfem/app/application.h>
 #include <ddfem/app/comparison.h>
 #include <ddfem/app/model_run.h>
@@ -98,8 +99,9 @@ namespace ddfem::app
     }
 
     /**
-     * Prints the displacements @p u at the probe points @p points and
-     * returns them as summary.json's "probes" (point and displacement).
+     * Prints the displacements @p u at the probe points @p points (in mm,
+     * 5 digits: parts are centimetres in size) and returns them as
+     * summary.json's "probes" (point and displacement, in m).
      */
     nlohmann::json
     report_probes(const std::vector<Point<3>>     &points,
@@ -114,8 +116,8 @@ namespace ddfem::app
           probes.push_back({{"point", {x[0], x[1], x[2]}},
                             {"displacement", {d[0], d[1], d[2]}}});
           std::ostringstream line;
-          line << "  probe (" << x << "): u = (" << std::setprecision(5) << d
-               << ")";
+          line << "  probe (" << x << " m): u = (" << std::setprecision(5)
+               << 1e3 * d << ") mm";
           pcout << line.str() << std::endl;
         }
       return probes;
@@ -349,6 +351,11 @@ namespace ddfem::app
                   << result.strain_quantiles[0] << ", 99 % "
                   << result.strain_quantiles[1] << ", max "
                   << result.strain_quantiles[2] << std::endl;
+            // An edit updates only the cells (coarse blocks) it touches.
+            if (state > 0)
+              pcout << "  new materials in " << result.cells_updated << " of "
+                    << model.triangulation.n_active_cells() << " cells"
+                    << std::endl;
             nlohmann::json json = result.to_json();
             json["probes"] = report_probes(scene.probes, result.probes, pcout);
             if (state == 0)
@@ -550,6 +557,9 @@ namespace ddfem::app
       std::ostream                   &out,
       std::ostream                   &err)
   {
+    // A run may change the streams' precision; the caller's next run (tests
+    // run several in one process) must print as if it were the first.
+    const boost::io::ios_all_saver out_format(out), err_format(err);
     if (arguments.empty() || arguments[0] == "--help" || arguments[0] == "-h")
       {
         (arguments.size() == 1 ? out : err) << usage;
