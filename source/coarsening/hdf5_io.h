@@ -140,20 +140,21 @@ namespace ddfem::coarsening::hdf5
                const std::vector<hsize_t> &dims)
   {
     check(H5Lexists(file, name.c_str(), H5P_DEFAULT) > 0,
-          "the dataset " + name + " is missing");
+          "has no dataset " + name);
     const Handle set(H5Dopen2(file, name.c_str(), H5P_DEFAULT), H5Dclose);
-    check(set.valid(), "the dataset " + name + " cannot be opened");
+    check(set.valid(), "cannot open the dataset " + name);
     const Handle         space(H5Dget_space(set), H5Sclose);
     std::vector<hsize_t> shape(H5Sget_simple_extent_ndims(space));
     H5Sget_simple_extent_dims(space, shape.data(), nullptr);
-    std::ostringstream expected, found;
-    for (const auto d : dims)
-      expected << (&d == dims.data() ? "" : " x ") << d;
-    for (const auto d : shape)
-      found << (&d == shape.data() ? "" : " x ") << d;
+    const auto describe = [](const std::vector<hsize_t> &extents) {
+      std::ostringstream text;
+      for (std::size_t i = 0; i < extents.size(); ++i)
+        text << (i == 0 ? "" : " x ") << extents[i];
+      return text.str();
+    };
     check(shape == dims,
-          "the dataset " + name + " has shape " + found.str() + " instead of " +
-            expected.str());
+          "has the dataset " + name + " of shape " + describe(shape) +
+            " instead of " + describe(dims));
     std::size_t n = 1;
     for (const auto d : dims)
       n *= d;
@@ -164,7 +165,7 @@ namespace ddfem::coarsening::hdf5
                             H5S_ALL,
                             H5P_DEFAULT,
                             data.data()) >= 0,
-          "the dataset " + name + " cannot be read (truncated file?)");
+          "cannot read the dataset " + name + " (truncated file?)");
     return data;
   }
 
@@ -190,17 +191,16 @@ namespace ddfem::coarsening::hdf5
   inline std::string
   read_attribute(const hid_t file, const std::string &name)
   {
-    check(H5Aexists(file, name.c_str()) > 0,
-          "the attribute " + name + " is missing");
+    check(H5Aexists(file, name.c_str()) > 0, "has no attribute " + name);
     const Handle attribute(H5Aopen(file, name.c_str(), H5P_DEFAULT), H5Aclose);
     const Handle type(H5Aget_type(attribute), H5Tclose);
     check(attribute.valid() && H5Tget_class(type) == H5T_STRING,
-          "the attribute " + name + " is not a string");
+          "has an attribute " + name + " that is not a string");
     std::string  value(H5Tget_size(type), '\0');
     const Handle memory(H5Tcopy(H5T_C_S1), H5Tclose);
     H5Tset_size(memory, value.size());
     check(H5Aread(attribute, memory, value.data()) >= 0,
-          "the attribute " + name + " cannot be read");
+          "cannot read the attribute " + name);
     return value.substr(0, value.find('\0'));
   }
   /// Reads the string attribute @p name as a finite number (FileProblem

@@ -95,18 +95,72 @@ namespace
     return true;
   }
 
+  /// The same entries (keys, both fits, fit statistics) and the same
+  /// metamaterial for every combination either database has.
   bool
   same_entries(const Database &a, const Database &b)
   {
     if (a.entries().size() != b.entries().size())
       return false;
     for (unsigned int e = 0; e < a.entries().size(); ++e)
-      if (a.entries()[e].key != b.entries()[e].key ||
-          !same_points(a.entries()[e].material, b.entries()[e].material) ||
-          !same_points(a.entries()[e].child_material,
-                       b.entries()[e].child_material))
+      {
+        const Entry &x = a.entries()[e], &y = b.entries()[e];
+        if (x.key != y.key || !same_points(x.material, y.material) ||
+            !same_points(x.child_material, y.child_material) ||
+            x.median_error != y.median_error || x.max_error != y.max_error ||
+            x.min_strain != y.min_strain || x.max_strain != y.max_strain ||
+            x.n_samples != y.n_samples || x.n_dropped != y.n_dropped)
+          return false;
+      }
+    const auto combinations = DatabaseBuilder::all_combinations(a);
+    if (combinations != DatabaseBuilder::all_combinations(b))
+      return false;
+    for (const Combination &c : combinations)
+      if (a.contains(c) != b.contains(c) ||
+          (a.contains(c) &&
+           (!same_points(a.lookup(c), b.lookup(c)) ||
+            !same_points(a.lookup(c, Fit::child), b.lookup(c, Fit::child)))))
         return false;
     return true;
+  }
+
+  /**
+   * Copies @p original to @p copy and passes the values and the shape of
+   * its dataset @p name (of HDF5 type @p type) to @p edit, which may change
+   * both; the dataset is then written anew.
+   */
+  template <typename T>
+  void
+  edit_dataset(
+    const std::string &original,
+    const std::string &copy,
+    const std::string &name,
+    const hid_t        type,
+    const std::function<void(std::vector<T> &, std::vector<hsize_t> &)> &edit)
+  {
+    std::filesystem::copy_file(
+      original, copy, std::filesystem::copy_options::overwrite_existing);
+    const hid_t file  = H5Fopen(copy.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    hid_t       set   = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
+    hid_t       space = H5Dget_space(set);
+    std::vector<hsize_t> dims(H5Sget_simple_extent_ndims(space));
+    H5Sget_simple_extent_dims(space, dims.data(), nullptr);
+    std::size_t n = 1;
+    for (const hsize_t d : dims)
+      n *= d;
+    std::vector<T> values(n);
+    H5Dread(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data());
+    H5Sclose(space);
+    H5Dclose(set);
+    edit(values, dims);
+    H5Ldelete(file, name.c_str(), H5P_DEFAULT);
+    space = H5Screate_simple(dims.size(), dims.data(), nullptr);
+    set   = H5Dcreate2(
+      file, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    H5Dwrite(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data());
+    H5Dclose(set);
+    H5Sclose(space);
+    H5Fclose(file);
   }
 
   void
@@ -792,6 +846,40 @@ main()
     edited_copy("large_palette.h5",
                 {{"palette", twenty}, {"palette hash", palette_hash(twenty)}});
     expect_error("20 materials", [] { Database::load("large_palette.h5"); });
+    edited_copy("future_version.h5", {{"format version", "999"}});
+    expect_error("other format version",
+                 [] { Database::load("future_version.h5"); });
+    edit_dataset<std::uint8_t>("small.h5",
+                               "short_table.h5",
+                               "lookup/symmetry",
+                               H5T_NATIVE_UINT8,
+                               [](std::vector<std::uint8_t> &values,
+                                  std::vector<hsize_t>      &dims) {
+                                 values.resize(5);
+                                 dims = {5};
+                               });
+    expect_error("table of another shape",
+                 [] { Database::load("short_table.h5"); });
+    edit_dataset<std::int32_t>("small.h5",
+                               "bad_table.h5",
+                               "lookup/entry",
+                               H5T_NATIVE_INT32,
+                               [](std::vector<std::int32_t> &values,
+                                  std::vector<hsize_t> &) {
+                                 values[3] = 1000;
+                               });
+    expect_error("table naming no entry",
+                 [] { Database::load("bad_table.h5"); });
+    edit_dataset<double>("small.h5",
+                         "negative_mu.h5",
+                         "entries/parameters",
+                         H5T_NATIVE_DOUBLE,
+                         [](std::vector<double> &values,
+                            std::vector<hsize_t> &) {
+                           values[6 * 2] =
+                             -values[6 * 2]; // entry 0, point 2, mu
+                         });
+    expect_error("negative mu", [] { Database::load("negative_mu.h5"); });
     expect_error("other palette", [&log] {
       builder("small.h5", false)
         .open(palette("E=1e5 nu=0.45; E=2e6 nu=0.45"), log);
