@@ -1,7 +1,10 @@
 // The material kernel against finite differences: stress = d(energy)/dF,
 // tangent = d(stress)/dF, for random deformation gradients and materials
 // with and without the anisotropic spring; the tangent's major symmetry;
-// a stress-free, energy-free reference state; det F <= 0 rejected.
+// a stress-free, energy-free reference state; the energy of a stretch
+// against its closed form; frame invariance; det F <= 0 rejected.
+
+#include <deal.II/physics/transformations.h>
 
 #include <ddfem/material/kernel.h>
 
@@ -152,6 +155,87 @@ main()
               std::abs(material::principal_strain(shear) -
                        (0.25 + std::sqrt(1 + 1. / 16) - 1))});
   testing::check_below("principal strain error", strain_error, 1e-14);
+
+  // The energy itself against its closed form. A stretch s along x, with
+  // the spring along x (stretched by s) or along y (not stretched):
+  // W = mu/2 (s^2 - 1) - mu ln s + lambda/2 (ln s)^2 + C (l - 1)^2.
+  {
+    material::MaterialPoint p;
+    p.mu                = 2e5;
+    p.lambda            = 1.8e6;
+    p.anisotropy        = 7e5;
+    const double s      = 1.3;
+    Tensor<2, 3> F      = unit_symmetric_tensor<3>();
+    F[0][0]             = s;
+    double energy_error = 0;
+    for (const unsigned int axis : {0u, 1u})
+      {
+        p.direction       = Tensor<1, 3>();
+        p.direction[axis] = 1;
+        material::evaluate(F, p, material::KernelOutput::energy, r);
+        const double l     = (axis == 0 ? s : 1.);
+        const double exact = 0.5 * p.mu * (s * s - 1) - p.mu * std::log(s) +
+                             0.5 * p.lambda * std::log(s) * std::log(s) +
+                             p.anisotropy * (l - 1) * (l - 1);
+        energy_error =
+          std::max(energy_error, std::abs(r.energy - exact) / exact);
+      }
+    testing::check_below("energy of a stretch vs its closed form, relative",
+                         energy_error,
+                         1e-14);
+  }
+
+  // Frame invariance: a rotation Q after the deformation changes neither
+  // the energy nor the stress beyond P(Q F) = Q P(F); rotating the body
+  // and the spring's direction together, psi(F Q^T; Q v) = psi(F; v).
+  {
+    double objectivity = 0, material_rotation = 0;
+    for (unsigned int trial = 0; trial < 50; ++trial)
+      {
+        material::MaterialPoint p;
+        p.mu         = 1e6;
+        p.lambda     = 5e6;
+        p.anisotropy = 2e6;
+        p.direction =
+          Tensor<1, 3>({uniform(random), uniform(random), uniform(random)});
+        p.direction /= p.direction.norm();
+        Tensor<1, 3> axis({uniform(random), uniform(random), uniform(random)});
+        axis /= axis.norm();
+        const Tensor<2, 3> Q =
+          Physics::Transformations::Rotations::rotation_matrix_3d(
+            axis, 3 * uniform(random));
+        Tensor<2, 3> F = unit_symmetric_tensor<3>();
+        for (unsigned int i = 0; i < 3; ++i)
+          for (unsigned int j = 0; j < 3; ++j)
+            F[i][j] += 0.3 * uniform(random);
+        if (determinant(F) <= 0.2)
+          continue;
+        material::KernelResult plain, rotated, turned;
+        material::evaluate(F, p, material::KernelOutput::stress, plain);
+        material::evaluate(Q * F, p, material::KernelOutput::stress, rotated);
+        objectivity = std::max(
+          {objectivity,
+           std::abs(rotated.energy - plain.energy) / plain.energy,
+           (rotated.stress - Q * plain.stress).norm() / plain.stress.norm()});
+        material::MaterialPoint q = p;
+        q.direction               = Q * p.direction;
+        material::evaluate(F * transpose(Q),
+                           q,
+                           material::KernelOutput::energy,
+                           turned);
+        material_rotation =
+          std::max(material_rotation,
+                   std::abs(turned.energy - plain.energy) / plain.energy);
+      }
+    testing::check_below("psi(QF) and P(QF) against psi(F) and Q P(F), "
+                         "relative",
+                         objectivity,
+                         1e-12);
+    testing::check_below("psi(F Q^T) with the direction Q v against psi(F), "
+                         "relative",
+                         material_rotation,
+                         1e-12);
+  }
 
   // Inverted or degenerate states are inadmissible.
   Tensor<2, 3> inverted = unit_symmetric_tensor<3>();

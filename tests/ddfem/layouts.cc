@@ -99,9 +99,13 @@ main()
     make_scene("set Type = random\nsubsection Random\n set Seed = 3\nend").grid;
   const auto random_b =
     make_scene("set Type = random\nsubsection Random\n set Seed = 3\nend").grid;
+  const auto random_c =
+    make_scene("set Type = random\nsubsection Random\n set Seed = 4\nend").grid;
   print("random, seed 3", random_a);
   std::cout << "same seed, same layout: " << std::boolalpha
-            << (random_a.data() == random_b.data()) << std::endl;
+            << (random_a.data() == random_b.data())
+            << "; seed 4, same layout: " << (random_a.data() == random_c.data())
+            << std::endl;
 
   // Helical fibers: each of the 4 fibers covers about pi r^2 per voxel
   // layer of the 40 along y.
