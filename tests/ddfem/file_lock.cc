@@ -1,17 +1,22 @@
 // FileLock, which lets two ddfem processes that use the same metamaterial
 // database take turns: while another process holds the lock, a second one
 // says that it waits and waits until the holder releases it or is killed.
-// Locking a path twice in one process, and a lock file that cannot be
-// created, are errors naming the parameter.
+// The database runs (Run type = database, and a ddfem simulation fitting
+// lazily) wait for the lock before they read the file. Locking a path twice
+// in one process, and a lock file that cannot be created, are errors naming
+// the parameter.
 
 #include <ddfem/base/exceptions.h>
 #include <ddfem/base/files.h>
+#include <ddfem/coarsening/database.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <atomic>
 #include <chrono>
 #include <csignal>
+#include <filesystem>
+#include <fstream>
 #include <functional>
 #include <iostream>
 #include <sstream>
@@ -21,7 +26,8 @@
 
 namespace
 {
-  /// A string stream that tells when a line was flushed into it.
+  /// A string stream that tells when the lock's waiting message was
+  /// flushed into it.
   class LineSignal : public std::stringbuf
   {
   public:
@@ -31,7 +37,8 @@ namespace
     int
     sync() override
     {
-      flushed = true;
+      if (str().find("Waiting for another ddfem process") != std::string::npos)
+        flushed = true;
       return std::stringbuf::sync();
     }
   };
@@ -65,33 +72,104 @@ namespace
     return {child, go[1]};
   }
 
-  /// Takes the lock on @p path in a thread while another process holds
-  /// it: reports whether the thread got it before it said it waits, and
-  /// after @p release whether it got it then.
-  void
-  second_lock(const std::string &path, const std::function<void()> &release)
+  /// Runs @p job (which writes to the given stream) in a thread while
+  /// another process holds the lock: reports whether it said that it waits
+  /// and whether it finished while the other held the lock (half a second
+  /// after it said so), and after @p release whether it finished then.
+  /// Returns what the job wrote.
+  std::string
+  while_locked(const std::function<void(std::ostream &)> &job,
+               const std::function<void()>               &release)
   {
-    std::atomic<bool> acquired(false);
+    std::atomic<bool> finished(false);
     LineSignal        buffer;
     std::ostream      message(&buffer);
     std::thread       waiter([&] {
-      const ddfem::FileLock lock(path, "Database/File", message);
-      acquired = true;
+      job(message);
+      finished = true;
     });
     for (unsigned int i = 0; i < 6000 && !buffer.flushed; ++i)
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
     std::cout << "  said that it waits: " << buffer.flushed.load()
-              << ", acquired while the other holds it: " << acquired
+              << ", finished while the other holds the lock: " << finished
               << std::endl;
     release();
     waiter.join();
-    std::cout << "  acquired after the release: " << acquired << std::endl
-              << "  " << buffer.str();
+    std::cout << "  finished after the release: " << finished << std::endl;
+    return buffer.str();
+  }
+
+  /// Releases the lock of holder() @p child by writing to its pipe @p go.
+  std::function<void()>
+  release(const pid_t child, const int go)
+  {
+    return [child, go] {
+      const char byte = 1;
+      AssertThrow(write(go, &byte, 1) == 1, dealii::ExcInternalError());
+      waitpid(child, nullptr, 0);
+      close(go);
+    };
+  }
+
+  /// Takes the lock on @p path in a thread (while_locked()) and prints the
+  /// message it wrote.
+  void
+  second_lock(const std::string &path, const std::function<void()> &release)
+  {
+    const std::string message = while_locked(
+      [&path](std::ostream &out) {
+        const ddfem::FileLock lock(path, "Database/File", out);
+      },
+      release);
+    std::cout << "  " << message;
+  }
+
+  /// A ddfem run of a 2x2x2-voxel cantilever with @p settings whose
+  /// metamaterials go into db.h5 (one homogeneous block, cheap sampling).
+  /// Prints its exit status and the entries of db.h5 afterwards.
+  std::function<void(std::ostream &)>
+  ddfem_run(const std::string &name, const std::string &settings)
+  {
+    return [name, settings](std::ostream &out) {
+      std::ofstream(name + ".prm")
+        << ddfem::testing::cantilever("2, 2, 2", "0; 0; -1000") << settings
+        << "subsection Database\n"
+           "  set File = db.h5\n"
+           "  set Scope = scene\n"
+           "  subsection Sampling\n"
+           "    set Patterns = 10\n"
+           "    set Magnitudes = 2\n"
+           "    set Stretch directions = 10\n"
+           "  end\n"
+           "end\n"
+           "subsection Output\n"
+           "  set Output directory = "
+        << name
+        << "\n"
+           "  set Screen timings = false\n"
+           "  set Write VTU = none\n"
+           "end\n";
+      const int status = ddfem::app::run({name + ".prm"}, out, out);
+      out << "exit status " << status << ", entries in db.h5: "
+          << ddfem::coarsening::Database::load("db.h5").entries().size()
+          << std::endl;
+    };
+  }
+
+  /// The last line of @p text.
+  std::string
+  last_line(const std::string &text)
+  {
+    const std::size_t end   = text.find_last_not_of('\n');
+    const std::size_t start = text.rfind('\n', end);
+    return text.substr(start == std::string::npos ? 0 : start + 1,
+                       end - (start == std::string::npos ? 0 : start + 1) + 1);
   }
 } // namespace
 
 int
-main()
+main(int argc, char **argv)
 {
   std::cout << std::boolalpha;
   const std::string path = "db.h5.lock";
@@ -99,12 +177,7 @@ main()
   std::cout << "A lock held by another process that releases it:" << std::endl;
   {
     const auto [child, go] = holder(path);
-    second_lock(path, [child = child, go = go] {
-      const char byte = 1;
-      AssertThrow(write(go, &byte, 1) == 1, dealii::ExcInternalError());
-      waitpid(child, nullptr, 0);
-      close(go);
-    });
+    second_lock(path, release(child, go));
   }
 
   std::cout << "A lock held by another process that is killed:" << std::endl;
@@ -115,6 +188,34 @@ main()
       waitpid(child, nullptr, 0);
       close(go);
     });
+  }
+
+  // The runs that read and write the database hold its lock from before
+  // they read it until their new entries are saved.
+  std::filesystem::remove("db.h5");
+  std::cout << "Run type = database while another process holds the lock:"
+            << std::endl;
+  {
+    const auto [child, go] = holder(path);
+    const std::string message =
+      while_locked(ddfem_run("database_run", "set Run type = database\n"),
+                   release(child, go));
+    std::cout << "  " << last_line(message) << std::endl;
+  }
+  std::cout << "Method = ddfem (lazy fits) while another process holds the "
+               "lock:"
+            << std::endl;
+  std::filesystem::remove("db.h5");
+  {
+    const auto [child, go] = holder(path);
+    // A simulation needs MPI (its linear algebra); no process is forked
+    // after this.
+    const dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+    const std::string                              message =
+      while_locked(ddfem_run("ddfem_run",
+                             "set Method = ddfem\nset Coarsening levels = 1\n"),
+                   release(child, go));
+    std::cout << "  " << last_line(message) << std::endl;
   }
 
   const auto error = [](const std::function<void()> &f) {
