@@ -2,15 +2,18 @@
 // multigrid CG and with the direct solver), ddfem, naive and average at
 // coarsening levels 1 and 2, the metamaterials fitted lazily into a fresh
 // database. The screen table (without timings) is compared; the files the
-// run writes are checked for their columns. A second, smaller run compares
-// a quadratic fine model with the trilinear naive one.
+// run writes are checked for their columns, their speedups against the
+// fine runs' wall times, and the CSV against the JSON. A second, smaller run
+// compares a quadratic fine model with the trilinear naive one.
 
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
+#include <vector>
 
 #include "../tests.h"
 
@@ -83,10 +86,16 @@ main(int argc, char **argv)
   std::string   header;
   std::getline(csv, header);
   std::cout << "comparison.csv header: " << header << std::endl;
-  unsigned int lines = 0;
+  std::vector<std::vector<std::string>> csv_rows;
   for (std::string line; std::getline(csv, line);)
-    ++lines;
-  std::cout << "comparison.csv rows: " << lines << std::endl;
+    {
+      std::stringstream        fields(line);
+      std::vector<std::string> row;
+      for (std::string field; std::getline(fields, field, ',');)
+        row.push_back(field);
+      csv_rows.push_back(row);
+    }
+  std::cout << "comparison.csv rows: " << csv_rows.size() << std::endl;
 
   // comparison.json has every column of the CSV in every run.
   std::ifstream         json_file("compare/comparison.json");
@@ -102,6 +111,65 @@ main(int argc, char **argv)
   for (const std::string &column : missing)
     std::cout << ' ' << column;
   std::cout << (missing.empty() ? " none" : "") << std::endl;
+
+  // Each speedup is the fastest fine run's wall time of its state (and the
+  // direct solver's) over the run's own, and the CSV's numbers are the
+  // JSON's (to the CSV's 6 digits), row by row.
+  std::map<std::string, double> fastest, direct;
+  for (const auto &run : json.at("runs"))
+    if (run.at("level") == 0)
+      {
+        const std::string state = run.at("state");
+        const double      time  = run.at("wall_time_s");
+        fastest[state] =
+          fastest.count(state) ? std::min(fastest[state], time) : time;
+        if (run.at("method") == "fine-direct")
+          direct[state] = time;
+      }
+  std::vector<std::string> names;
+  std::stringstream        header_fields(header);
+  for (std::string column; std::getline(header_fields, column, ',');)
+    names.push_back(column);
+  double speedup_error = 0, csv_error = 0;
+  for (unsigned int r = 0; r < json.at("runs").size(); ++r)
+    {
+      const auto       &run   = json.at("runs")[r];
+      const double      time  = run.at("wall_time_s");
+      const std::string state = run.at("state");
+      speedup_error =
+        std::max({speedup_error,
+                  std::abs(run.at("speedup_vs_fine").get<double>() * time /
+                             fastest.at(state) -
+                           1),
+                  std::abs(run.at("speedup_vs_fine_direct").get<double>() *
+                             time / direct.at(state) -
+                           1)});
+      for (unsigned int c = 0; c < names.size(); ++c)
+        if (run.at(names[c]).is_number())
+          {
+            const double value = run.at(names[c]);
+            csv_error          = std::max(csv_error,
+                                 std::abs(std::stod(csv_rows[r][c]) - value) /
+                                   std::max(std::abs(value), 1e-300));
+          }
+        else
+          {
+            const auto       &value = run.at(names[c]);
+            const std::string text  = value.is_boolean() ?
+                                        (value.get<bool>() ? "true" : "false") :
+                                        value.get<std::string>();
+            if (text != csv_rows[r][c])
+              csv_error = 1;
+          }
+    }
+  ddfem::testing::check_below("speedups against the fastest fine run and the "
+                              "direct one, relative error",
+                              speedup_error,
+                              1e-12);
+  ddfem::testing::check_below("comparison.csv against comparison.json, "
+                              "relative difference",
+                              csv_error,
+                              1e-5);
   for (const char *file : {"compare/comparison.json",
                            "compare/error_vs_time.png",
                            "compare/fine/solution.pvd",

@@ -4,6 +4,7 @@
 // output_directory_under_a_file: no directory can be made at all).
 
 #include <ddfem/app/application.h>
+#include <nlohmann/json.hpp>
 
 #include <filesystem>
 #include <fstream>
@@ -293,6 +294,41 @@ subsection Nonlinear solver
   set Minimum load step = 0.1
 end
 )");
+  // A solve that converges in its first load step and fails in its second
+  // (a soft cantilever bent far, Newton's method limited, no cutting)
+  // keeps the converged step: its VTU file and a summary.json that says so.
+  std::filesystem::remove_all("out_unconverged_later");
+  run_case("unconverged_later", cantilever + R"(
+subsection Geometry
+  set Grid size = 2, 12, 2
+end
+subsection Boundary conditions
+  subsection Condition 2
+    set Value = 0; 0; -3e3
+  end
+end
+subsection Nonlinear solver
+  set Load steps = 5
+  set Maximum Newton iterations = 16
+  set Minimum load step = 1
+end
+subsection Output
+  set Write VTU = every step
+end
+)");
+  {
+    std::ifstream        file("out_unconverged_later/summary.json");
+    const nlohmann::json summary = nlohmann::json::parse(file);
+    std::cout
+      << "  summary.json: converged " << std::boolalpha
+      << summary.at("converged").get<bool>() << ", load steps "
+      << summary.at("load_steps").get<unsigned int>()
+      << "; VTU of step 1 written: "
+      << std::filesystem::exists("out_unconverged_later/solution-0001.vtu")
+      << ", of step 2: "
+      << std::filesystem::exists("out_unconverged_later/solution-0002.vtu")
+      << std::endl;
+  }
   run_case("edge_hinge",
            R"(
 subsection Geometry
