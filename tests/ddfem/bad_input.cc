@@ -269,10 +269,18 @@ end
   // Not bad input but a solve that fails: rigid blocks on soft hinges
   // (contrast 1e6) bent far in few, short Newton runs. It must stop with a
   // message naming what failed; the converged load steps are kept.
-  run_case("unconverged", cantilever + R"(
+  // Both cases bend a longer cantilever far.
+  const std::string bent_far = cantilever + R"(
 subsection Geometry
   set Grid size = 2, 12, 2
 end
+subsection Boundary conditions
+  subsection Condition 2
+    set Value = 0; 0; -3e3
+  end
+end
+)";
+  run_case("unconverged", bent_far + R"(
 subsection Materials
   set Palette = E=1e5 nu=0.45; E=1e11 nu=0.45
 end
@@ -281,11 +289,6 @@ subsection Layout
   subsection Layers
     set Thickness = 0.02
     set Materials = 1, 2
-  end
-end
-subsection Boundary conditions
-  subsection Condition 2
-    set Value = 0; 0; -3e3
   end
 end
 subsection Nonlinear solver
@@ -298,15 +301,7 @@ end
   // (a soft cantilever bent far, Newton's method limited, no cutting)
   // keeps the converged step: its VTU file and a summary.json that says so.
   std::filesystem::remove_all("out_unconverged_later");
-  run_case("unconverged_later", cantilever + R"(
-subsection Geometry
-  set Grid size = 2, 12, 2
-end
-subsection Boundary conditions
-  subsection Condition 2
-    set Value = 0; 0; -3e3
-  end
-end
+  run_case("unconverged_later", bent_far + R"(
 subsection Nonlinear solver
   set Load steps = 5
   set Maximum Newton iterations = 16

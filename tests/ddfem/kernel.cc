@@ -21,6 +21,18 @@ main()
 {
   std::mt19937                           random(42);
   std::uniform_real_distribution<double> uniform(-1, 1);
+  const auto                             random_direction = [&]() {
+    Tensor<1, 3> v({uniform(random), uniform(random), uniform(random)});
+    return v / v.norm();
+  };
+  // I plus entries in [-0.3, 0.3].
+  const auto random_deformation = [&]() {
+    Tensor<2, 3> F = unit_symmetric_tensor<3>();
+    for (unsigned int i = 0; i < 3; ++i)
+      for (unsigned int j = 0; j < 3; ++j)
+        F[i][j] += 0.3 * uniform(random);
+    return F;
+  };
 
   double stress_error = 0, tangent_error = 0, asymmetry = 0;
   for (unsigned int trial = 0; trial < 200; ++trial)
@@ -31,14 +43,9 @@ main()
       if (trial % 2)
         {
           m.anisotropy = m.mu * (uniform(random) + 1.5);
-          m.direction =
-            Tensor<1, 3>({uniform(random), uniform(random), uniform(random)});
-          m.direction /= m.direction.norm();
+          m.direction  = random_direction();
         }
-      Tensor<2, 3> F = unit_symmetric_tensor<3>();
-      for (unsigned int i = 0; i < 3; ++i)
-        for (unsigned int j = 0; j < 3; ++j)
-          F[i][j] += 0.3 * uniform(random);
+      const Tensor<2, 3> F = random_deformation();
       if (determinant(F) <= 0.2)
         continue;
 
@@ -196,18 +203,11 @@ main()
         p.mu         = 1e6;
         p.lambda     = 5e6;
         p.anisotropy = 2e6;
-        p.direction =
-          Tensor<1, 3>({uniform(random), uniform(random), uniform(random)});
-        p.direction /= p.direction.norm();
-        Tensor<1, 3> axis({uniform(random), uniform(random), uniform(random)});
-        axis /= axis.norm();
+        p.direction  = random_direction();
         const Tensor<2, 3> Q =
           Physics::Transformations::Rotations::rotation_matrix_3d(
-            axis, 3 * uniform(random));
-        Tensor<2, 3> F = unit_symmetric_tensor<3>();
-        for (unsigned int i = 0; i < 3; ++i)
-          for (unsigned int j = 0; j < 3; ++j)
-            F[i][j] += 0.3 * uniform(random);
+            random_direction(), 3 * uniform(random));
+        const Tensor<2, 3> F = random_deformation();
         if (determinant(F) <= 0.2)
           continue;
         material::KernelResult plain, rotated, turned;
