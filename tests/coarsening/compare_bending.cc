@@ -86,23 +86,24 @@ main(int argc, char **argv)
   std::string   header;
   std::getline(csv, header);
   std::cout << "comparison.csv header: " << header << std::endl;
+  const auto split = [](const std::string &line) {
+    std::stringstream        fields(line);
+    std::vector<std::string> result;
+    for (std::string field; std::getline(fields, field, ',');)
+      result.push_back(field);
+    return result;
+  };
+  const std::vector<std::string>        names = split(header);
   std::vector<std::vector<std::string>> csv_rows;
   for (std::string line; std::getline(csv, line);)
-    {
-      std::stringstream        fields(line);
-      std::vector<std::string> row;
-      for (std::string field; std::getline(fields, field, ',');)
-        row.push_back(field);
-      csv_rows.push_back(row);
-    }
+    csv_rows.push_back(split(line));
   std::cout << "comparison.csv rows: " << csv_rows.size() << std::endl;
 
   // comparison.json has every column of the CSV in every run.
   std::ifstream         json_file("compare/comparison.json");
   const nlohmann::json  json = nlohmann::json::parse(json_file);
   std::set<std::string> missing;
-  std::stringstream     columns(header);
-  for (std::string column; std::getline(columns, column, ',');)
+  for (const std::string &column : names)
     for (const auto &run : json.at("runs"))
       if (!run.contains(column))
         missing.insert(column);
@@ -126,10 +127,6 @@ main(int argc, char **argv)
         if (run.at("method") == "fine-direct")
           direct[state] = time;
       }
-  std::vector<std::string> names;
-  std::stringstream        header_fields(header);
-  for (std::string column; std::getline(header_fields, column, ',');)
-    names.push_back(column);
   double speedup_error = 0, csv_error = 0;
   for (unsigned int r = 0; r < json.at("runs").size(); ++r)
     {

@@ -76,7 +76,6 @@ namespace ddfem::coarsening
       return coarse_point_offset;
     }
 
-
     /// What a run fits.
     Scope
     scope() const
