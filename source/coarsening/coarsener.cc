@@ -123,7 +123,8 @@ namespace ddfem::coarsening
     // The baselines: the palette materials of the block's voxels.
     Metamaterial result;
     result.points.resize(point_voxel.size());
-    double max_mu = 0;
+    std::vector<unsigned int> void_points;
+    double                    max_mu = 0;
     for (unsigned int q = 0; q < point_voxel.size(); ++q)
       {
         const auto &o = point_voxel[q];
@@ -132,10 +133,12 @@ namespace ddfem::coarsening
             result.points[q] = palette[id].material_point();
             max_mu           = std::max(max_mu, result.points[q].mu);
           }
+        else
+          void_points.push_back(q);
       }
     if (coarsening == CoarseningMethod::naive)
-      for (auto &p : result.points)
-        p.mu = std::max(p.mu, void_stiffness * max_mu);
+      for (const unsigned int q : void_points)
+        result.points[q].mu = void_stiffness * max_mu;
     else
       {
         material::MaterialPoint mean;

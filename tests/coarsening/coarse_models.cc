@@ -2,6 +2,9 @@
 // - a homogeneous cantilever in the small-load limit: ddfem, naive and
 //   fine agree within the discretization error, and ddfem is closer to the
 //   fine solution than naive, at both levels;
+// - the baselines' records: naive copies every solid voxel's material,
+//   also at a stiffness contrast of 1e4, and gives void voxels' points
+//   the void stiffness; average gives every point the block's mean;
 // - material edits: re-coarsening only the touched blocks gives the same
 //   material records and the same solution as coarsening from scratch;
 // - an edit that would add or remove solid voxels is a clear error;
@@ -145,6 +148,36 @@ namespace
                              level == 1 ? 0.1 : 0.25);
         std::cout << "  ddfem closer to fine than naive: "
                   << (error[0] < error[1] ? "yes" : "NO") << std::endl;
+      }
+  }
+
+
+
+  /// The records of the naive and average elements of one 2x2x2 block
+  /// with a soft, a stiff (contrast 1e4) and a void voxel.
+  void
+  baseline_records()
+  {
+    std::cout << "Baseline records of a block with ids 1 2 0 1 1 1 1 1, "
+                 "E = 1e2 and 1e6"
+              << std::endl;
+    scene::Palette palette;
+    palette.parse("E=1e2 nu=0.3; E=1e6 nu=0.3");
+    scene::VoxelGrid grid({{2, 2, 2}}, 1, 1);
+    grid(1, 0, 0) = 2;
+    grid(0, 1, 0) = scene::void_id;
+    for (const auto method :
+         {CoarseningMethod::naive, CoarseningMethod::average})
+      {
+        const coarsening::Coarsener coarsener(method,
+                                              1,
+                                              palette,
+                                              1 / std::sqrt(3.));
+        std::cout << "  " << coarsening::to_string(method)
+                  << ": mu / mu of E = 1e2 per point:";
+        for (const auto &p : coarsener.block_material(grid, 0).points)
+          std::cout << " " << p.mu / palette[1].material_point().mu;
+        std::cout << std::endl;
       }
   }
 
@@ -382,6 +415,7 @@ main(int argc, char **argv)
 {
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   homogeneous_small_load();
+  baseline_records();
   edit_and_recoarsen();
   point_offsets();
 }
