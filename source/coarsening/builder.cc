@@ -276,9 +276,12 @@ namespace ddfem::coarsening
       prior.points[q].direction = directions[q];
     // Both fits solve the least-squares problem of the same samples.
     const MetamaterialFit problem(element, samples, prior, fitting);
-    const FitResult       fit = problem.fit(fitting.regularization);
-    entry.material =
-      symmetrize(fit.material, combination, database.symmetries());
+    // The errors stored are those of the symmetrized fit, which is used.
+    const FitResult fit =
+      problem.result_of(symmetrize(problem.parameters(fitting.regularization),
+                                   combination,
+                                   database.symmetries()));
+    entry.material = fit.material;
     record_fit(fit, samples, entry);
     entry.child_material =
       symmetrize(problem.parameters(fitting.child_regularization),
@@ -474,12 +477,23 @@ namespace ddfem::coarsening
     AssertThrow(todo.empty() || database.n_representatives() == 0,
                 ExcMessage("The metamaterial database '" + database_file +
                            "' is compressed and cannot take new entries."));
+    AssertThrow(n_representatives == 0 || database.n_representatives() == 0 ||
+                  database.n_representatives() == n_representatives,
+                ExcMessage("The metamaterial database '" + database_file +
+                           "' is compressed to " +
+                           std::to_string(database.n_representatives()) +
+                           " representatives, not the " +
+                           std::to_string(n_representatives) +
+                           " of Database/Representatives. Set that number, "
+                           "or 0, or build into another Database/File."));
 
     const CoarseElement element(1, database.point_offset());
     if (!todo.empty())
       {
         create_directories(directory(), "Database/File");
-        Journal journal(database_file, database.fingerprint());
+        Journal journal(database_file,
+                        database.fingerprint(),
+                        database.combinations().size());
         fit_in_parallel(
           todo.size(),
           n_threads,
@@ -626,7 +640,9 @@ namespace ddfem::coarsening
         Timer timer2;
         if (!needed.empty())
           {
-            Journal journal(level2_journal, fingerprint);
+            Journal journal(level2_journal,
+                            fingerprint,
+                            level2.n_representatives());
             fit_in_parallel(
               needed.size(),
               n_threads,

@@ -1,5 +1,6 @@
 #include <deal.II/base/exceptions.h>
 
+#include <ddfem/base/exceptions.h>
 #include <ddfem/coarsening/block_sampler.h>
 #include <ddfem/coarsening/database.h>
 #include <ddfem/coarsening/hierarchy.h>
@@ -370,46 +371,59 @@ namespace ddfem::coarsening
   {
     H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); // our messages only
     const std::string temporary = file + ".partial";
-    {
-      const Handle h5(
-        H5Fcreate(temporary.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT),
-        H5Fclose);
-      AssertThrow(h5.valid(),
-                  ExcMessage("Cannot create the database file " + temporary +
-                             " (does its directory exist and is it "
-                             "writable?)."));
-      write_attribute(h5, "format", "ddfem metamaterial database");
-      write_attribute(h5,
-                      "format version",
-                      std::to_string(database_format_version));
-      write_attribute(h5, "code version", "ddfem 0.1");
-      write_attribute(h5, "palette", palette_description);
-      write_attribute(h5, "palette hash", palette_hash(palette_description));
-      write_attribute(h5, "with void", index.with_void() ? "1" : "0");
-      write_attribute(h5, "settings", settings_fingerprint);
+    // The file is written under another name and replaces the old one only
+    // once HDF5 has closed it without error: a full disk leaves the old
+    // file and no partial one.
+    Handle h5(
+      H5Fcreate(temporary.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT),
+      H5Fclose);
+    AssertThrow(h5.valid(),
+                ExcMessage("Cannot create the database file " + temporary +
+                           " (does its directory exist and is it "
+                           "writable?)."));
+    std::error_code ignored;
+    try
       {
-        std::ostringstream offset;
-        offset << std::setprecision(17) << coarse_point_offset;
-        write_attribute(h5, "coarse point offset", offset.str());
-      }
-      write_attribute(h5, "representatives", std::to_string(representatives));
+        write_attribute(h5, "format", "ddfem metamaterial database");
+        write_attribute(h5,
+                        "format version",
+                        std::to_string(database_format_version));
+        write_attribute(h5, "code version", "ddfem 0.1");
+        write_attribute(h5, "palette", palette_description);
+        write_attribute(h5, "palette hash", palette_hash(palette_description));
+        write_attribute(h5, "with void", index.with_void() ? "1" : "0");
+        write_attribute(h5, "settings", settings_fingerprint);
+        {
+          std::ostringstream offset;
+          offset << std::setprecision(17) << coarse_point_offset;
+          write_attribute(h5, "coarse point offset", offset.str());
+        }
+        write_attribute(h5, "representatives", std::to_string(representatives));
 
-      write_entries(h5, "entries", fitted, 8, true);
-      write_dataset(h5, "lookup/entry", {hsize_t(index.size())}, entry_of);
-      write_dataset(h5,
-                    "lookup/symmetry",
-                    {hsize_t(index.size())},
-                    symmetry_of);
-      if (level2 != nullptr && !level2->empty())
-        level2->save(h5);
-    }
+        write_entries(h5, "entries", fitted, 8, true);
+        write_dataset(h5, "lookup/entry", {hsize_t(index.size())}, entry_of);
+        write_dataset(h5,
+                      "lookup/symmetry",
+                      {hsize_t(index.size())},
+                      symmetry_of);
+        if (level2 != nullptr && !level2->empty())
+          level2->save(h5);
+        AssertThrow(h5.close_now(), ExcMessage("HDF5 could not close it."));
+      }
+    catch (const ExceptionBase &e)
+      {
+        std::filesystem::remove(temporary, ignored);
+        AssertThrow(false,
+                    ExcMessage("Cannot write the database file " + temporary +
+                               " (is the disk full?): " + message_of(e) + " " +
+                               file +
+                               " is unchanged, and its journal keeps the new "
+                               "entries."));
+      }
     std::error_code error;
     std::filesystem::rename(temporary, file, error);
     if (error)
-      {
-        std::error_code ignored;
-        std::filesystem::remove(temporary, ignored);
-      }
+      std::filesystem::remove(temporary, ignored);
     AssertThrow(!error,
                 ExcMessage("Cannot replace the database file " + file +
                            " (Database/File): " + error.message() +
@@ -483,6 +497,18 @@ namespace ddfem::coarsening
                   db.symmetry_of[k] < CubeSymmetries::size,
                 "has an invalid lookup table at combination " +
                   std::to_string(k));
+        // Uncompressed, a combination's entry is its orbit's, and its
+        // symmetry maps that entry's block to it (a flipped value that
+        // stays in range would rotate another block's material into it).
+        if (db.representatives == 0)
+          for (std::size_t k = 0; k < n_keys; ++k)
+            check(db.entry_of[k] < 0 ||
+                    db.index.key(
+                      db.group.apply(db.symmetry_of[k],
+                                     db.index.combination(
+                                       db.fitted[db.entry_of[k]].key))) == k,
+                  "has a lookup table whose symmetry at combination " +
+                    std::to_string(k) + " does not map its entry onto it");
         if (level2 != nullptr && !level2->load(h5, n_keys))
           *level2 = Hierarchy();
         return db;
@@ -737,8 +763,106 @@ namespace ddfem::coarsening
 
 
 
+  namespace
+  {
+    /**
+     * The complete records of the journal @p name (see Journal::read()),
+     * and in @p valid_end the length of the journal up to the end of the
+     * last of them.
+     */
+    std::vector<Entry>
+    read_journal(const std::string &name,
+                 const std::string &fingerprint,
+                 const std::size_t  n_keys,
+                 std::uintmax_t    &valid_end)
+    {
+      std::vector<Entry> entries;
+      valid_end     = 0;
+      std::FILE *in = std::fopen(name.c_str(), "rb");
+      if (in == nullptr)
+        return entries;
+      std::uint64_t length = 0;
+      std::string   stored;
+      if (std::fread(&length, sizeof(length), 1, in) == 1 && length < 100000)
+        {
+          stored.resize(length);
+          if (std::fread(stored.data(), 1, length, in) != length)
+            stored.clear();
+        }
+      if (stored != fingerprint)
+        {
+          std::fclose(in);
+          AssertThrow(!stored.empty(),
+                      ExcMessage("The build journal " + name +
+                                 " has no readable header: it is damaged or "
+                                 "not a journal. Delete it (the entries it "
+                                 "held are fitted again)."));
+          AssertThrow(false,
+                      ExcMessage("The build journal " + name +
+                                 " belongs to a build with other settings (" +
+                                 stored +
+                                 "). Delete it or restore those "
+                                 "settings."));
+        }
+      valid_end                    = std::ftell(in);
+      const unsigned int  n_header = 9;
+      std::vector<double> values(n_header);
+      std::uint32_t       magic;
+      std::uint64_t       sum;
+      // Level-1 records carry 8 points and 8 child points, level-2 ones 64
+      // points and none.
+      while (std::fread(&magic, sizeof(magic), 1, in) == 1 &&
+             magic == record_magic &&
+             std::fread(values.data(), sizeof(double), n_header, in) ==
+               n_header &&
+             ((values[7] == 8 && values[8] == 8) ||
+              (values[7] == 64 && values[8] == 0)))
+        {
+          const unsigned int n_points = values[7], n_children = values[8];
+          const unsigned int n_stored = (n_points + n_children) * n_values;
+          values.resize(n_header + n_stored);
+          if (std::fread(values.data() + n_header,
+                         sizeof(double),
+                         n_stored,
+                         in) != n_stored ||
+              std::fread(&sum, sizeof(sum), 1, in) != 1 ||
+              sum != checksum(values))
+            break;
+          if (!(values[0] >= 0 && values[0] < n_keys))
+            break;
+          Entry e;
+          e.key          = values[0];
+          e.median_error = values[1];
+          e.max_error    = values[2];
+          e.min_strain   = values[3];
+          e.max_strain   = values[4];
+          e.n_samples    = values[5];
+          e.n_dropped    = values[6];
+          for (unsigned int q = 0; q < n_points; ++q)
+            e.material.points.push_back(
+              point_from(&values[n_header + q * n_values]));
+          for (unsigned int q = 0; q < n_children; ++q)
+            e.child_material.points.push_back(
+              point_from(&values[n_header + (n_points + q) * n_values]));
+          const auto physical = [](const Metamaterial &m) {
+            return std::all_of(m.points.begin(), m.points.end(), is_physical);
+          };
+          if (!(physical(e.material) && physical(e.child_material)))
+            break;
+          entries.push_back(e);
+          valid_end = std::ftell(in);
+          values.resize(n_header);
+        }
+      std::fclose(in);
+      return entries;
+    }
+  } // namespace
+
+
+
   Journal::Journal(const std::string &database_file,
-                   const std::string &fingerprint)
+                   const std::string &fingerprint,
+                   const std::size_t  n_keys)
     : name(journal_name(database_file))
   {
     // A new journal gets its header under another name first: a reader
@@ -761,6 +885,18 @@ namespace ddfem::coarsening
             std::filesystem::remove(partial);
             AssertThrow(false, ExcMessage(cannot_write(name)));
           }
+      }
+    else if (std::filesystem::is_regular_file(name))
+      {
+        // A build interrupted while appending leaves a torn record, and
+        // read() stops there: cut it off, or the records appended now
+        // would follow it unread.
+        std::uintmax_t valid_end;
+        read_journal(name, fingerprint, n_keys, valid_end);
+        std::error_code error;
+        if (std::filesystem::file_size(name, error) > valid_end && !error)
+          std::filesystem::resize_file(name, valid_end, error);
+        AssertThrow(!error, ExcMessage(cannot_write(name)));
       }
     file = std::fopen(name.c_str(), "ab");
     AssertThrow(file != nullptr, ExcMessage(cannot_write(name)));
@@ -807,82 +943,11 @@ namespace ddfem::coarsening
                 const std::string &fingerprint,
                 const std::size_t  n_keys)
   {
-    std::vector<Entry> entries;
-    const std::string  name = journal_name(database_file);
-    std::FILE         *in   = std::fopen(name.c_str(), "rb");
-    if (in == nullptr)
-      return entries;
-    std::uint64_t length = 0;
-    std::string   stored;
-    if (std::fread(&length, sizeof(length), 1, in) == 1 && length < 100000)
-      {
-        stored.resize(length);
-        if (std::fread(stored.data(), 1, length, in) != length)
-          stored.clear();
-      }
-    if (stored != fingerprint)
-      {
-        std::fclose(in);
-        AssertThrow(!stored.empty(),
-                    ExcMessage("The build journal " + name +
-                               " has no readable header: it is damaged or "
-                               "not a journal. Delete it (the entries it "
-                               "held are fitted again)."));
-        AssertThrow(false,
-                    ExcMessage("The build journal " + name +
-                               " belongs to a build with other settings (" +
-                               stored +
-                               "). Delete it or restore those "
-                               "settings."));
-      }
-    const unsigned int  n_header = 9;
-    std::vector<double> values(n_header);
-    std::uint32_t       magic;
-    std::uint64_t       sum;
-    // Level-1 records carry 8 points and 8 child points, level-2 ones 64
-    // points and none.
-    while (
-      std::fread(&magic, sizeof(magic), 1, in) == 1 && magic == record_magic &&
-      std::fread(values.data(), sizeof(double), n_header, in) == n_header &&
-      ((values[7] == 8 && values[8] == 8) ||
-       (values[7] == 64 && values[8] == 0)))
-      {
-        const unsigned int n_points = values[7], n_children = values[8];
-        const unsigned int n_stored = (n_points + n_children) * n_values;
-        values.resize(n_header + n_stored);
-        if (std::fread(values.data() + n_header,
-                       sizeof(double),
-                       n_stored,
-                       in) != n_stored ||
-            std::fread(&sum, sizeof(sum), 1, in) != 1 ||
-            sum != checksum(values))
-          break;
-        if (!(values[0] >= 0 && values[0] < n_keys))
-          break;
-        Entry e;
-        e.key          = values[0];
-        e.median_error = values[1];
-        e.max_error    = values[2];
-        e.min_strain   = values[3];
-        e.max_strain   = values[4];
-        e.n_samples    = values[5];
-        e.n_dropped    = values[6];
-        for (unsigned int q = 0; q < n_points; ++q)
-          e.material.points.push_back(
-            point_from(&values[n_header + q * n_values]));
-        for (unsigned int q = 0; q < n_children; ++q)
-          e.child_material.points.push_back(
-            point_from(&values[n_header + (n_points + q) * n_values]));
-        const auto physical = [](const Metamaterial &m) {
-          return std::all_of(m.points.begin(), m.points.end(), is_physical);
-        };
-        if (!(physical(e.material) && physical(e.child_material)))
-          break;
-        entries.push_back(e);
-        values.resize(n_header);
-      }
-    std::fclose(in);
-    return entries;
+    std::uintmax_t valid_end;
+    return read_journal(journal_name(database_file),
+                        fingerprint,
+                        n_keys,
+                        valid_end);
   }
 
 

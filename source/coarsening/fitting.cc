@@ -301,8 +301,16 @@ namespace ddfem::coarsening
   FitResult
   MetamaterialFit::fit(const double regularization) const
   {
+    return result_of(parameters(regularization));
+  }
+
+
+
+  FitResult
+  MetamaterialFit::result_of(const Metamaterial &m) const
+  {
     FitResult result;
-    result.material   = parameters(regularization);
+    result.material   = m;
     result.n_fit      = n_fit;
     result.n_held_out = n_held_out;
     result.n_rejected = n_rejected;

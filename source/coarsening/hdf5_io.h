@@ -52,6 +52,18 @@ namespace ddfem::coarsening::hdf5
     {
       return id >= 0;
     }
+    /**
+     * Closes the identifier now and returns whether that succeeded. A file
+     * written through HDF5 gets its metadata only when it is closed, so a
+     * writer must check this (the destructor cannot report a failure).
+     */
+    bool
+    close_now()
+    {
+      const bool closed = id >= 0 && close(id) >= 0;
+      id                = -1;
+      return closed;
+    }
 
   private:
     hid_t id;

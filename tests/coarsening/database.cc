@@ -7,6 +7,7 @@
 #include <ddfem/base/exceptions.h>
 #include <ddfem/coarsening/builder.h>
 #include <hdf5.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -181,27 +182,16 @@ namespace
 int
 main()
 {
-  // Start from a clean directory: earlier runs leave their files here.
-  for (const std::string name : {"killed",
-                                 "full",
-                                 "threads",
-                                 "small",
-                                 "compressed",
-                                 "lazy",
-                                 "level2",
-                                 "lazy2",
-                                 "lazy2_both",
-                                 "lazy2_over",
-                                 "one",
-                                 "garbage",
-                                 "truncated"})
-    for (const std::string suffix :
-         {".h5", ".h5.journal", ".h5.level2.journal", ".h5.partial"})
-      std::filesystem::remove(name + suffix);
+  // Start from a clean directory: earlier runs leave their database files
+  // and journals here, and a complete one would not be built again.
+  std::vector<std::filesystem::path> stale;
+  for (const auto &file : std::filesystem::directory_iterator("."))
+    if (file.path().filename().string().find(".h5") != std::string::npos)
+      stale.push_back(file.path());
+  for (const auto &file : stale)
+    std::filesystem::remove(file);
   {
     std::cout << "Killed and resumed build" << std::endl;
-    std::filesystem::remove("killed.h5");
-    std::filesystem::remove("killed.h5.journal");
     const pid_t child = fork();
     if (child == 0)
       {
@@ -248,7 +238,7 @@ main()
       {
         std::filesystem::remove("forged.h5.journal");
         {
-          Journal journal("forged.h5", fingerprint);
+          Journal journal("forged.h5", fingerprint, n_keys);
           Entry   bad = full.entries()[1];
           spoil(bad);
           journal.append(full.entries()[0]);
@@ -259,12 +249,37 @@ main()
                   << Journal::read("forged.h5", fingerprint, n_keys).size()
                   << " of 3" << std::endl;
       }
+    // A build killed while appending leaves a torn record; a resumed
+    // build cuts it off, so the records it appends can be read.
+    std::filesystem::remove("forged.h5.journal");
+    {
+      Journal journal("forged.h5", fingerprint, n_keys);
+      journal.append(full.entries()[0]);
+      journal.append(full.entries()[1]);
+    }
+    {
+      std::ofstream torn("forged.h5.journal", std::ios::binary | std::ios::app);
+      const std::uint32_t magic  = 0x4444464dU;
+      const double        key[2] = {double(full.entries()[2].key), 0.5};
+      torn.write(reinterpret_cast<const char *>(&magic), sizeof(magic));
+      torn.write(reinterpret_cast<const char *>(key), sizeof(key));
+    }
+    std::cout << "journal with a torn record: records read "
+              << Journal::read("forged.h5", fingerprint, n_keys).size()
+              << " of 2";
+    {
+      Journal journal("forged.h5", fingerprint, n_keys);
+      journal.append(full.entries()[3]);
+    }
+    std::cout << ", after resuming and appending one: "
+              << Journal::read("forged.h5", fingerprint, n_keys).size()
+              << " of 3" << std::endl;
     // A record that cannot be written stops the build (/dev/full fails
     // every write with ENOSPC).
     std::filesystem::remove("full_disk.h5.journal");
     std::filesystem::create_symlink("/dev/full", "full_disk.h5.journal");
     expect_error("journal on a full disk", [&] {
-      Journal journal("full_disk.h5", fingerprint);
+      Journal journal("full_disk.h5", fingerprint, n_keys);
       journal.append(full.entries()[0]);
     });
     std::filesystem::remove("full_disk.h5.journal");
@@ -274,11 +289,35 @@ main()
     std::filesystem::create_symlink("/dev/full",
                                     "full_disk.h5.journal.partial");
     expect_error("new journal on a full disk",
-                 [&] { Journal journal("full_disk.h5", fingerprint); });
+                 [&] { Journal journal("full_disk.h5", fingerprint, n_keys); });
     std::cout << "partial header removed: "
               << !std::filesystem::is_symlink("full_disk.h5.journal.partial")
               << ", no journal: "
               << !std::filesystem::exists("full_disk.h5.journal") << std::endl;
+    // A database file that cannot be written whole (a file size limit
+    // stands in for a full disk) is an error that leaves the old file
+    // and no partial one.
+    std::filesystem::copy_file(
+      "full.h5",
+      "limited.h5",
+      std::filesystem::copy_options::overwrite_existing);
+    std::cout.flush();
+    const pid_t writer = fork();
+    if (writer == 0)
+      {
+        std::signal(SIGXFSZ, SIG_IGN);
+        const rlimit limit = {4096, 4096};
+        setrlimit(RLIMIT_FSIZE, &limit);
+        expect_error("database file beyond a file size limit",
+                     [&] { full.save("limited.h5"); });
+        std::cout.flush();
+        _exit(0);
+      }
+    waitpid(writer, nullptr, 0);
+    std::cout << "old file kept: "
+              << same_entries(Database::load("limited.h5"), full)
+              << ", no partial file: "
+              << !std::filesystem::exists("limited.h5.partial") << std::endl;
     for (const unsigned int threads : {2u, 3u})
       std::cout << threads << " threads give the same entries: "
                 << same_entries(build(builder("threads" +
@@ -530,6 +569,14 @@ main()
     std::cout << "compressed round trip: "
               << same_entries(compressed, Database::load("compressed.h5"))
               << std::endl;
+    // A build asking for another compression of a compressed file.
+    std::cout << "the same compression builds: "
+              << build(builder("compressed.h5", false, "all", 1, 5), palette())
+                   .n_representatives()
+              << " representatives" << std::endl;
+    expect_error("another compression", [] {
+      build(builder("compressed.h5", false, "all", 1, 3), palette());
+    });
 
     // Lazy mode: only the scene's blocks.
     scene::VoxelGrid grid({{4, 2, 2}}, 0.01, 1);
@@ -870,6 +917,26 @@ main()
                                });
     expect_error("table naming no entry",
                  [] { Database::load("bad_table.h5"); });
+    {
+      // A symmetry that stays in range but maps the block's entry onto
+      // another combination.
+      const Database    small          = Database::load("small.h5");
+      const Combination c              = {{1, 2, 1, 1, 1, 1, 1, 1}};
+      const Combination representative = small.symmetries().canonical(c).first;
+      unsigned int      wrong          = 0;
+      while (small.symmetries().apply(wrong, representative) == c)
+        ++wrong;
+      edit_dataset<std::uint8_t>("small.h5",
+                                 "wrong_symmetry.h5",
+                                 "lookup/symmetry",
+                                 H5T_NATIVE_UINT8,
+                                 [&](std::vector<std::uint8_t> &values,
+                                     std::vector<hsize_t> &) {
+                                   values[small.combinations().key(c)] = wrong;
+                                 });
+      expect_error("table with a wrong symmetry",
+                   [] { Database::load("wrong_symmetry.h5"); });
+    }
     edit_dataset<double>("small.h5",
                          "negative_mu.h5",
                          "entries/parameters",

@@ -287,10 +287,16 @@ namespace ddfem::coarsening
   public:
     /**
      * Opens the journal of @p database_file for appending; a new journal
-     * starts with @p fingerprint (DatabaseSettings::fingerprint()). Throws
-     * ExcMessage if the journal cannot be created or written.
+     * starts with @p fingerprint (DatabaseSettings::fingerprint()). An
+     * existing one is cut after its last complete record (as read() with
+     * @p fingerprint and @p n_keys finds it), so that a torn record left by
+     * an interrupted build does not hide the records appended now. Throws
+     * ExcMessage if the journal cannot be created or written, or if it was
+     * written with other settings.
      */
-    Journal(const std::string &database_file, const std::string &fingerprint);
+    Journal(const std::string &database_file,
+            const std::string &fingerprint,
+            std::size_t        n_keys);
     /// Closes the file.
     ~Journal();
 

@@ -94,9 +94,14 @@ namespace ddfem::coarsening
     parameters(const double regularization) const;
 
     /// The fitted metamaterial for the weight @p regularization, with its
-    /// errors on the held-out samples.
+    /// errors on the held-out samples: result_of(parameters()).
     FitResult
     fit(const double regularization) const;
+
+    /// @p m (a fit changed afterwards, e.g. symmetrized) with its errors on
+    /// this problem's held-out samples and its sample counts.
+    FitResult
+    result_of(const Metamaterial &m) const;
 
   private:
     const CoarseElement &element;
