@@ -154,6 +154,10 @@ namespace ddfem::app
         dg_parameters.parse_parameters(prm);
         database.parse_parameters(prm);
         scene.parse_parameters(prm);
+        AssertThrow(method != "dg" || scene.n_edits() == 0,
+                    ExcMessage("Layout/Edits is not supported with Method = "
+                               "dg (a DG run solves the base state only): "
+                               "remove the edits or use another Method."));
       }
 
       int
@@ -461,18 +465,25 @@ namespace ddfem::app
     int
     run_comparison(ParameterHandler  &prm,
                    const std::string &prm_file,
-                   std::ostream      &out)
+                   std::ostream      &out,
+                   std::ostream      &err)
     {
       scene::Scene scene;
       scene.parse_parameters(prm);
       const OutputSettings output(prm);
       Comparison           comparison;
       comparison.parse_parameters(prm);
-      return comparison.run(scene,
-                            scene_name_of(prm, prm_file),
-                            output.directory,
-                            output.screen_timings,
-                            out);
+      const int status = comparison.run(scene,
+                                        scene_name_of(prm, prm_file),
+                                        output.directory,
+                                        output.screen_timings,
+                                        out);
+      if (status != 0)
+        err << "Error: a model of the comparison did not converge (NOT "
+               "CONVERGED in the table); its errors and times are not "
+               "meaningful."
+            << std::endl;
+      return status;
     }
   } // namespace
 
@@ -610,6 +621,12 @@ namespace ddfem::app
                         ExcMessage("In parameter file \"" + prm_file +
                                    "\": " + message_of(e)));
           }
+        catch (std::exception &e) // the XML and JSON readers' errors
+          {
+            AssertThrow(false,
+                        ExcMessage("In parameter file \"" + prm_file +
+                                   "\": " + e.what()));
+          }
         for (unsigned int i = 1; i < arguments.size(); ++i)
           {
             AssertThrow(arguments[i] == "--set" && i + 1 < arguments.size(),
@@ -624,7 +641,7 @@ namespace ddfem::app
         if (run_type == "dg convergence" || run_type == "dg cost")
           return run_dg_study(run_type, prm, out);
         if (run_type == "compare")
-          return run_comparison(prm, prm_file, out);
+          return run_comparison(prm, prm_file, out, err);
         Simulation simulation(out, err);
         simulation.parse_parameters(prm, prm_file);
         return simulation.run(prm);

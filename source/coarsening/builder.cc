@@ -146,6 +146,15 @@ namespace ddfem::coarsening
                              " < 0 (nu < 0). Metamaterials are fitted with "
                              "lambda >= 0, so Method = ddfem and Run type = "
                              "database need nu >= 0 (lambda >= 0)."));
+    AssertThrow(
+      !std::filesystem::path(database_file).filename().empty() &&
+        !std::filesystem::is_directory(database_file),
+      ExcMessage(
+        "Database/File = '" + database_file +
+        "' is a directory; give the name of a file "
+        "(e.g. " +
+        (std::filesystem::path(database_file) / "metamaterials.h5").string() +
+        ")."));
     check_creatable(directory(), "Database/File");
   }
 

@@ -300,9 +300,15 @@ namespace ddfem::scene
                 condition.axis =
                   parse_point(Utilities::split_string_list(prm.get("Axis")),
                               where + "/Axis");
-                AssertThrow(condition.axis.norm() > 0,
+                // Its length must be computable: 1e200 would overflow to
+                // infinity and normalize to the zero vector.
+                AssertThrow(condition.axis.norm() > 0 &&
+                              std::isfinite(condition.axis.norm()),
                             ExcMessage(where +
-                                       "/Axis must not be the zero vector."));
+                                       "/Axis must not be the zero vector, "
+                                       "and its length must be finite (give "
+                                       "components between 1e-300 and "
+                                       "1e150 in size)."));
                 condition.axis /= condition.axis.norm();
                 condition.angle = prm.get_double("Angle") * numbers::PI / 180.;
                 condition.constrained.assign(3, true);

@@ -130,7 +130,7 @@ namespace ddfem::scene
                         "Axis of the bar the fibers wind around.");
       prm.declare_entry("Count",
                         "4",
-                        Patterns::Integer(1),
+                        Patterns::Integer(1, 1000),
                         "Number of helical fibers.");
       prm.declare_entry("Fiber radius",
                         "0.02",

@@ -5,6 +5,14 @@
 
 namespace ddfem::scene
 {
+  namespace
+  {
+    /// The largest |mu| and |lambda| of a palette material (Pa).
+    constexpr double max_modulus = 1e20;
+  } // namespace
+
+
+
   material::MaterialPoint
   PaletteMaterial::material_point() const
   {
@@ -28,7 +36,8 @@ namespace ddfem::scene
       "';'. Voxel id 0 is void, id m >= 1 is the m-th material here. Each "
       "material is either 'E=<Young's modulus in Pa> nu=<Poisson ratio>' "
       "with E > 0 and -1 < nu < 0.5, or 'mu=<Pa> lambda=<Pa>' with mu > 0 "
-      "and lambda > -2/3 mu. The default is the papers' palette.");
+      "and lambda > -2/3 mu; mu and |lambda| at most 1e20 Pa. The default "
+      "is the papers' palette.");
     prm.leave_subsection();
   }
 
@@ -94,6 +103,11 @@ namespace ddfem::scene
             false,
             ExcMessage(
               where + ": give exactly 'E=... nu=...' or 'mu=... lambda=...'."));
+        // Energies and residuals sum moduli times strains over the cells:
+        // far larger moduli overflow them to infinity.
+        AssertThrow(m.mu <= max_modulus && std::abs(m.lambda) <= max_modulus,
+                    ExcMessage(where + ": mu and lambda must be at most 1e20 "
+                                       "Pa (E at most about 1e20 Pa)."));
         result.push_back(m);
       }
     AssertThrow(!result.empty() && result.size() < 255,

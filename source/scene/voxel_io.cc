@@ -444,6 +444,24 @@ namespace ddfem::scene
       extension == ".stl" ? read_stl(file, content) : read_obj(file, content);
     AssertThrow(!mesh.triangles.empty(),
                 ExcMessage(file + ": contains no triangles."));
+    // voxelize() tells inside from outside by counting crossings, which
+    // needs a closed surface: every edge on an even number of triangles.
+    std::map<std::pair<unsigned int, unsigned int>, unsigned int> edges;
+    for (const auto &t : mesh.triangles)
+      for (unsigned int e = 0; e < 3; ++e)
+        ++edges[std::minmax(t[e], t[(e + 1) % 3])];
+    for (const auto &[edge, count] : edges)
+      if (count % 2 != 0)
+        {
+          std::ostringstream message;
+          message << file << ": is not a closed surface: the edge from ("
+                  << mesh.vertices[edge.first] << ") to ("
+                  << mesh.vertices[edge.second] << ") belongs to " << count
+                  << " triangle" << (count == 1 ? "" : "s")
+                  << ". Layout/Surface mesh needs a closed (watertight) "
+                     "mesh.";
+          AssertThrow(false, ExcMessage(message.str()));
+        }
     return mesh;
   }
 

@@ -61,7 +61,7 @@ namespace ddfem::solver
     prm.declare_entry(
       "Load steps",
       "10",
-      Patterns::Integer(1),
+      Patterns::Integer(1, 10000),
       "Number of equal load increments from load factor 0 to 1.");
     prm.declare_entry(
       "Minimum load step",

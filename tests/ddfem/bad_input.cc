@@ -146,6 +146,15 @@ main(int argc, char **argv)
              "subsection Boundary conditions\n  subsection Condition 2\n"
              "    set Type = rotation\n    set Axis = 1e-320, 0, 0\n"
              "  end\nend\n");
+  // A length that overflows would normalize to the zero vector.
+  run_case("huge_rotation_axis",
+           cantilever +
+             "subsection Boundary conditions\n  subsection Condition 2\n"
+             "    set Type = rotation\n    set Axis = 1e200, 1e200, 0\n"
+             "  end\nend\n");
+  run_case("huge_modulus",
+           cantilever + "subsection Materials\n  set Palette = E=1e5 nu=0.3; "
+                        "E=1e308 nu=0.45\nend\n");
   run_case("thin_layers",
            cantilever + "subsection Layout\n  set Type = layers\n"
                         "  subsection Layers\n    set Thickness = 1e-300\n"
@@ -165,6 +174,9 @@ main(int argc, char **argv)
   run_case("second_edit_removes_voxels",
            cantilever + "subsection Layout\n  set Edits = box 0 0 0 1 1 1 : 2 "
                         "| box 0 0 0 0.01 0.01 0.01 : 0\nend\n");
+  run_case("dg_with_edits",
+           cantilever,
+           {"--set", "Method=dg", "--set", "Layout/Edits=box 0 0 0 1 1 1 : 2"});
   run_case("empty_edit",
            cantilever + "subsection Layout\n  set Edits = | \nend\n");
   // A comparison checks that every coarse model's grid coarsens before the
@@ -204,6 +216,12 @@ main(int argc, char **argv)
             "Discretization/Polynomial degree=2",
             "--set",
             "Database/File=out_ddfem_quadratic/db.h5"});
+  run_case("database_file_is_a_directory",
+           cantilever,
+           {"--set",
+            "Method=ddfem",
+            "--set",
+            "Database/File=out_database_file_is_a_directory/"});
   run_case("newton_tolerance_one",
            cantilever,
            {"--set", "Nonlinear solver/Newton tolerance=1"});
@@ -219,13 +237,29 @@ main(int argc, char **argv)
     std::cout << "* parameter_file_is_a_directory: exit code " << code << "\n  "
               << err.str() << std::endl;
   }
-  std::ofstream("degenerate.obj")
-    << "v 0 0 0\nv 0 0 0\nv 0 0 0\nv 0 0 0\nf 1 2 3\nf 1 3 4\n";
+  // A closed tetrahedron whose corners coincide.
+  std::ofstream("malformed.xml") << "<ParameterHandler><Method>";
+  {
+    std::ostringstream out, err;
+    const int          code = app::run({"malformed.xml"}, out, err);
+    std::cout << "* malformed_xml: exit code " << code << "\n  " << err.str()
+              << std::endl;
+  }
+  std::ofstream("degenerate.obj") << "v 0 0 0\nv 0 0 0\nv 0 0 0\nv 0 0 0\n"
+                                     "f 1 2 3\nf 1 3 4\nf 1 4 2\nf 2 4 3\n";
   run_case(
     "degenerate_mesh",
     cantilever +
       "subsection Layout\n  set Type = surface mesh\n  subsection Surface mesh\n"
       "    set File name = degenerate.obj\n  end\nend\n");
+  // Two faces of a tetrahedron: an open surface encloses nothing.
+  std::ofstream("open.obj")
+    << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\n";
+  run_case(
+    "open_mesh",
+    cantilever +
+      "subsection Layout\n  set Type = surface mesh\n  subsection Surface mesh\n"
+      "    set File name = open.obj\n  end\nend\n");
   std::ofstream("damaged.h5.journal") << "not a journal\n";
   run_case("damaged_journal",
            cantilever,
@@ -300,6 +334,19 @@ end
   // A solve that converges in its first load step and fails in its second
   // (a soft cantilever bent far, Newton's method limited, no cutting)
   // keeps the converged step: its VTU file and a summary.json that says so.
+  // A comparison whose models do not converge says so on the error stream.
+  run_case("compare_unconverged",
+           bent_far,
+           {"--set",
+            "Run type=compare",
+            "--set",
+            "Comparison/Methods=",
+            "--set",
+            "Nonlinear solver/Load steps=1",
+            "--set",
+            "Nonlinear solver/Minimum load step=1",
+            "--set",
+            "Nonlinear solver/Maximum Newton iterations=1"});
   std::filesystem::remove_all("out_unconverged_later");
   run_case("unconverged_later", bent_far + R"(
 subsection Nonlinear solver
