@@ -172,7 +172,8 @@ namespace ddfem::app
       prepare_output(const ParameterHandler &prm) const
       {
         create_directories(directory, "Output/Output directory");
-        std::ofstream used(directory + "/parameters.prm");
+        std::ofstream used = open_for_writing(directory + "/parameters.prm",
+                                              "Output/Output directory");
         prm.print_parameters(used, ParameterHandler::ShortPRM);
         AssertThrow(used,
                     ExcMessage("Cannot write \"" + directory +

@@ -1,6 +1,7 @@
 #include <deal.II/base/data_out_base.h>
 #include <deal.II/numerics/data_out.h>
 
+#include <ddfem/base/files.h>
 #include <ddfem/report/output.h>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -137,13 +138,17 @@ namespace ddfem::report
 
     const std::string name =
       basename + "-" + Utilities::int_to_string(step, 4) + ".vtu";
-    std::ofstream vtu(directory + "/" + name);
+    // deal.II's writers throw a generic ExcIO on a stream that did not
+    // open, so the file is checked first.
+    std::ofstream vtu =
+      open_for_writing(directory + "/" + name, "Output/Output directory");
     data_out.write_vtu(vtu);
     AssertThrow(vtu,
                 ExcMessage("Could not write \"" + directory + "/" + name +
                            "\"."));
     records.emplace_back(t, name);
-    std::ofstream pvd(directory + "/" + basename + ".pvd");
+    std::ofstream pvd = open_for_writing(directory + "/" + basename + ".pvd",
+                                         "Output/Output directory");
     DataOutBase::write_pvd_record(pvd, records);
   }
 } // namespace ddfem::report

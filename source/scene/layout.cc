@@ -273,6 +273,12 @@ namespace ddfem::scene
                 ExcMessage("Layout/Layers/Thickness must be at least 1e-6 m."));
     AssertThrow(type != "fibers" || fiber_pitch >= 1e-6,
                 ExcMessage("Layout/Fibers/Pitch must be at least 1e-6 m."));
+    // A skin or fibers of zero size would silently paint nothing.
+    AssertThrow(type != "skin" || skin_thickness >= 1e-6,
+                ExcMessage("Layout/Skin/Thickness must be at least 1e-6 m."));
+    AssertThrow(type != "fibers" || fiber_radius >= 1e-6,
+                ExcMessage(
+                  "Layout/Fibers/Fiber radius must be at least 1e-6 m."));
     AssertThrow(
       type != "voxel file" || !voxel_file.empty(),
       ExcMessage(

@@ -155,6 +155,10 @@ main(int argc, char **argv)
   run_case("huge_modulus",
            cantilever + "subsection Materials\n  set Palette = E=1e5 nu=0.3; "
                         "E=1e308 nu=0.45\nend\n");
+  run_case("zero_skin",
+           cantilever + "subsection Layout\n  set Type = skin\n"
+                        "  subsection Skin\n    set Thickness = 0\n"
+                        "  end\nend\n");
   run_case("thin_layers",
            cantilever + "subsection Layout\n  set Type = layers\n"
                         "  subsection Layers\n    set Thickness = 1e-300\n"
@@ -230,6 +234,22 @@ main(int argc, char **argv)
   run_case("output_directory_under_a_file",
            cantilever,
            {"--set", "Output/Output directory=a_file/out"});
+  // A directory in the way of an output file: the message names the file
+  // (deal.II's writers would throw a generic input/output error).
+  std::filesystem::create_directories("vtu_in_the_way/solution-0001.vtu");
+  std::ofstream("vtu_in_the_way.prm") << cantilever;
+  {
+    std::ostringstream out, err;
+    const int          code = app::run({"vtu_in_the_way.prm",
+                                        "--set",
+                                        "Output/Output directory=vtu_in_the_way",
+                                        "--set",
+                                        "Output/Write VTU=every step"},
+                              out,
+                              err);
+    std::cout << "* directory_in_place_of_a_vtu: exit code " << code << "\n  "
+              << err.str() << std::endl;
+  }
   std::filesystem::create_directories("directory.prm");
   {
     std::ostringstream out, err;

@@ -4,6 +4,7 @@
 #include <deal.II/base/exceptions.h>
 
 #include <filesystem>
+#include <fstream>
 #include <ostream>
 #include <string>
 #include <system_error>
@@ -39,6 +40,22 @@ namespace ddfem
     AssertThrow(!path.empty() && !error &&
                   std::filesystem::is_directory(path, error),
                 internal::directory_error(path, where, error));
+  }
+
+  /**
+   * Opens @p file for writing. Throws ExcMessage naming @p file and the
+   * parameter @p where its directory comes from if it cannot be opened (a
+   * directory of that name in the way, no permission), before anything is
+   * written to it.
+   */
+  inline std::ofstream
+  open_for_writing(const std::string &file, const std::string &where)
+  {
+    std::ofstream stream(file);
+    AssertThrow(stream && !std::filesystem::is_directory(file),
+                dealii::ExcMessage("Cannot write \"" + file + "\" (" + where +
+                                   ")."));
+    return stream;
   }
 
   /**
