@@ -123,8 +123,7 @@ namespace ddfem::coarsening
     // The baselines: the palette materials of the block's voxels.
     Metamaterial result;
     result.points.resize(point_voxel.size());
-    std::vector<unsigned int> void_points;
-    double                    max_mu = 0;
+    double max_mu = 0;
     for (unsigned int q = 0; q < point_voxel.size(); ++q)
       {
         const auto &o = point_voxel[q];
@@ -133,12 +132,14 @@ namespace ddfem::coarsening
             result.points[q] = palette[id].material_point();
             max_mu           = std::max(max_mu, result.points[q].mu);
           }
-        else
-          void_points.push_back(q);
       }
+    // Palette materials have mu > 0, so the points with mu = 0 are void.
     if (coarsening == CoarseningMethod::naive)
-      for (const unsigned int q : void_points)
-        result.points[q].mu = void_stiffness * max_mu;
+      {
+        for (auto &p : result.points)
+          if (p.mu == 0)
+            p.mu = void_stiffness * max_mu;
+      }
     else
       {
         material::MaterialPoint mean;

@@ -18,6 +18,7 @@
 #include <functional>
 #include <random>
 #include <set>
+#include <type_traits>
 
 #include "../tests.h"
 
@@ -136,9 +137,14 @@ namespace
     const std::string &original,
     const std::string &copy,
     const std::string &name,
-    const hid_t        type,
     const std::function<void(std::vector<T> &, std::vector<hsize_t> &)> &edit)
   {
+    static_assert(std::is_same_v<T, double> ||
+                  std::is_same_v<T, std::int32_t> ||
+                  std::is_same_v<T, std::uint8_t>);
+    const hid_t type = std::is_same_v<T, double>       ? H5T_NATIVE_DOUBLE :
+                       std::is_same_v<T, std::int32_t> ? H5T_NATIVE_INT32 :
+                                                         H5T_NATIVE_UINT8;
     std::filesystem::copy_file(
       original, copy, std::filesystem::copy_options::overwrite_existing);
     const hid_t file  = H5Fopen(copy.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
@@ -899,7 +905,6 @@ main()
     edit_dataset<std::uint8_t>("small.h5",
                                "short_table.h5",
                                "lookup/symmetry",
-                               H5T_NATIVE_UINT8,
                                [](std::vector<std::uint8_t> &values,
                                   std::vector<hsize_t>      &dims) {
                                  values.resize(5);
@@ -910,7 +915,6 @@ main()
     edit_dataset<std::int32_t>("small.h5",
                                "bad_table.h5",
                                "lookup/entry",
-                               H5T_NATIVE_INT32,
                                [](std::vector<std::int32_t> &values,
                                   std::vector<hsize_t> &) {
                                  values[3] = 1000;
@@ -929,7 +933,6 @@ main()
       edit_dataset<std::uint8_t>("small.h5",
                                  "wrong_symmetry.h5",
                                  "lookup/symmetry",
-                                 H5T_NATIVE_UINT8,
                                  [&](std::vector<std::uint8_t> &values,
                                      std::vector<hsize_t> &) {
                                    values[small.combinations().key(c)] = wrong;
@@ -940,7 +943,6 @@ main()
     edit_dataset<double>("small.h5",
                          "negative_mu.h5",
                          "entries/parameters",
-                         H5T_NATIVE_DOUBLE,
                          [](std::vector<double> &values,
                             std::vector<hsize_t> &) {
                            values[6 * 2] =

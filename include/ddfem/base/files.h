@@ -52,7 +52,7 @@ namespace ddfem
   open_for_writing(const std::string &file, const std::string &where)
   {
     std::ofstream stream(file);
-    AssertThrow(stream && !std::filesystem::is_directory(file),
+    AssertThrow(stream,
                 dealii::ExcMessage("Cannot write \"" + file + "\" (" + where +
                                    ")."));
     return stream;
