@@ -283,19 +283,14 @@ namespace ddfem::coarsening
       sampler.anisotropy_directions(block_sampling, element);
     for (unsigned int q = 0; q < 8; ++q)
       prior.points[q].direction = directions[q];
+    const PointTies ties =
+      symmetrize_directions(prior, combination, database.symmetries());
     // Both fits solve the least-squares problem of the same samples.
-    const MetamaterialFit problem(element, samples, prior, fitting);
-    // The errors stored are those of the symmetrized fit, which is used.
-    const FitResult fit =
-      problem.result_of(symmetrize(problem.parameters(fitting.regularization),
-                                   combination,
-                                   database.symmetries()));
-    entry.material = fit.material;
+    const MetamaterialFit problem(element, samples, prior, fitting, ties);
+    const FitResult       fit = problem.fit(fitting.regularization);
+    entry.material            = fit.material;
     record_fit(fit, samples, entry);
-    entry.child_material =
-      symmetrize(problem.parameters(fitting.child_regularization),
-                 combination,
-                 database.symmetries());
+    entry.child_material = problem.parameters(fitting.child_regularization);
     return entry;
   }
 

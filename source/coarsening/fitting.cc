@@ -177,16 +177,31 @@ namespace ddfem::coarsening
   MetamaterialFit::MetamaterialFit(const CoarseElement       &element,
                                    const std::vector<Sample> &samples,
                                    const Metamaterial        &prior,
-                                   const FitSettings         &settings)
+                                   const FitSettings         &settings,
+                                   const PointTies           &ties)
     : element(element)
     , prior(prior)
     , scale({{0, 0, 0}})
-    , H(3 * element.n_points(), 3 * element.n_points())
-    , g(3 * element.n_points())
   {
     const unsigned int n_points = element.n_points();
     const unsigned int n        = 3 * n_points;
     Assert(prior.points.size() == n_points, ExcInternalError());
+    Assert(ties.point_class.empty() || (ties.point_class.size() == n_points &&
+                                        ties.has_spring.size() == n_points),
+           ExcInternalError());
+
+    // The unknowns, each listing the parameters it sets.
+    for (unsigned int c = 0; c < n_points; ++c)
+      for (unsigned int t = 0; t < 3; ++t)
+        {
+          std::vector<unsigned int> members;
+          for (unsigned int q = 0; q < n_points; ++q)
+            if (ties.point_class.empty() ? q == c : ties.point_class[q] == c)
+              if (t < 2 || ties.has_spring.empty() || ties.has_spring[q])
+                members.push_back(3 * q + t);
+          if (!members.empty())
+            unknowns.push_back(members);
+        }
 
     // Each parameter is measured in units of the block's largest fine
     // value of its kind (C in units of mu), so the regularization weighs a
@@ -241,13 +256,24 @@ namespace ddfem::coarsening
         rhs.push_back((s.energy - lower_energy) / s.energy);
       }
     n_fit = rows.size();
+    // The rows in the unknowns: an unknown's column sums its parameters'.
+    const unsigned int m = unknowns.size();
+    H.reinit(m, m);
+    g.reinit(m);
+    Vector<double> reduced(m);
     for (unsigned int s = 0; s < rows.size(); ++s)
-      for (unsigned int i = 0; i < n; ++i)
-        {
-          g(i) += rows[s](i) * rhs[s] / rows.size();
-          for (unsigned int j = 0; j < n; ++j)
-            H(i, j) += rows[s](i) * rows[s](j) / rows.size();
-        }
+      {
+        reduced = 0;
+        for (unsigned int a = 0; a < m; ++a)
+          for (const unsigned int i : unknowns[a])
+            reduced(a) += rows[s](i);
+        for (unsigned int a = 0; a < m; ++a)
+          {
+            g(a) += reduced(a) * rhs[s] / rows.size();
+            for (unsigned int b = 0; b < m; ++b)
+              H(a, b) += reduced(a) * reduced(b) / rows.size();
+          }
+      }
 
     n_held_out    = held_out.size();
     error_samples = std::move(held_out.empty() ? fitted : held_out);
@@ -258,20 +284,19 @@ namespace ddfem::coarsening
   Metamaterial
   MetamaterialFit::parameters(const double regularization) const
   {
+    // The regularization sums over an unknown's parameters, which share
+    // their fine value and bounds.
     FullMatrix<double> A = H;
     Vector<double>     b = g;
-    for (unsigned int q = 0; q < prior.points.size(); ++q)
-      {
-        const auto  &p0        = prior.points[q];
-        const double target[3] = {(p0.mu - lower[q][0]) / scale[0],
-                                  (p0.lambda - lower[q][1]) / scale[1],
-                                  (p0.anisotropy - lower[q][2]) / scale[2]};
-        for (unsigned int t = 0; t < 3; ++t)
-          {
-            A(3 * q + t, 3 * q + t) += regularization;
-            b(3 * q + t) += regularization * target[t];
-          }
-      }
+    for (unsigned int a = 0; a < unknowns.size(); ++a)
+      for (const unsigned int i : unknowns[a])
+        {
+          const unsigned int q = i / 3, t = i % 3;
+          const auto        &p0      = prior.points[q];
+          const double       fine[3] = {p0.mu, p0.lambda, p0.anisotropy};
+          A(a, a) += regularization;
+          b(a) += regularization * (fine[t] - lower[q][t]) / scale[t];
+        }
 
     const Vector<double> x = nonnegative_least_squares(A, b);
     // Without regularization, too few samples can leave the normal
@@ -285,13 +310,19 @@ namespace ddfem::coarsening
                            "Regularization and Child regularization, "
                            "Database/Level 2/Regularization) values above "
                            "0, or more Database/Sampling/Patterns."));
+    std::vector<double> p(3 * prior.points.size());
+    for (unsigned int q = 0; q < prior.points.size(); ++q)
+      for (unsigned int t = 0; t < 3; ++t)
+        p[3 * q + t] = lower[q][t];
+    for (unsigned int a = 0; a < unknowns.size(); ++a)
+      for (const unsigned int i : unknowns[a])
+        p[i] += scale[i % 3] * x(a);
     Metamaterial result = prior;
     for (unsigned int q = 0; q < prior.points.size(); ++q)
       {
-        auto &p      = result.points[q];
-        p.mu         = lower[q][0] + scale[0] * x(3 * q);
-        p.lambda     = lower[q][1] + scale[1] * x(3 * q + 1);
-        p.anisotropy = lower[q][2] + scale[2] * x(3 * q + 2);
+        result.points[q].mu         = p[3 * q];
+        result.points[q].lambda     = p[3 * q + 1];
+        result.points[q].anisotropy = p[3 * q + 2];
       }
     return result;
   }
@@ -301,16 +332,8 @@ namespace ddfem::coarsening
   FitResult
   MetamaterialFit::fit(const double regularization) const
   {
-    return result_of(parameters(regularization));
-  }
-
-
-
-  FitResult
-  MetamaterialFit::result_of(const Metamaterial &m) const
-  {
     FitResult result;
-    result.material   = m;
+    result.material   = parameters(regularization);
     result.n_fit      = n_fit;
     result.n_held_out = n_held_out;
     result.n_rejected = n_rejected;

@@ -27,50 +27,37 @@ namespace ddfem::coarsening
 
 
 
-  Metamaterial
-  symmetrize(const Metamaterial   &m,
-             const Combination    &combination,
-             const CubeSymmetries &symmetries)
+  PointTies
+  symmetrize_directions(Metamaterial         &m,
+                        const Combination    &combination,
+                        const CubeSymmetries &symmetries)
   {
-    std::vector<unsigned int> stabilizer;
+    Assert(m.points.size() == 8, ExcInternalError());
+    PointTies ties;
+    ties.point_class.assign(8, 8);
+    ties.has_spring.assign(8, true);
+    std::array<SymmetricTensor<2, 3>, 8> orientation;
     for (unsigned int g = 0; g < CubeSymmetries::size; ++g)
       if (symmetries.apply(g, combination) == combination)
-        stabilizer.push_back(g);
-    Metamaterial                       result = m;
-    std::vector<SymmetricTensor<2, 3>> orientation(8);
-    for (auto &p : result.points)
-      p.mu = p.lambda = p.anisotropy = 0;
-    for (const unsigned int g : stabilizer)
-      {
-        const Metamaterial image = transform(m, symmetries, g);
-        for (unsigned int k = 0; k < 8; ++k)
-          {
-            const auto &p = image.points[k];
-            result.points[k].mu += p.mu / stabilizer.size();
-            result.points[k].lambda += p.lambda / stabilizer.size();
-            result.points[k].anisotropy += p.anisotropy / stabilizer.size();
-            orientation[k] +=
-              symmetrize(outer_product(p.direction, p.direction));
-          }
-      }
-    // The principal axis is a line the point's symmetries keep only if its
-    // eigenvalue is simple. Where the largest eigenvalue is double, or
-    // nearly so (the corner points of a homogeneous block, whose averaged
-    // springs span the plane normal to the cube's diagonal, or all
-    // directions), no line is kept, and one spring cannot be symmetric: it
-    // is dropped. Its direction then carries no energy.
+        {
+          const Metamaterial image = transform(m, symmetries, g);
+          for (unsigned int k = 0; k < 8; ++k)
+            {
+              const Tensor<1, 3> &v = image.points[k].direction;
+              orientation[k] += symmetrize(outer_product(v, v));
+              // Classes are numbered by their first point.
+              const unsigned int j = symmetries.image(g, k);
+              ties.point_class[j]  = std::min(ties.point_class[j], k);
+            }
+        }
     for (unsigned int k = 0; k < 8; ++k)
       {
         const auto axes = eigenvectors(orientation[k]);
-        if (axes[0].first - axes[1].first > 1e-6 * axes[0].first)
-          result.points[k].direction = axes[0].second;
-        else
-          {
-            result.points[k].direction  = axes[2].second;
-            result.points[k].anisotropy = 0;
-          }
+        ties.has_spring[k] =
+          axes[0].first - axes[1].first > 1e-6 * axes[0].first;
+        m.points[k].direction = axes[0].second;
       }
-    return result;
+    return ties;
   }
 
 

@@ -10,13 +10,18 @@
 //    lambda;
 // 4. blocks whose children touch only at corners or edges (mechanisms)
 //    sample without failures and without their hinge motion;
-// 5. the bounded least-squares solver agrees with the enumeration of all
+// 5. a block's symmetries tie its fit: the tied fit of a layered block is
+//    exactly symmetric, recovers a symmetric metamaterial from its own
+//    energies, and fits its samples at least as well as the average of an
+//    untied fit over the symmetries (and no better than the untied fit);
+// 6. the bounded least-squares solver agrees with the enumeration of all
 //    active sets on random problems.
 
 #include <ddfem/coarsening/block_sampler.h>
 #include <ddfem/coarsening/fitting.h>
 
 #include <random>
+#include <set>
 
 #include "../tests.h"
 
@@ -252,6 +257,106 @@ main()
           fit_metamaterial(element, samples, prior, FitSettings()).median_error,
           0.25);
       }
+  }
+
+  {
+    std::cout << "Symmetric fit of a layered block" << std::endl;
+    const CubeSymmetries symmetries;
+    // A stiff lower and a soft upper layer.
+    const Combination layer = {{1, 1, 1, 1, 2, 2, 2, 2}};
+    std::array<std::vector<material::MaterialPoint>, 8> children;
+    for (unsigned int k = 0; k < 8; ++k)
+      children[k] = fine_child(layer[k] == 1 ? 1e6 : 1e4, 0.45);
+    const BlockSampler sampler(children);
+    unsigned int       dropped;
+    const auto         samples = sampler.sample(sampling, 4, dropped);
+    Metamaterial       prior =
+      naive(children, sampler.anisotropy_directions(sampling, element));
+    const PointTies ties = symmetrize_directions(prior, layer, symmetries);
+    std::vector<unsigned int> stabilizer;
+    for (unsigned int g = 0; g < CubeSymmetries::size; ++g)
+      if (symmetries.apply(g, layer) == layer)
+        stabilizer.push_back(g);
+    std::cout << "symmetries " << stabilizer.size() << ", point classes "
+              << std::set<unsigned int>(ties.point_class.begin(),
+                                        ties.point_class.end())
+                   .size()
+              << ", springs "
+              << std::count(ties.has_spring.begin(),
+                            ties.has_spring.end(),
+                            true)
+              << std::endl;
+
+    FitSettings settings;
+    settings.held_out_every = 0;
+    const Metamaterial tied =
+      MetamaterialFit(element, samples, prior, settings, ties).parameters(0);
+    const Metamaterial free =
+      MetamaterialFit(element, samples, prior, settings).parameters(0);
+    Metamaterial averaged = prior;
+    for (auto &p : averaged.points)
+      p.mu = p.lambda = p.anisotropy = 0;
+    for (const unsigned int g : stabilizer)
+      {
+        const Metamaterial image = transform(free, symmetries, g);
+        for (unsigned int k = 0; k < 8; ++k)
+          {
+            auto &p = averaged.points[k];
+            p.mu += image.points[k].mu / stabilizer.size();
+            p.lambda += image.points[k].lambda / stabilizer.size();
+            if (ties.has_spring[k])
+              p.anisotropy += image.points[k].anisotropy / stabilizer.size();
+          }
+      }
+
+    const auto differs = [](const Metamaterial &a, const Metamaterial &b) {
+      double d = 0;
+      for (unsigned int k = 0; k < a.points.size(); ++k)
+        {
+          const auto &p = a.points[k], &r = b.points[k];
+          d = std::max({d,
+                        std::abs(p.mu - r.mu) / r.mu,
+                        std::abs(p.lambda - r.lambda) / r.mu,
+                        std::abs(p.anisotropy - r.anisotropy) / r.mu});
+          if (r.anisotropy > 0)
+            d = std::max(d, std::abs(std::abs(p.direction * r.direction) - 1));
+        }
+      return d;
+    };
+    double asymmetry = 0;
+    for (const unsigned int g : stabilizer)
+      asymmetry =
+        std::max(asymmetry, differs(transform(tied, symmetries, g), tied));
+    testing::check_below("tied fit against its images under the symmetries",
+                         asymmetry,
+                         1e-12);
+
+    const auto objective = [&](const Metamaterial &m) {
+      double     sum    = 0;
+      const auto errors = relative_energy_errors(element, m, samples);
+      for (const double e : errors)
+        sum += e * e;
+      return sum / errors.size();
+    };
+    std::cout << "mean squared relative energy error: untied fit <= tied fit "
+                 "<= average of the untied fit: "
+              << std::boolalpha
+              << (objective(free) <= objective(tied) * (1 + 1e-12) &&
+                  objective(tied) <= objective(averaged) * (1 + 1e-12))
+              << ", the average is worse by more than 1 %: "
+              << (objective(averaged) > 1.01 * objective(tied)) << std::endl;
+
+    // The tied fit recovers a symmetric metamaterial from its energies.
+    std::vector<Sample> exact = samples;
+    for (Sample &s : exact)
+      element.energy(s.corners, tied, s.energy);
+    settings.stiffness_floor = 0;
+    testing::check_below(
+      "tied fit of the tied fit's energies against it",
+      differs(
+        MetamaterialFit(element, exact, prior, settings, ties).parameters(0),
+        tied),
+      1e-8);
   }
 
   {

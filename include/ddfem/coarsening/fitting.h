@@ -77,6 +77,10 @@ namespace ddfem::coarsening
    * relative so soft and stiff samples weigh alike; the scaling makes the
    * regularization weigh a relative change of every parameter alike.
    *
+   * With @p ties (symmetrize_directions()), the points of one class share
+   * their unknowns and points without a spring have C = 0: the fit is then
+   * the best symmetric one, not a symmetrized one.
+   *
    * The constructor assembles the normal equations of the samples once;
    * parameters() and fit() solve them for any regularization weight.
    */
@@ -87,21 +91,17 @@ namespace ddfem::coarsening
     MetamaterialFit(const CoarseElement       &element,
                     const std::vector<Sample> &samples,
                     const Metamaterial        &prior,
-                    const FitSettings         &settings);
+                    const FitSettings         &settings,
+                    const PointTies           &ties = PointTies());
 
     /// The fitted metamaterial for the weight @p regularization.
     Metamaterial
     parameters(const double regularization) const;
 
     /// The fitted metamaterial for the weight @p regularization, with its
-    /// errors on the held-out samples: result_of(parameters()).
+    /// errors on the held-out samples and the sample counts.
     FitResult
     fit(const double regularization) const;
-
-    /// @p m (a fit changed afterwards, e.g. symmetrized) with its errors on
-    /// this problem's held-out samples and its sample counts.
-    FitResult
-    result_of(const Metamaterial &m) const;
 
   private:
     const CoarseElement &element;
@@ -109,6 +109,10 @@ namespace ddfem::coarsening
     /// Units of (mu, lambda, C) and every point's lower bounds of them.
     std::array<double, 3>              scale;
     std::vector<std::array<double, 3>> lower;
+    /// The parameters 3 q + t (t: mu, lambda, C of point q) of every
+    /// unknown: one per point and kind, or per tied class and kind. Springs
+    /// that are not fitted have no unknown.
+    std::vector<std::vector<unsigned int>> unknowns;
     /// Normal equations of the scaled unknowns x = (p - lower) / scale,
     /// without the regularization.
     FullMatrix<double> H;

@@ -50,19 +50,37 @@ namespace ddfem::coarsening
             const unsigned int    g);
 
   /**
-   * The average of a level-1 metamaterial over the symmetries that leave
-   * its @p combination unchanged: parameters are averaged, each point's
-   * direction becomes the principal axis of the averaged v v^T. Where the
-   * largest eigenvalue of that average is double, no direction is kept by
-   * the point's symmetries: the spring is dropped (C = 0) and the direction
-   * is the simple eigenvector. A symmetric block then gets an exactly
-   * symmetric metamaterial, so the lookup does not depend on which
-   * symmetry maps the orbit's entry.
+   * How the symmetries of a level-1 block tie the parameters of its fit
+   * (MetamaterialFit). Empty vectors tie nothing: every point is its own
+   * class and has a spring.
    */
-  Metamaterial
-  symmetrize(const Metamaterial   &m,
-             const Combination    &combination,
-             const CubeSymmetries &symmetries);
+  struct PointTies
+  {
+    /// The class of every point: its orbit under the symmetries that keep
+    /// the block's combination. Points of one class share mu, lambda and C.
+    std::vector<unsigned int> point_class;
+    /// Whether each point has a spring (false: C = 0, not fitted).
+    std::vector<bool> has_spring;
+  };
+
+  /**
+   * Makes the spring directions of the level-1 metamaterial @p m symmetric
+   * under the symmetries that leave its @p combination unchanged (its
+   * stabilizer) and returns how they tie the fit. Each point's direction
+   * becomes the principal axis of the average of v v^T over the
+   * stabilizer's images. Where the largest eigenvalue of that average is
+   * double, no line is kept by the point's symmetries (the corner points
+   * of a homogeneous block, whose stretch-test springs span the plane
+   * normal to the cube's diagonal, or all directions): the point gets no
+   * spring. A fit with these directions and ties gives a symmetric block
+   * an exactly symmetric metamaterial, the best one of its samples among
+   * the symmetric ones, so the lookup does not depend on which symmetry
+   * maps the orbit's entry.
+   */
+  PointTies
+  symmetrize_directions(Metamaterial         &m,
+                        const Combination    &combination,
+                        const CubeSymmetries &symmetries);
 
   /**
    * One coarse element on the unit cube, trilinear (FE_Q(1)^3), with the
