@@ -2,8 +2,10 @@
 // tangent = d(stress)/dF, for random deformation gradients and materials
 // with and without the anisotropic spring; the tangent's major symmetry;
 // a stress-free, energy-free reference state; the energy of a stretch
-// against its closed form; frame invariance; det F <= 0 rejected.
+// against its closed form; frame invariance; the spring tangent's
+// eigenvalues (indefinite under compression); det F <= 0 rejected.
 
+#include <deal.II/lac/lapack_full_matrix.h>
 #include <deal.II/physics/transformations.h>
 
 #include <ddfem/material/kernel.h>
@@ -236,6 +238,58 @@ main()
                          material_rotation,
                          1e-12);
   }
+
+  // The spring's tangent alone (mu = lambda = 0) is
+  // 2C [a a^T / l^3 + (1 - 1/l) I] (x) v v^T with a = F v and l = |a|. As a
+  // 9 x 9 matrix its eigenvalues are 2C (along a), 2C (1 - 1/l) twice
+  // (across a) and 0 six times: a compressed spring (l < 1) makes it
+  // indefinite, which is why coarse models can have indefinite tangents
+  // where the fine model has none (doc/coarsening.md).
+  for (const double l : {0.8, 1.25})
+    {
+      material::MaterialPoint p;
+      p.anisotropy = 3e5;
+      p.direction  = random_direction();
+      const Tensor<2, 3> Q =
+        Physics::Transformations::Rotations::rotation_matrix_3d(
+          random_direction(), 3 * uniform(random));
+      const Tensor<2, 3> F =
+        Q * (unit_symmetric_tensor<3>() +
+             (l - 1) * outer_product(p.direction, p.direction));
+      material::evaluate(F, p, material::KernelOutput::tangent, r);
+      LAPACKFullMatrix<double> A(9, 9);
+      for (unsigned int i = 0; i < 3; ++i)
+        for (unsigned int J = 0; J < 3; ++J)
+          for (unsigned int k = 0; k < 3; ++k)
+            for (unsigned int L = 0; L < 3; ++L)
+              A(3 * i + J, 3 * k + L) = r.tangent[i][J][k][L];
+      A.compute_eigenvalues();
+      std::vector<double> computed(9), exact(9, 0.);
+      for (unsigned int e = 0; e < 9; ++e)
+        computed[e] = A.eigenvalue(e).real();
+      std::sort(computed.begin(), computed.end());
+      const double across = 2 * p.anisotropy * (1 - 1 / l);
+      exact[0] = exact[1] = std::min(across, 0.);
+      exact[7]            = std::max(across, 0.);
+      exact[8]            = 2 * p.anisotropy;
+      if (across > 0)
+        exact[6] = across;
+      double eigenvalue_error = 0;
+      unsigned int n_negative = 0;
+      for (unsigned int e = 0; e < 9; ++e)
+        {
+          eigenvalue_error =
+            std::max(eigenvalue_error,
+                     std::abs(computed[e] - exact[e]) / p.anisotropy);
+          n_negative += (computed[e] < -1e-8 * p.anisotropy);
+        }
+      std::cout << "spring tangent at |F v| = " << l << ": " << n_negative
+                << " negative eigenvalues" << std::endl;
+      testing::check_below("  its eigenvalues vs 2C, 2C (1 - 1/l) twice, 0 "
+                           "six times, relative to C",
+                           eigenvalue_error,
+                           1e-12);
+    }
 
   // Inverted or degenerate states are inadmissible.
   Tensor<2, 3> inverted = unit_symmetric_tensor<3>();
