@@ -264,18 +264,15 @@ main()
             for (unsigned int L = 0; L < 3; ++L)
               A(3 * i + J, 3 * k + L) = r.tangent[i][J][k][L];
       A.compute_eigenvalues();
-      std::vector<double> computed(9), exact(9, 0.);
+      const double        across = 2 * p.anisotropy * (1 - 1 / l);
+      std::vector<double> computed(9),
+        exact = {2 * p.anisotropy, across, across, 0, 0, 0, 0, 0, 0};
       for (unsigned int e = 0; e < 9; ++e)
         computed[e] = A.eigenvalue(e).real();
       std::sort(computed.begin(), computed.end());
-      const double across = 2 * p.anisotropy * (1 - 1 / l);
-      exact[0] = exact[1] = std::min(across, 0.);
-      exact[7]            = std::max(across, 0.);
-      exact[8]            = 2 * p.anisotropy;
-      if (across > 0)
-        exact[6] = across;
-      double eigenvalue_error = 0;
-      unsigned int n_negative = 0;
+      std::sort(exact.begin(), exact.end());
+      double       eigenvalue_error = 0;
+      unsigned int n_negative       = 0;
       for (unsigned int e = 0; e < 9; ++e)
         {
           eigenvalue_error =
