@@ -428,8 +428,9 @@ namespace ddfem::solver
       return r.l2_norm();
     };
 
-    for (unsigned int iteration = 0; iteration < parameters.max_iterations;
-         ++iteration)
+    // Up to max_iterations Newton steps; the state after the last one is
+    // tested for convergence too.
+    for (unsigned int iteration = 0;; ++iteration)
       {
         // Dirichlet values at t, as the increment still missing from u.
         AffineConstraints<double> constraints;
@@ -473,6 +474,8 @@ namespace ddfem::solver
             statistics.min_J = min_J;
             return true;
           }
+        if (iteration == parameters.max_iterations)
+          break;
         ++statistics.newton_iterations;
 
         // Newton direction; shift the tangent by a multiple of its diagonal
@@ -573,7 +576,8 @@ namespace ddfem::solver
         pcout << ", step " << alpha << std::endl;
         u = trial;
       }
-    pcout << "    no convergence in " << parameters.max_iterations
+    pcout << std::endl
+          << "    no convergence in " << parameters.max_iterations
           << " Newton iterations" << std::endl;
     return false;
   }

@@ -7,7 +7,9 @@
 // 3. the patch test: an affine boundary displacement is reproduced
 //    exactly inside;
 // 4. the small-load limit: the solution divided by the load tends to the
-//    linear elastic one at first order.
+//    linear elastic one at first order;
+// 5. Newton's iteration budget: a load step that needs N iterations
+//    converges when N are allowed, not when N - 1 are.
 
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/lac/sparse_direct.h>
@@ -303,6 +305,39 @@ namespace
         previous = difference;
       }
   }
+
+  /// The Newton iterations of a one-step cantilever solve allowed at most
+  /// @p max_iterations of them, and whether it converged.
+  solver::StaticSolver::Statistics
+  one_step_solve(const unsigned int max_iterations)
+  {
+    testing::Problem problem(testing::cantilever("2, 6, 2", "0; 0; -2e3") +
+                             R"(
+      subsection Nonlinear solver
+        set Load steps                = 1
+        set Minimum load step         = 1
+        set Maximum Newton iterations = )" +
+                             std::to_string(max_iterations) + "\nend\n");
+    return problem.solve();
+  }
+
+  void
+  newton_budget()
+  {
+    const unsigned int needed = one_step_solve(30).newton_iterations;
+    const auto         exact  = one_step_solve(needed);
+    const auto         short_ = one_step_solve(needed - 1);
+    std::cout << "Newton iterations allowed: the state after the last one "
+                 "counts:"
+              << std::endl
+              << "  " << needed << " of 30: converged" << std::endl
+              << "  at most " << needed << ": "
+              << (exact.converged ? "converged" : "FAILED") << " in "
+              << exact.newton_iterations << std::endl
+              << "  at most " << needed - 1 << ": "
+              << (short_.converged ? "converged (FAILED)" : "not converged")
+              << std::endl;
+  }
 } // namespace
 
 int
@@ -313,4 +348,5 @@ main(int argc, char **argv)
   uniaxial_stretch();
   patch_test();
   small_load_limit();
+  newton_budget();
 }
