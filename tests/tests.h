@@ -27,13 +27,17 @@ namespace ddfem::testing
   using namespace dealii;
 
   /**
-   * A scene, its fine discretization and a static solver, set up from the
-   * text of a parameter file exactly as the ddfem program does. Solver
-   * logs go to standard output only if @p verbose.
+   * A scene, its discretization and a static solver, set up from the text
+   * of a parameter file exactly as the ddfem program does. Solver logs go
+   * to standard output only if @p verbose. At coarsening @p level 1 or 2
+   * the discretization is the coarse mesh with its material records left
+   * zero (no coarsener runs).
    */
   struct Problem
   {
-    explicit Problem(const std::string &prm_text, const bool verbose = false)
+    explicit Problem(const std::string &prm_text,
+                     const bool         verbose = false,
+                     const unsigned int level   = 0)
       : log(std::cout, verbose)
       , timer(log, TimerOutput::never, TimerOutput::wall_times)
     {
@@ -45,8 +49,9 @@ namespace ddfem::testing
       prm.enter_subsection("Discretization");
       const unsigned int degree = prm.get_integer("Polynomial degree");
       prm.leave_subsection();
-      discretization = std::make_unique<solver::Discretization>(scene, degree);
-      solver         = std::make_unique<solver::StaticSolver>(*discretization,
+      discretization =
+        std::make_unique<solver::Discretization>(scene, degree, level);
+      solver = std::make_unique<solver::StaticSolver>(*discretization,
                                                       scene.boundary_conditions,
                                                       parameters,
                                                       linear_solver,

@@ -426,6 +426,47 @@ namespace ddfem::scene
 
 
 
+  void
+  BoundaryConditions::check_coarse_supports(const Point<3>    &extent,
+                                            const double       h,
+                                            const unsigned int width) const
+  {
+    for (const Condition &condition : conditions)
+      if (!condition.constrained.empty() && !condition.region->is_face)
+        for (unsigned int d = 0; d < 3; ++d)
+          {
+            const Region &region = *condition.region;
+            const double  lower  = std::max(region.lower[d], 0.);
+            const double  upper  = std::min(region.upper[d], extent[d]);
+            // The voxel-grid node planes inside the box along d.
+            const long first =
+              std::lround(std::ceil((lower - region.tolerance) / h));
+            const long last =
+              std::lround(std::floor((upper + region.tolerance) / h));
+            const std::string axis(1, "xyz"[d]);
+            AssertThrow(
+              first > last || (first % width == 0 && last % width == 0),
+              ExcMessage(
+                condition.where + " (" + condition.type + " on \"" +
+                region.name + "\"): along " + axis +
+                " the region holds the voxel grid's nodes from " +
+                format_number(first * h) + " m to " + format_number(last * h) +
+                " m, but the coarse model, with blocks of " +
+                std::to_string(width) +
+                " voxels per direction, has nodes only "
+                "every " +
+                format_number(width * h) + " m along " + axis +
+                ", so it would be held at other places than the fine one. "
+                "Move the box's " +
+                axis +
+                " bounds so that the first and last node planes "
+                "inside it are multiples of " +
+                format_number(width * h) + " m."));
+          }
+  }
+
+
+
   bool
   BoundaryConditions::has_traction() const
   {

@@ -4,8 +4,47 @@
 #include <ddfem/base/parsing.h>
 #include <ddfem/scene/scene.h>
 
+#include <algorithm>
+#include <array>
+#include <cmath>
+
 namespace ddfem::scene
 {
+  namespace
+  {
+    /**
+     * Throws ExcMessage naming @p p unless it lies in a solid voxel of
+     * @p grid or on its surface (within 1e-9 voxel sizes), so that every
+     * model, fine or coarse, measures the same material point. @p state
+     * names the scene's state in the message.
+     */
+    void
+    check_probe(const VoxelGrid   &grid,
+                const Point<3>    &p,
+                const std::string &state)
+    {
+      const double        h = grid.voxel_size();
+      std::array<long, 3> lower, upper;
+      for (unsigned int d = 0; d < 3; ++d)
+        {
+          lower[d] = std::max(0L, std::lround(std::floor(p[d] / h - 1e-9)));
+          upper[d] = std::min(long(grid.size()[d]) - 1,
+                              std::lround(std::floor(p[d] / h + 1e-9)));
+        }
+      bool solid = false;
+      for (long k = lower[2]; k <= upper[2]; ++k)
+        for (long j = lower[1]; j <= upper[1]; ++j)
+          for (long i = lower[0]; i <= upper[0]; ++i)
+            solid = solid || grid(i, j, k) != void_id;
+      AssertThrow(solid,
+                  ExcMessage("Geometry/Probe points: the point " +
+                             format_point(p) + " m does not lie in the solid" +
+                             state + "."));
+    }
+  } // namespace
+
+
+
   void
   Scene::declare_parameters(ParameterHandler &prm)
   {
@@ -63,12 +102,20 @@ namespace ddfem::scene
     layout.parse_parameters(prm, palette.size());
     boundary_conditions.parse_parameters(prm, grid.extent(), h);
     layout.fill(grid);
+    for (const Point<3> &p : probes)
+      check_probe(grid, p, "");
     // Every edit is checked now, before anything is solved or written.
     if (n_edits() > 0)
       {
         VoxelGrid edited = grid;
         for (unsigned int e = 0; e < n_edits(); ++e)
-          layout.apply_edit(e, edited);
+          {
+            layout.apply_edit(e, edited);
+            for (const Point<3> &p : probes)
+              check_probe(edited,
+                          p,
+                          " after material edit " + std::to_string(e + 1));
+          }
       }
   }
 

@@ -49,6 +49,25 @@ namespace ddfem::solver
     cell_blocks = scene::make_voxel_mesh(scene.grid, level, triangulation);
     dof_handler.distribute_dofs(fe);
 
+    const unsigned int width = 1u << level;
+    const auto        &n     = scene.grid.size();
+    solid_voxels.resize(cell_blocks.size());
+    for (std::size_t c = 0; c < cell_blocks.size(); ++c)
+      {
+        const std::size_t  block = cell_blocks[c];
+        const unsigned int bi    = block % (n[0] / width),
+                           bj    = (block / (n[0] / width)) % (n[1] / width),
+                           bk    = block /
+                                (std::size_t(n[0] / width) * (n[1] / width));
+        for (unsigned int k = 0; k < width; ++k)
+          for (unsigned int j = 0; j < width; ++j)
+            for (unsigned int i = 0; i < width; ++i)
+              if (scene.grid(width * bi + i, width * bj + j, width * bk + k) !=
+                  scene::void_id)
+                solid_voxels[c] |= std::uint64_t(1)
+                                   << (i + width * (j + width * k));
+      }
+
     material_points.resize(std::size_t(triangulation.n_active_cells()) *
                            quadrature.size());
     if (level == 0)

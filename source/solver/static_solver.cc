@@ -1,18 +1,22 @@
+#include <deal.II/base/quadrature_lib.h>
 #include <deal.II/base/work_stream.h>
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/fe_values.h>
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/numerics/vector_tools.h>
 
+#include <ddfem/base/parsing.h>
 #include <ddfem/material/kernel.h>
 #include <ddfem/solver/cell_kernel.h>
 #include <ddfem/solver/probe.h>
 #include <ddfem/solver/static_solver.h>
 #include <ddfem/solver/supports.h>
 
+#include <array>
 #include <cmath>
 #include <iomanip>
 #include <limits>
+#include <memory>
 
 namespace ddfem::solver
 {
@@ -50,6 +54,113 @@ namespace ddfem::solver
       CellContribution                     contribution;
       bool                                 admissible;
     };
+
+    /// Position (i, j, k) of voxel @p bit in a block of @p width voxels
+    /// per direction (Discretization::solid_voxels).
+    std::array<unsigned int, 3>
+    voxel_position(const unsigned int bit, const unsigned int width)
+    {
+      return {{bit % width, (bit / width) % width, bit / (width * width)}};
+    }
+
+    /// Whether voxel @p v of the block of the cell with active index
+    /// @p cell_index is solid.
+    bool
+    is_solid(const Discretization              &discretization,
+             const unsigned int                 cell_index,
+             const std::array<unsigned int, 3> &v)
+    {
+      const unsigned int width = 1u << discretization.level;
+      return (discretization.solid_voxels[cell_index] >>
+              (v[0] + width * (v[1] + width * v[2]))) &
+             1;
+    }
+
+    /**
+     * The faces of the fine solid's voxels in the block of @p cell that lie
+     * on the solid's boundary, where the neighbor voxel is void or outside
+     * the grid, whether the cell is a voxel or a coarse block. Each is the
+     * voxel's bit (Discretization::solid_voxels) and the face's number in
+     * deal.II's order (-x, +x, -y, +y, -z, +z: voxel meshes are
+     * axis-aligned and numbered lexicographically).
+     */
+    std::vector<std::pair<unsigned int, unsigned int>>
+    solid_boundary_faces(const Discretization  &discretization,
+                         const CellAccessor<3> &cell)
+    {
+      const unsigned int width = 1u << discretization.level;
+      const unsigned int c     = cell.active_cell_index();
+      std::vector<std::pair<unsigned int, unsigned int>> faces;
+      for (unsigned int bit = 0; bit < width * width * width; ++bit)
+        if (is_solid(discretization, c, voxel_position(bit, width)))
+          for (const unsigned int f : cell.face_indices())
+            {
+              auto               v    = voxel_position(bit, width);
+              const unsigned int d    = f / 2;
+              const bool         down = (f % 2 == 0);
+              bool               neighbor_solid;
+              if (down ? v[d] > 0 : v[d] + 1 < width)
+                {
+                  v[d]           = down ? v[d] - 1 : v[d] + 1;
+                  neighbor_solid = is_solid(discretization, c, v);
+                }
+              else if (cell.at_boundary(f))
+                neighbor_solid = false;
+              else
+                {
+                  v[d] = down ? width - 1 : 0;
+                  neighbor_solid =
+                    is_solid(discretization,
+                             cell.neighbor(f)->active_cell_index(),
+                             v);
+                }
+              if (!neighbor_solid)
+                faces.emplace_back(bit, f);
+            }
+      return faces;
+    }
+
+    /**
+     * A quadrature rule of the unit cell on voxel @p bit of a block of
+     * @p width voxels per direction: the whole voxel (@p face =
+     * numbers::invalid_unsigned_int), or its face @p face. The points are
+     * those of the Gauss rule with @p n points per direction on the voxel
+     * or face; the weights are fractions of the cell's volume, or of the
+     * area of a cell face.
+     */
+    Quadrature<3>
+    voxel_quadrature(const unsigned int bit,
+                     const unsigned int width,
+                     const unsigned int face,
+                     const unsigned int n)
+    {
+      const auto            v = voxel_position(bit, width);
+      const QGauss<1>       gauss(n);
+      std::vector<Point<3>> points;
+      std::vector<double>   weights;
+      const bool            volume = (face == numbers::invalid_unsigned_int);
+      const unsigned int    normal = volume ? 3 : face / 2;
+      // One index per direction; the face normal's runs over a single value.
+      for (unsigned int a = 0; a < (normal == 2 ? 1 : n); ++a)
+        for (unsigned int b = 0; b < (normal == 1 ? 1 : n); ++b)
+          for (unsigned int c = 0; c < (normal == 0 ? 1 : n); ++c)
+            {
+              const std::array<unsigned int, 3> index = {{c, b, a}};
+              Point<3>                          x;
+              double                            w = 1;
+              for (unsigned int d = 0; d < 3; ++d)
+                if (d == normal)
+                  x[d] = (v[d] + face % 2) / double(width);
+                else
+                  {
+                    x[d] = (v[d] + gauss.point(index[d])[0]) / width;
+                    w *= gauss.weight(index[d]) / width;
+                  }
+              points.push_back(x);
+              weights.push_back(w);
+            }
+      return Quadrature<3>(points, weights);
+    }
   } // namespace
 
 
@@ -125,14 +236,39 @@ namespace ddfem::solver
     const FiniteElement<3>       &fe          = discretization.fe;
     const types::global_dof_index n           = dof_handler.n_dofs();
 
+    // Loads act on the fine solid at every level: its voxels, and its
+    // boundary faces with their centers and outward normals.
+    const unsigned int width       = 1u << discretization.level;
+    const auto         face_center = [&](const CellAccessor<3> &cell,
+                                 const unsigned int     bit,
+                                 const unsigned int     face) {
+      const auto v = voxel_position(bit, width);
+      Point<3>   x = cell.vertex(0);
+      for (unsigned int d = 0; d < 3; ++d)
+        x[d] += cell.extent_in_direction(d) *
+                (v[d] + (d == face / 2 ? face % 2 : 0.5)) / width;
+      return x;
+    };
+    const auto face_normal = [](const unsigned int face) {
+      Tensor<1, 3> normal;
+      normal[face / 2] = (face % 2 == 0) ? -1 : 1;
+      return normal;
+    };
+
     // Every condition must act somewhere.
     {
       std::vector<Point<3>> face_centers;
       for (const auto &cell :
            discretization.triangulation.active_cell_iterators())
-        for (const unsigned int f : cell->face_indices())
-          if (cell->face(f)->at_boundary())
-            face_centers.push_back(cell->face(f)->center());
+        for (const auto &[bit, face] :
+             solid_boundary_faces(discretization, *cell))
+          face_centers.push_back(face_center(*cell, bit, face));
+      if (discretization.level > 0)
+        boundary_conditions.check_coarse_supports(
+          discretization.extent,
+          discretization.triangulation.begin_active()->extent_in_direction(0) /
+            width,
+          width);
       boundary_conditions.check_regions(
         discretization.triangulation.get_vertices(), face_centers);
     }
@@ -171,56 +307,82 @@ namespace ddfem::solver
                               cell->measure();
         }
 
-    // Dead external loads: body force and surface tractions at t = 1.
+    // Dead external loads at t = 1: the body force over the fine solid's
+    // voxels and the tractions over its boundary faces, weighted with the
+    // cell's shape functions at the fine Gauss points. A coarse model thus
+    // carries the fine model's load restricted to its displacements, also
+    // where its blocks are partly void. One rule per voxel of a block, and
+    // per voxel face.
     external_force.reinit(n);
-    const unsigned int degree = fe.degree;
-    FEValues<3>        fe_values(discretization.mapping,
-                          fe,
-                          discretization.quadrature,
-                          update_values | update_quadrature_points |
-                            update_JxW_values);
-    FEFaceValues<3>    fe_face_values(discretization.mapping,
-                                   fe,
-                                   QGauss<2>(degree + 1),
-                                   update_values | update_quadrature_points |
-                                     update_normal_vectors | update_JxW_values);
+    const unsigned int                        n_gauss = fe.degree + 1;
+    std::vector<std::unique_ptr<FEValues<3>>> voxel_values, face_values;
+    for (unsigned int bit = 0; bit < width * width * width; ++bit)
+      {
+        voxel_values.push_back(std::make_unique<FEValues<3>>(
+          discretization.mapping,
+          fe,
+          voxel_quadrature(bit, width, numbers::invalid_unsigned_int, n_gauss),
+          update_values | update_quadrature_points | update_JxW_values));
+        for (unsigned int face = 0; face < 6; ++face)
+          face_values.push_back(std::make_unique<FEValues<3>>(
+            discretization.mapping,
+            fe,
+            voxel_quadrature(bit, width, face, n_gauss),
+            update_values | update_quadrature_points));
+      }
 
     std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
+    // Adds the load density load(q) with the weights weight(q).
+    const auto add_load =
+      [&](const FEValues<3> &values, const auto &load, const auto &weight) {
+        for (unsigned int q = 0; q < values.n_quadrature_points; ++q)
+          {
+            const Tensor<1, 3> f = load(q) * weight(q);
+            for (unsigned int i = 0; i < dofs.size(); ++i)
+              external_force(dofs[i]) +=
+                f[component[dofs[i]]] * values.shape_value(i, q);
+          }
+      };
     for (const auto &cell : dof_handler.active_cell_iterators())
       {
         cell->get_dof_indices(dofs);
         if (boundary_conditions.has_body_force())
-          {
-            fe_values.reinit(cell);
-            for (unsigned int q = 0; q < fe_values.n_quadrature_points; ++q)
+          for (unsigned int bit = 0; bit < width * width * width; ++bit)
+            if (is_solid(discretization,
+                         cell->active_cell_index(),
+                         voxel_position(bit, width)))
               {
-                const Tensor<1, 3> b =
-                  boundary_conditions.body_force(fe_values.quadrature_point(q));
-                for (unsigned int i = 0; i < dofs.size(); ++i)
-                  external_force(dofs[i]) += b[component[dofs[i]]] *
-                                             fe_values.shape_value(i, q) *
-                                             fe_values.JxW(q);
+                FEValues<3> &values = *voxel_values[bit];
+                values.reinit(cell);
+                add_load(
+                  values,
+                  [&](const unsigned int q) {
+                    return boundary_conditions.body_force(
+                      values.quadrature_point(q));
+                  },
+                  [&](const unsigned int q) { return values.JxW(q); });
               }
-          }
         if (boundary_conditions.has_traction())
-          for (const unsigned int f : cell->face_indices())
-            if (cell->face(f)->at_boundary())
-              {
-                fe_face_values.reinit(cell, f);
-                for (unsigned int q = 0; q < fe_face_values.n_quadrature_points;
-                     ++q)
-                  {
-                    const Tensor<1, 3> traction = boundary_conditions.traction(
-                      cell->face(f)->center(),
-                      fe_face_values.quadrature_point(q),
-                      fe_face_values.normal_vector(q));
-                    for (unsigned int i = 0; i < dofs.size(); ++i)
-                      external_force(dofs[i]) +=
-                        traction[component[dofs[i]]] *
-                        fe_face_values.shape_value(i, q) *
-                        fe_face_values.JxW(q);
-                  }
-              }
+          for (const auto &[bit, face] :
+               solid_boundary_faces(discretization, *cell))
+            {
+              FEValues<3> &values = *face_values[6 * bit + face];
+              values.reinit(cell);
+              const Point<3> center = face_center(*cell, bit, face);
+              // The weights are fractions of the cell face's area.
+              const unsigned int d   = face / 2;
+              const double cell_area = cell->extent_in_direction((d + 1) % 3) *
+                                       cell->extent_in_direction((d + 2) % 3);
+              add_load(
+                values,
+                [&](const unsigned int q) {
+                  return boundary_conditions.traction(
+                    center, values.quadrature_point(q), face_normal(face));
+                },
+                [&](const unsigned int q) {
+                  return values.get_quadrature().weight(q) * cell_area;
+                });
+            }
       }
   }
 

@@ -1,14 +1,13 @@
 #include <deal.II/base/exceptions.h>
 #include <deal.II/fe/fe.h>
 
+#include <ddfem/base/parsing.h>
 #include <ddfem/solver/supports.h>
 
 #include <cmath>
-#include <iomanip>
 #include <map>
 #include <numeric>
 #include <set>
-#include <sstream>
 
 namespace ddfem::solver
 {
@@ -154,17 +153,6 @@ namespace ddfem::solver
             }
       }
     return rank;
-  }
-
-
-
-  std::string
-  format_point(const Point<3> &p)
-  {
-    std::ostringstream s;
-    s << std::setprecision(4) << "(" << p[0] << ", " << p[1] << ", " << p[2]
-      << ")";
-    return s.str();
   }
 
 

@@ -195,6 +195,19 @@ main(int argc, char **argv)
             "Comparison/Methods=naive",
             "--set",
             "Comparison/Levels=1"});
+  // A probe in a void voxel: a coarse element spans it, but no material
+  // does, so no model may report a displacement there.
+  run_case("naive_probe_in_void",
+           cantilever + "subsection Geometry\n  set Probe points = 0.005, "
+                        "0.035, 0.005\nend\nsubsection Layout\n  set Shapes "
+                        "= box 0 0.03 0 0.01 0.04 0.01 : 0\nend\n",
+           {"--set", "Method=naive"});
+  // A support that a coarse grid cannot hold where the fine one is held.
+  run_case("naive_support_between_coarse_nodes",
+           cantilever + "subsection Boundary conditions\n  subsection "
+                        "Condition 1\n    set Region = box 0 0 0 0.02 0.01 "
+                        "0.02\n  end\nend\n",
+           {"--set", "Method=naive"});
   // Method = ddfem checks the rest of its input before it fits anything:
   // no database file is written (it would go into the output directory).
   run_case("ddfem_probe_outside",

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <iomanip>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -53,6 +54,23 @@ namespace ddfem
     return dealii::Point<3>(parse_number(words[0], where),
                             parse_number(words[1], where),
                             parse_number(words[2], where));
+  }
+
+  /// @p x with 4 significant digits, for messages.
+  inline std::string
+  format_number(const double x)
+  {
+    std::ostringstream s;
+    s << std::setprecision(4) << x;
+    return s.str();
+  }
+
+  /// "(x, y, z)" with 4 significant digits, for messages.
+  inline std::string
+  format_point(const dealii::Point<3> &p)
+  {
+    return "(" + format_number(p[0]) + ", " + format_number(p[1]) + ", " +
+           format_number(p[2]) + ")";
   }
 } // namespace ddfem
 

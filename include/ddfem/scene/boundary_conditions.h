@@ -115,6 +115,21 @@ namespace ddfem::scene
     check_regions(const std::vector<Point<3>> &nodes,
                   const std::vector<Point<3>> &boundary_face_centers) const;
 
+    /**
+     * For a coarse model whose blocks span @p width voxels of size @p h per
+     * direction, in a grid with the far corner @p extent: throws
+     * ExcMessage naming the condition and the bounds to move if a
+     * Dirichlet condition on a box region would hold the coarse model at
+     * other places than the fine one, because along some direction the
+     * first or the last plane of voxel-grid nodes inside the box is not a
+     * plane of coarse nodes (a multiple of @p width @p h). Face regions
+     * always match.
+     */
+    void
+    check_coarse_supports(const Point<3>    &extent,
+                          const double       h,
+                          const unsigned int width) const;
+
     /// Whether any traction or pressure condition is given.
     bool
     has_traction() const;

@@ -10,6 +10,7 @@
 #include <ddfem/material/kernel.h>
 #include <ddfem/scene/scene.h>
 
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -113,6 +114,13 @@ namespace ddfem::solver
     unsigned int level;
     /// Lexicographic voxel (level 0) or block index of each active cell.
     std::vector<std::size_t> cell_blocks;
+    /**
+     * The solid voxels of each active cell's block, a bit per voxel: voxel
+     * (i, j, k) of the block, each from 0 to 2^level - 1, is bit
+     * i + w (j + w k) with w = 2^level (at level 0 the single bit 0). Loads
+     * act on the fine solid these bits describe, at every level.
+     */
+    std::vector<std::uint64_t> solid_voxels;
     /// The bounding box size of the voxel grid (m).
     Point<3> extent;
 

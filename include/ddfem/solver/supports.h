@@ -70,10 +70,6 @@ namespace ddfem::solver
   std::vector<unsigned int>
   dof_components(const DoFHandler<3> &dof_handler);
 
-  /// "(x, y, z)" with 4 significant digits.
-  std::string
-  format_point(const Point<3> &p);
-
   /**
    * Throws ExcMessage unless the rows of every part of @p parts (the
    * active cells of @p tria, joined by what the discretization couples)
