@@ -124,9 +124,9 @@ namespace ddfem::app
     }
 
     /**
-     * One simulation of a scene with the fine continuous method or the DG
-     * method: builds the discretization, solves, writes VTU and
-     * summary.json.
+     * One simulation of a scene with a continuous method (fine, ddfem,
+     * naive or average) or the DG method: builds the discretization,
+     * solves, writes VTU and summary.json.
      */
     class Simulation
     {
@@ -167,11 +167,13 @@ namespace ddfem::app
       }
 
     private:
-      /// Creates the output directory and writes parameters.prm into it.
+      /// Creates the output directory and writes parameters.prm into it,
+      /// once summary.json is known to be writable there too.
       void
       prepare_output(const ParameterHandler &prm) const
       {
         create_directories(directory, "Output/Output directory");
+        check_writable(directory + "/summary.json", "Output/Output directory");
         std::ofstream used = open_for_writing(directory + "/parameters.prm",
                                               "Output/Output directory");
         prm.print_parameters(used, ParameterHandler::ShortPRM);
@@ -474,11 +476,16 @@ namespace ddfem::app
       const OutputSettings output(prm);
       Comparison           comparison;
       comparison.parse_parameters(prm);
-      const int status = comparison.run(scene,
+      const std::string used = output.directory + "/parameters.prm";
+      check_writable(used, "Output/Output directory");
+      const int     status = comparison.run(scene,
                                         scene_name_of(prm, prm_file),
                                         output.directory,
                                         output.screen_timings,
                                         out);
+      std::ofstream parameters =
+        open_for_writing(used, "Output/Output directory");
+      prm.print_parameters(parameters, ParameterHandler::ShortPRM);
       if (status != 0)
         err << "Error: a model of the comparison did not converge (NOT "
                "CONVERGED in the table); its errors and times are not "

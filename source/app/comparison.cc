@@ -7,10 +7,12 @@
 #include <ddfem/report/vertex_error.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <fstream>
 #include <iomanip>
 #include <map>
 #include <optional>
+#include <set>
 
 namespace ddfem::app
 {
@@ -118,16 +120,19 @@ namespace ddfem::app
              "linear_solver,converged\n"
           << std::setprecision(6);
       for (const Row &r : rows)
-        csv << r.state << ',' << r.method << ',' << r.level << ',' << r.grid
-            << ',' << r.cells << ',' << r.dofs << ','
-            << r.result.statistics.newton_iterations << ','
-            << r.result.time_per_iteration() << ',' << r.result.wall_time << ','
-            << r.result.coarsening_time << ',' << r.speedup << ','
-            << (r.speedup_direct > 0 ? std::to_string(r.speedup_direct) : "")
-            << ',' << r.error.mean << ',' << r.error.max << ','
-            << r.grid_fit.mean << ',' << r.grid_fit.max << ',' << r.grid_bound
-            << ',' << r.linear_solver << ','
-            << (r.result.statistics.converged ? "true" : "false") << '\n';
+        {
+          csv << r.state << ',' << r.method << ',' << r.level << ',' << r.grid
+              << ',' << r.cells << ',' << r.dofs << ','
+              << r.result.statistics.newton_iterations << ','
+              << r.result.time_per_iteration() << ',' << r.result.wall_time
+              << ',' << r.result.coarsening_time << ',' << r.speedup << ',';
+          if (r.speedup_direct > 0)
+            csv << r.speedup_direct;
+          csv << ',' << r.error.mean << ',' << r.error.max << ','
+              << r.grid_fit.mean << ',' << r.grid_fit.max << ',' << r.grid_bound
+              << ',' << r.linear_solver << ','
+              << (r.result.statistics.converged ? "true" : "false") << '\n';
+        }
       AssertThrow(csv, ExcMessage("Cannot write \"" + file + "\"."));
     }
 
@@ -142,6 +147,12 @@ namespace ddfem::app
          const std::string      &scene_name,
          const std::string      &directory)
     {
+      // One marker per coarse model of the first state; none, no plot.
+      const auto is_marker = [&](const Row &r) {
+        return r.state == rows.front().state && r.level > 0 && r.error.mean > 0;
+      };
+      if (std::none_of(rows.begin(), rows.end(), is_marker))
+        return;
       std::ofstream dat(directory + "/error_vs_time.dat");
       std::ofstream script(directory + "/error_vs_time.gnuplot");
       script << "set terminal pngcairo size 900,650\n"
@@ -164,7 +175,7 @@ namespace ddfem::app
             slowest = std::max(slowest, r.result.wall_time);
           }
       for (const Row &r : rows)
-        if (r.state == rows.front().state && r.level > 0 && r.error.mean > 0)
+        if (is_marker(r))
           {
             dat << "# " << r.label() << "\n"
                 << std::setprecision(6) << r.result.wall_time << " "
@@ -198,8 +209,6 @@ namespace ddfem::app
                  << "set label '" << r.label() << "' at " << r.result.wall_time
                  << ", graph 0.95 rotate by 90 right offset -1,0\n";
       dat.close();
-      if (curves.empty())
-        return;
       script << "set yrange [" << lowest / 3 << ":" << highest * 3 << "]\n"
              << "set xrange [" << fastest / 2 << ":" << slowest * 2
              << "]\nplot ";
@@ -245,15 +254,25 @@ namespace ddfem::app
   Comparison::parse_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Comparison");
-    const auto method_names = Utilities::split_string_list(prm.get("Methods"));
-    const auto level_list =
-      Utilities::string_to_int(Utilities::split_string_list(prm.get("Levels")));
+    const std::string prm_methods  = prm.get("Methods");
+    const std::string prm_levels   = prm.get("Levels");
+    const auto        method_names = Utilities::split_string_list(prm_methods);
+    const auto        level_list =
+      Utilities::string_to_int(Utilities::split_string_list(prm_levels));
     direct_limit = prm.get_integer("Fine direct solver limit");
     prm.leave_subsection();
     // No methods compares the fine solvers alone; methods need levels.
     AssertThrow(method_names.empty() || !level_list.empty(),
                 ExcMessage("Comparison/Levels is empty: give the coarsening "
                            "levels (1, 2) of Comparison/Methods."));
+    AssertThrow(std::set<std::string>(method_names.begin(), method_names.end())
+                    .size() == method_names.size(),
+                ExcMessage("Comparison/Methods = " + prm_methods +
+                           ": name each method once."));
+    AssertThrow(std::set<int>(level_list.begin(), level_list.end()).size() ==
+                  level_list.size(),
+                ExcMessage("Comparison/Levels = " + prm_levels +
+                           ": name each level once."));
     prm.enter_subsection("Discretization");
     degree = prm.get_integer("Polynomial degree");
     prm.leave_subsection();
@@ -379,6 +398,15 @@ namespace ddfem::app
 
     std::vector<Row> rows;
     bool             all_converged = true;
+    // The results are written once every model has run: gnuplot must start
+    // and their files must be writable before anything runs.
+    report::check_gnuplot();
+    for (const std::string file : {"comparison.json",
+                                   "comparison.csv",
+                                   "error_vs_time.dat",
+                                   "error_vs_time.gnuplot",
+                                   "error_vs_time.png"})
+      check_writable(directory + "/" + file, "Output/Output directory");
     create_directories(directory, "Output/Output directory");
     for (unsigned int state = 0; state <= scene.n_edits(); ++state)
       {

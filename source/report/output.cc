@@ -3,6 +3,7 @@
 
 #include <ddfem/base/files.h>
 #include <ddfem/report/output.h>
+#include <fcntl.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -14,30 +15,71 @@
 
 namespace ddfem::report
 {
+  namespace
+  {
+    /**
+     * Runs gnuplot with the single argument @p argument in @p directory,
+     * without a shell (the directory is user input), its standard output
+     * and error to /dev/null if @p quiet. Returns whether it ran and
+     * exited with 0. Throws ExcMessage naming @p what and the Debian
+     * package if it cannot be started.
+     */
+    bool
+    gnuplot_succeeds(const std::string &directory,
+                     const std::string &argument,
+                     const bool         quiet,
+                     const std::string &what)
+    {
+      posix_spawn_file_actions_t actions;
+      posix_spawn_file_actions_init(&actions);
+      posix_spawn_file_actions_addchdir_np(&actions, directory.c_str());
+      if (quiet)
+        for (const int stream : {STDOUT_FILENO, STDERR_FILENO})
+          posix_spawn_file_actions_addopen(
+            &actions, stream, "/dev/null", O_WRONLY, 0);
+      std::string program = "gnuplot", copy = argument;
+      char       *argv[] = {program.data(), copy.data(), nullptr};
+      pid_t       pid;
+      const int   error =
+        posix_spawnp(&pid, "gnuplot", &actions, nullptr, argv, environ);
+      posix_spawn_file_actions_destroy(&actions);
+      AssertThrow(error == 0,
+                  ExcMessage("gnuplot could not be started " + what +
+                             ": it comes from the Debian package "
+                             "gnuplot-nox, which scripts/setup.sh installs."));
+      int   status = 0;
+      pid_t waited;
+      do
+        waited = waitpid(pid, &status, 0);
+      while (waited == -1 && errno == EINTR);
+      return waited == pid && WIFEXITED(status) && WEXITSTATUS(status) == 0;
+    }
+  } // namespace
+
+
+
+  void
+  check_gnuplot()
+  {
+    AssertThrow(gnuplot_succeeds(".",
+                                 "--version",
+                                 true,
+                                 "(Run type = compare draws its plot with it)"),
+                ExcMessage("gnuplot --version failed: the plot of "
+                           "Run type = compare could not be drawn. Reinstall "
+                           "the Debian package gnuplot-nox."));
+  }
+
+
+
   void
   run_gnuplot(const std::string &directory, const std::string &script)
   {
-    // Started directly, not through a shell: the directory is user input.
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addchdir_np(&actions, directory.c_str());
-    std::string program = "gnuplot", argument = script;
-    char       *argv[] = {program.data(), argument.data(), nullptr};
-    pid_t       pid;
-    const int   error =
-      posix_spawnp(&pid, "gnuplot", &actions, nullptr, argv, environ);
-    posix_spawn_file_actions_destroy(&actions);
-    AssertThrow(error == 0,
-                ExcMessage("gnuplot could not be started to draw \"" +
-                           directory + "/" + script +
-                           "\": it comes from the Debian package "
-                           "gnuplot-nox, which scripts/setup.sh installs."));
-    int   status = 0;
-    pid_t waited;
-    do
-      waited = waitpid(pid, &status, 0);
-    while (waited == -1 && errno == EINTR);
-    AssertThrow(waited == pid && WIFEXITED(status) && WEXITSTATUS(status) == 0,
+    AssertThrow(gnuplot_succeeds(directory,
+                                 script,
+                                 false,
+                                 "to draw \"" + directory + "/" + script +
+                                   "\""),
                 ExcMessage("gnuplot failed on \"" + directory + "/" + script +
                            "\" (its message is above)."));
   }

@@ -6,8 +6,10 @@
 #include <ddfem/app/application.h>
 #include <nlohmann/json.hpp>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <set>
 
 #include "../tests.h"
 
@@ -41,6 +43,40 @@ namespace
     std::cout << "* " << name << ": exit code " << code
               << ", output written: " << std::boolalpha << any << "\n  "
               << err.str() << std::endl;
+  }
+
+  /**
+   * Runs ddfem on @p prm_text (plus @p extra arguments) with a directory
+   * named @p blocked in the way of a result file (none if empty) in an
+   * existing output directory, and lists what that directory holds after
+   * the run.
+   */
+  void
+  run_in_existing_directory(const std::string              &name,
+                            const std::string              &blocked,
+                            const std::string              &prm_text,
+                            const std::vector<std::string> &extra)
+  {
+    const std::string directory = "out_" + name;
+    std::filesystem::create_directories(directory + "/" + blocked);
+    std::ofstream(name + ".prm")
+      << prm_text
+      << "\nsubsection Output\n  set Output directory = " << directory
+      << "\n  set Screen timings = false\n  set Write VTU = "
+      << "none\nend\n";
+    std::vector<std::string> arguments = {name + ".prm"};
+    arguments.insert(arguments.end(), extra.begin(), extra.end());
+    std::ostringstream    out, err;
+    const int             code = app::run(arguments, out, err);
+    std::set<std::string> files;
+    for (const auto &f : std::filesystem::directory_iterator(directory))
+      files.insert(f.path().filename().string());
+    std::cout << "* " << name << ": exit code " << code << ", " << directory
+              << " holds:";
+    for (const std::string &f : files)
+      std::cout << " " << f;
+    std::cout << "\n  " << err.str() << std::endl;
+    std::filesystem::remove_all(directory);
   }
 } // namespace
 
@@ -404,6 +440,44 @@ end
       << std::filesystem::exists("out_unconverged_later/solution-0002.vtu")
       << std::endl;
   }
+  // Results that could not be written are found before anything runs: the
+  // output directory keeps only what was there.
+  run_in_existing_directory("summary_blocked", "summary.json", cantilever, {});
+  const std::vector<std::string> compare_naive = {"--set",
+                                                  "Run type=compare",
+                                                  "--set",
+                                                  "Comparison/Methods=naive",
+                                                  "--set",
+                                                  "Comparison/Levels=1"};
+  run_in_existing_directory("comparison_blocked",
+                            "comparison.csv",
+                            cantilever,
+                            compare_naive);
+  // A gnuplot that does not work is found before anything runs too.
+  {
+    std::filesystem::create_directories("broken_bin");
+    std::ofstream("broken_bin/gnuplot") << "#!/bin/sh\nexit 1\n";
+    std::filesystem::permissions("broken_bin/gnuplot",
+                                 std::filesystem::perms::owner_all);
+    const std::string path = std::getenv("PATH");
+    setenv(
+      "PATH",
+      (std::filesystem::absolute("broken_bin").string() + ":" + path).c_str(),
+      1);
+    run_in_existing_directory("broken_gnuplot", "", cantilever, compare_naive);
+    setenv("PATH", path.c_str(), 1);
+  }
+  // Not bad input: a comparison of the fine solvers alone draws no plot
+  // and leaves no plot files, but writes its table and parameters.
+  run_in_existing_directory(
+    "fine_solvers_only",
+    "",
+    cantilever,
+    {"--set", "Run type=compare", "--set", "Comparison/Methods="});
+  run_case(
+    "duplicate_methods",
+    cantilever,
+    {"--set", "Run type=compare", "--set", "Comparison/Methods=naive, naive"});
   run_case("edge_hinge",
            R"(
 subsection Geometry

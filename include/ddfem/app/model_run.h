@@ -54,7 +54,7 @@ namespace ddfem::app
       /// largest principal strain (StaticSolver::CellFields::strain), by
       /// ddfem::quantile().
       std::array<double, 3> strain_quantiles = {{0, 0, 0}};
-      /// Largest vertex displacement (m).
+      /// Largest displacement at any node (m).
       double max_displacement = 0;
       /// Displacement at each probe point (m).
       std::vector<Tensor<1, 3>> probes;

@@ -91,6 +91,37 @@ namespace ddfem
   }
 
   /**
+   * Throws ExcMessage naming @p file and the parameter @p where its
+   * directory comes from if the file could not be written: something
+   * other than a regular file is in the way (a directory of that name), or
+   * it cannot be opened for writing. Leaves an existing file as it is and
+   * creates none (a missing directory is check_creatable()'s to check):
+   * for checks before a long run.
+   */
+  inline void
+  check_writable(const std::string &file, const std::string &where)
+  {
+    std::error_code             error;
+    const std::filesystem::path path(file);
+    if (!std::filesystem::is_directory(path.parent_path().empty() ?
+                                         std::filesystem::path(".") :
+                                         path.parent_path(),
+                                       error))
+      return;
+    const bool existed = std::filesystem::exists(path, error);
+    bool       ok = !existed || std::filesystem::is_regular_file(path, error);
+    if (ok)
+      {
+        ok = static_cast<bool>(std::ofstream(file, std::ios::app));
+        if (!existed)
+          std::filesystem::remove(path, error);
+      }
+    AssertThrow(ok,
+                dealii::ExcMessage("Cannot write \"" + file + "\" (" + where +
+                                   ")."));
+  }
+
+  /**
    * An exclusive advisory lock (flock(2)) on the file @p path, which is
    * created if missing and left in place. The lock is held until the
    * object is destroyed or the process ends, also when it is killed, so no

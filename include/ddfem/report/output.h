@@ -26,6 +26,14 @@ namespace ddfem::report
   run_gnuplot(const std::string &directory, const std::string &script);
 
   /**
+   * Throws ExcMessage naming the Debian package unless gnuplot starts and
+   * answers "gnuplot --version": for a check before a comparison runs,
+   * whose plot comes last.
+   */
+  void
+  check_gnuplot();
+
+  /**
    * @p text as a gnuplot single-quoted string: quotes doubled, so no text
    * (a scene name, say) can end the string or reach gnuplot's command
    * substitution.
@@ -48,7 +56,8 @@ namespace ddfem::report
   /**
    * Writes the states of a solve as VTU files, one per load step, and a
    * .pvd record over them: displacement, material id, det F and the von
-   * Mises Cauchy stress (cell averages). Declared in the prm subsection
+   * Mises Cauchy stress (cell averages) and the largest principal strain
+   * (each cell's largest). Declared in the prm subsection
    * "Output" next to the output directory.
    */
   class VtuWriter

@@ -154,7 +154,8 @@ namespace ddfem::solver
       return pattern;
     }
 
-    /// Per-cell det F and von Mises stress of the state @p u.
+    /// Per-cell det F, von Mises stress and largest principal strain of
+    /// the state @p u (see CellFields).
     CellFields
     cell_fields(const Vector<double> &u) const;
 
