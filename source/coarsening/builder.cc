@@ -453,6 +453,33 @@ namespace ddfem::coarsening
           << quantile(errors, 0.5) << ", 90% " << quantile(errors, 0.9)
           << ", max " << errors.back() << std::setprecision(6) << std::endl;
     }
+
+
+
+    /**
+     * Adds to @p level2 the fits that the journal of @p journal_of
+     * (Journal::read() with @p fingerprint) holds and @p level2 lacks, keeps
+     * its entries sorted by key, and returns the number of records the
+     * journal holds: the fits of a level-2 build killed before its save,
+     * under these tables. A build saves them like new ones.
+     */
+    std::size_t
+    add_journaled(Hierarchy         &level2,
+                  const std::string &journal_of,
+                  const std::string &fingerprint)
+    {
+      const std::vector<Entry> journaled =
+        Journal::read(journal_of, fingerprint, level2.n_representatives());
+      for (const Entry &e : journaled)
+        if (std::none_of(level2.entries.begin(),
+                         level2.entries.end(),
+                         [&e](const Entry &f) { return f.key == e.key; }))
+          level2.entries.push_back(e);
+      std::sort(level2.entries.begin(),
+                level2.entries.end(),
+                [](const Entry &a, const Entry &b) { return a.key < b.key; });
+      return journaled.size();
+    }
   } // namespace
 
 
@@ -474,6 +501,13 @@ namespace ddfem::coarsening
         for (const Combination &c : scene_combinations(grid))
           wanted.push_back(c);
     const std::vector<Combination> todo = database.missing(wanted);
+    // The entries open() recovered from the journal of a build killed
+    // before its save are in @p database but perhaps not in the file: they
+    // are saved like new ones, which retires the journal.
+    const bool journaled = !Journal::read(database_file,
+                                          database.fingerprint(),
+                                          database.combinations().size())
+                              .empty();
     out << "Metamaterial database '" << database_file
         << "', level 1: " << database.combinations().size() << " combinations, "
         << database.entries().size() << " entries present, " << todo.size()
@@ -576,7 +610,7 @@ namespace ddfem::coarsening
             new_tables = true;
           }
       }
-    if (!todo.empty() || compressed_now || new_tables ||
+    if (!todo.empty() || journaled || compressed_now || new_tables ||
         !std::filesystem::exists(database_file))
       {
         create_directories(directory(), "Database/File");
@@ -616,11 +650,8 @@ namespace ddfem::coarsening
                              level2.entries.end(),
                              [r](const Entry &e) { return e.key == r; });
         };
-        for (const Entry &e : Journal::read(level2_journal,
-                                            fingerprint,
-                                            level2.n_representatives()))
-          if (!has(e.key))
-            level2.entries.push_back(e);
+        const std::size_t n_journaled =
+          add_journaled(level2, level2_journal, fingerprint);
         std::sort(needed.begin(), needed.end());
         needed.erase(std::unique(needed.begin(), needed.end()), needed.end());
         needed.erase(std::remove_if(needed.begin(), needed.end(), has),
@@ -677,7 +708,7 @@ namespace ddfem::coarsening
         std::sort(level2.entries.begin(),
                   level2.entries.end(),
                   [](const Entry &a, const Entry &b) { return a.key < b.key; });
-        if (!needed.empty())
+        if (!needed.empty() || n_journaled > 0)
           {
             database.save(database_file, &level2);
             Journal::remove(level2_journal);

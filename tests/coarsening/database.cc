@@ -126,6 +126,17 @@ namespace
     return true;
   }
 
+  /// The same level-2 entries: keys and metamaterials.
+  bool
+  same_level2_entries(const std::vector<Entry> &a, const std::vector<Entry> &b)
+  {
+    bool same = (a.size() == b.size());
+    for (unsigned int e = 0; same && e < a.size(); ++e)
+      same =
+        (a[e].key == b[e].key && same_points(a[e].material, b[e].material));
+    return same;
+  }
+
   /**
    * Copies @p original to @p copy and passes the values and the shape of
    * its dataset @p name (of HDF5 type @p type) to @p edit, which may change
@@ -234,6 +245,24 @@ main()
               << same_entries(Database::load("killed.h5"), full)
               << ", journal removed: "
               << !std::filesystem::exists("killed.h5.journal") << std::endl;
+    // A build killed after its last fit, before its save: the file lacks
+    // the journal's entries. A rerun with nothing left to fit saves them
+    // and removes the journal.
+    {
+      Database unsaved(b.settings(palette()), 2);
+      Journal  journal("unsaved.h5", fingerprint, n_keys);
+      for (unsigned int e = 0; e < full.entries().size(); ++e)
+        if (e % 2 == 0)
+          unsaved.add(full.entries()[e]);
+        else
+          journal.append(full.entries()[e]);
+      unsaved.save("unsaved.h5");
+    }
+    build(builder("unsaved.h5", true), palette());
+    std::cout << "rerun of a build killed before its save: file complete: "
+              << same_entries(Database::load("unsaved.h5"), full)
+              << ", journal removed: "
+              << !std::filesystem::exists("unsaved.h5.journal") << std::endl;
 
     // A journal is read up to its first damaged record, also one whose
     // checksum holds: a key beyond the palette or a negative modulus.
@@ -613,6 +642,32 @@ main()
     const Database loaded = Database::load("level2.h5", &level2);
     std::cout << "representatives: " << level2.n_representatives()
               << ", fitted: " << level2.entries.size() << std::endl;
+    // A level-2 build killed after its last fit, before its save: a rerun
+    // with nothing left to fit saves the journaled fits and removes the
+    // journal.
+    {
+      Hierarchy unsaved = level2;
+      Journal   journal("level2_unsaved.h5.level2",
+                      loaded.fingerprint() + " | " +
+                        level2.settings.fingerprint(),
+                      level2.n_representatives());
+      unsaved.entries.clear();
+      for (unsigned int e = 0; e < level2.entries.size(); ++e)
+        if (e % 2 == 0)
+          unsaved.entries.push_back(level2.entries[e]);
+        else
+          journal.append(level2.entries[e]);
+      loaded.save("level2_unsaved.h5", &unsaved);
+    }
+    build(builder("level2_unsaved.h5", false, "all", 2, 0, 2), palette());
+    Hierarchy rerun;
+    Database::load("level2_unsaved.h5", &rerun);
+    std::cout << "rerun of a level-2 build killed before its save: file "
+                 "complete: "
+              << same_level2_entries(rerun.entries, level2.entries)
+              << ", journal removed: "
+              << !std::filesystem::exists("level2_unsaved.h5.level2.journal")
+              << std::endl;
 
     // Every 4x4x4 block of a random grid finds a 64-point metamaterial
     // whose points are physical (the file's validation checks it too).
