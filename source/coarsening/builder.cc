@@ -584,6 +584,9 @@ namespace ddfem::coarsening
     // Compression changes the level-1 models level 2 was sampled from.
     if (!compressed_now && std::filesystem::exists(database_file))
       Database::load(database_file, &level2);
+    const std::string level2_journal = database_file + ".level2";
+    const std::string level2_fingerprint =
+      database.fingerprint() + " | " + hierarchy.fingerprint();
     if (levels == 2)
       {
         if (scene_grids != nullptr)
@@ -597,16 +600,23 @@ namespace ddfem::coarsening
             level2.settings.fingerprint() != hierarchy.fingerprint() ||
             !level2.covers(database, wanted, block_keys))
           {
-            const Hierarchy old = std::move(level2);
+            Hierarchy  old  = std::move(level2);
+            const bool keep = !old.empty() && old.settings.fingerprint() ==
+                                                hierarchy.fingerprint();
+            // The fits a killed build journaled are kept like the file's,
+            // but their keys index the old tables: the file takes them with
+            // those tables before the journal goes.
+            if (keep &&
+                add_journaled(old, level2_journal, level2_fingerprint) > 0)
+              database.save(database_file, &old);
+            Journal::remove(level2_journal);
             block_keys.insert(block_keys.end(),
                               old.required_blocks().begin(),
                               old.required_blocks().end());
             level2 = Hierarchy();
             level2.build_tables(database, hierarchy, block_keys);
-            if (!old.empty() &&
-                old.settings.fingerprint() == hierarchy.fingerprint())
+            if (keep)
               level2.keep_entries(database, old);
-            Journal::remove(database_file + ".level2");
             new_tables = true;
           }
       }
@@ -642,16 +652,13 @@ namespace ddfem::coarsening
                     level2.composition(database, r) == block)
                   ++n_own;
               }
-        const std::string level2_journal = database_file + ".level2";
-        const std::string fingerprint =
-          database.fingerprint() + " | " + hierarchy.fingerprint();
         const auto has = [&level2](const std::size_t r) {
           return std::any_of(level2.entries.begin(),
                              level2.entries.end(),
                              [r](const Entry &e) { return e.key == r; });
         };
         const std::size_t n_journaled =
-          add_journaled(level2, level2_journal, fingerprint);
+          add_journaled(level2, level2_journal, level2_fingerprint);
         std::sort(needed.begin(), needed.end());
         needed.erase(std::unique(needed.begin(), needed.end()), needed.end());
         needed.erase(std::remove_if(needed.begin(), needed.end(), has),
@@ -676,7 +683,7 @@ namespace ddfem::coarsening
         if (!needed.empty())
           {
             Journal journal(level2_journal,
-                            fingerprint,
+                            level2_fingerprint,
                             level2.n_representatives());
             fit_in_parallel(
               needed.size(),

@@ -747,9 +747,39 @@ main()
     std::filesystem::remove("lazy2.h5");
     std::filesystem::remove("lazy2_both.h5");
     const auto first_alone = build_lazily("lazy2.h5", first);
+    std::filesystem::copy_file("lazy2.h5", "lazy2_killed.h5");
     build_lazily("lazy2.h5", second);
     const auto first_again = build_lazily("lazy2.h5", first);
     const auto together    = build_lazily("lazy2_both.h5", both);
+    // A build of the first scene killed after its level-2 fits, before its
+    // save: they are only in the journal. The second scene renews the
+    // tables, keeps those fits and saves them with its own.
+    {
+      Hierarchy      unsaved;
+      const Database db = Database::load("lazy2_killed.h5", &unsaved);
+      {
+        Journal journal("lazy2_killed.h5.level2",
+                        db.fingerprint() + " | " +
+                          unsaved.settings.fingerprint(),
+                        unsaved.n_representatives());
+        for (const Entry &e : unsaved.entries)
+          journal.append(e);
+      }
+      unsaved.entries.clear();
+      db.save("lazy2_killed.h5", &unsaved);
+    }
+    build_lazily("lazy2_killed.h5", second);
+    {
+      Hierarchy renewed, reference;
+      Database::load("lazy2_killed.h5", &renewed);
+      Database::load("lazy2.h5", &reference);
+      std::cout << "  the second scene after a build of the first killed "
+                   "before its save keeps the journaled fits: "
+                << same_level2_entries(renewed.entries, reference.entries)
+                << ", journal removed: "
+                << !std::filesystem::exists("lazy2_killed.h5.level2.journal")
+                << std::endl;
+    }
     // A level-1 run of a scene with new blocks adds its entries to the
     // file and keeps the file's level 2.
     {
