@@ -518,12 +518,12 @@ namespace ddfem::coarsening
     AssertThrow(n_representatives == 0 || database.n_representatives() == 0 ||
                   database.n_representatives() == n_representatives,
                 ExcMessage("The metamaterial database '" + database_file +
-                           "' is compressed to " +
+                           "' was compressed with Database/Representatives "
+                           "= " +
                            std::to_string(database.n_representatives()) +
-                           " representatives, not the " +
-                           std::to_string(n_representatives) +
-                           " of Database/Representatives. Set that number, "
-                           "or 0, or build into another Database/File."));
+                           ", not " + std::to_string(n_representatives) +
+                           ". Set that number, or 0, or build into another "
+                           "Database/File."));
 
     const CoarseElement element(1, database.point_offset());
     if (!todo.empty())
@@ -560,12 +560,12 @@ namespace ddfem::coarsening
       (n_representatives > 0 && database.n_representatives() == 0);
     if (compressed_now)
       {
-        database.compress(n_representatives,
-                          element,
-                          feature_deformations(32, 0.1, 4711));
-        out << "Compressed to " << database.n_representatives()
-            << " representatives (" << database.entries().size()
-            << " entries kept)" << std::endl;
+        const unsigned int n_picked =
+          database.compress(n_representatives,
+                            element,
+                            feature_deformations(32, 0.1, 4711));
+        out << "Compressed to " << n_picked << " representatives ("
+            << database.entries().size() << " entries kept)" << std::endl;
       }
 
     // Level 2: the staged tables first (saved before any fit, so a

@@ -544,8 +544,15 @@ namespace ddfem::coarsening
     };
     for (const unsigned int p : first)
       pick(p);
-    while (picked.size() < std::min<std::size_t>(k, points.size()))
-      pick(std::max_element(nearest.begin(), nearest.end()) - nearest.begin());
+    // Once every point coincides with a picked one, the farthest is one
+    // already picked: stop rather than pick it again.
+    while (picked.size() < k)
+      {
+        const auto farthest = std::max_element(nearest.begin(), nearest.end());
+        if (farthest == nearest.end() || !(*farthest > 0))
+          break;
+        pick(farthest - nearest.begin());
+      }
     return picked;
   }
 
@@ -685,7 +692,7 @@ namespace ddfem::coarsening
 
 
 
-  void
+  unsigned int
   Database::compress(const unsigned int                      k,
                      const CoarseElement                    &element,
                      const std::vector<CornerDisplacements> &deformations)
@@ -729,7 +736,8 @@ namespace ddfem::coarsening
     fitted          = kept;
     entry_of        = new_entry_of;
     symmetry_of     = new_symmetry_of;
-    representatives = clusters.representatives.size();
+    representatives = k;
+    return clusters.representatives.size();
   }
 
 

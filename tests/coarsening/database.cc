@@ -528,6 +528,18 @@ main()
           std::cout << " " << c.representatives[r];
         std::cout << std::endl;
       }
+    // Points that coincide are picked once: sampling stops when every point
+    // coincides with a picked one, short of the number asked for.
+    const std::vector<std::vector<double>> repeated = {{0}, {3}, {0}, {3}, {3}};
+    std::cout << "5 points with 2 distinct values, 4 asked for: picked";
+    for (const unsigned int i : farthest_point_sampling(repeated, 4, {0}))
+      std::cout << " " << i;
+    const Clustering c = cluster(repeated, 4, 1);
+    std::cout << "; clustered: " << c.representatives.size()
+              << " representatives, nearest";
+    for (const unsigned int r : c.nearest)
+      std::cout << " " << c.representatives[r];
+    std::cout << std::endl;
   }
 
   {
@@ -612,6 +624,16 @@ main()
     expect_error("another compression", [] {
       build(builder("compressed.h5", false, "all", 1, 3), palette());
     });
+    // More representatives asked for than combinations have distinct
+    // features: all are kept, and the file builds again with the setting.
+    std::filesystem::copy_file("small.h5", "compressed_all.h5");
+    build(builder("compressed_all.h5", false, "all", 1, 1000), palette());
+    std::cout << "compressed with 1000 representatives, built again: "
+              << build(builder("compressed_all.h5", false, "all", 1, 1000),
+                       palette())
+                   .entries()
+                   .size()
+              << " entries kept" << std::endl;
 
     // Lazy mode: only the scene's blocks.
     scene::VoxelGrid grid({{4, 2, 2}}, 0.01, 1);

@@ -187,7 +187,9 @@ namespace ddfem::coarsening
     void
     add(const Entry &entry);
 
-    /// Number of representatives compress() kept (0: not compressed).
+    /// The number of representatives compress() was asked for
+    /// (Database/Representatives; 0: not compressed). It picks fewer if
+    /// fewer combinations have distinct features.
     unsigned int
     n_representatives() const
     {
@@ -198,11 +200,13 @@ namespace ddfem::coarsening
      * Compression (paper section 4.4): every combination's feature is the
      * vector of log-energies of its metamaterial under @p deformations
      * (eq. 5); farthest point sampling from a seeded random start picks
-     * @p k representatives, each combination is redirected to its nearest
+     * @p k representatives (fewer if fewer combinations have distinct
+     * features), each combination is redirected to its nearest
      * representative, and entries no combination uses are dropped. The
-     * database must be complete.
+     * database must be complete. Returns the number of representatives
+     * picked.
      */
-    void
+    unsigned int
     compress(const unsigned int                      k,
              const CoarseElement                    &element,
              const std::vector<CornerDisplacements> &deformations);
@@ -248,7 +252,9 @@ namespace ddfem::coarsening
    * 4.4); a representative is its own nearest. The points @p required
    * (indices) are picked first, and sampling goes on from them; without
    * any, it starts from a point drawn with @p seed. If more than @p k
-   * points are required, the @p k are sampled among those alone.
+   * points are required, the @p k are sampled among those alone. Fewer
+   * than @p k are picked if the points to sample from have fewer distinct
+   * features (farthest_point_sampling()).
    */
   Clustering
   cluster(const std::vector<std::vector<double>> &features,
@@ -259,7 +265,9 @@ namespace ddfem::coarsening
   /**
    * Farthest point sampling: picks the points @p first, then repeatedly
    * the point farthest (Euclidean) from all picked ones, until @p k are
-   * picked (or all). Returns the picked indices in order.
+   * picked or every point coincides with a picked one. So no point is
+   * picked twice, and fewer than @p k are picked if fewer points are
+   * distinct. Returns the picked indices in order.
    */
   std::vector<unsigned int>
   farthest_point_sampling(const std::vector<std::vector<double>> &points,
