@@ -187,12 +187,9 @@ namespace ddfem::coarsening
             "has no dataset " + name);
       const Handle set(H5Dopen2(file, name.c_str(), H5P_DEFAULT), H5Dclose);
       check(set.valid(), "cannot open the dataset " + name);
-      const Handle space(H5Dget_space(set), H5Sclose);
-      hsize_t      dims[H5S_MAX_RANK];
-      check(H5Sget_simple_extent_ndims(space) >= 1 &&
-              H5Sget_simple_extent_dims(space, dims, nullptr) >= 1,
-            "has an empty-shaped dataset " + name);
-      return dims[0];
+      const std::vector<hsize_t> shape = dataset_shape(set, name);
+      check(!shape.empty(), "has an empty-shaped dataset " + name);
+      return shape[0];
     }
 
 

@@ -144,6 +144,49 @@ namespace ddfem::coarsening::hdf5
                 ExcMessage("Could not write the dataset " + name + "."));
   }
 
+  /// The extents @p extents as text ("3 x 8 x 6").
+  inline std::string
+  describe(const std::vector<hsize_t> &extents)
+  {
+    std::ostringstream text;
+    for (std::size_t i = 0; i < extents.size(); ++i)
+      text << (i == 0 ? "" : " x ") << extents[i];
+    return text.str();
+  }
+
+  /**
+   * The shape of the open dataset @p set named @p name. Throws FileProblem
+   * if it cannot be read or has more elements than the dataset stores (a
+   * corrupt header), so callers may allocate for it.
+   */
+  inline std::vector<hsize_t>
+  dataset_shape(const hid_t set, const std::string &name)
+  {
+    const Handle space(H5Dget_space(set), H5Sclose);
+    const int    rank = space.valid() ? H5Sget_simple_extent_ndims(space) : -1;
+    check(rank >= 0 && rank <= H5S_MAX_RANK,
+          "has the dataset " + name + " with an unreadable shape");
+    std::vector<hsize_t> shape(rank);
+    check(H5Sget_simple_extent_dims(space, shape.data(), nullptr) == rank,
+          "has the dataset " + name + " with an unreadable shape");
+    // The elements the dataset stores bound those of its shape, whose
+    // product is checked factor by factor so that it cannot overflow.
+    const Handle      type(H5Dget_type(set), H5Tclose);
+    const std::size_t size   = type.valid() ? H5Tget_size(type) : 0;
+    const hsize_t     bytes  = H5Dget_storage_size(set);
+    const hsize_t     stored = size > 0 ? bytes / size : 0;
+    hsize_t           n      = 1;
+    for (const hsize_t d : shape)
+      {
+        check(d == 0 || n <= stored / d,
+              "has the dataset " + name + " of shape " + describe(shape) +
+                ", more elements than the " + std::to_string(bytes) +
+                " bytes it stores (corrupt file?)");
+        n *= d;
+      }
+    return shape;
+  }
+
   /// Reads a dataset whose shape must be @p dims.
   template <typename T>
   std::vector<T>
@@ -155,15 +198,7 @@ namespace ddfem::coarsening::hdf5
           "has no dataset " + name);
     const Handle set(H5Dopen2(file, name.c_str(), H5P_DEFAULT), H5Dclose);
     check(set.valid(), "cannot open the dataset " + name);
-    const Handle         space(H5Dget_space(set), H5Sclose);
-    std::vector<hsize_t> shape(H5Sget_simple_extent_ndims(space));
-    H5Sget_simple_extent_dims(space, shape.data(), nullptr);
-    const auto describe = [](const std::vector<hsize_t> &extents) {
-      std::ostringstream text;
-      for (std::size_t i = 0; i < extents.size(); ++i)
-        text << (i == 0 ? "" : " x ") << extents[i];
-      return text.str();
-    };
+    const std::vector<hsize_t> shape = dataset_shape(set, name);
     check(shape == dims,
           "has the dataset " + name + " of shape " + describe(shape) +
             " instead of " + describe(dims));

@@ -1056,6 +1056,28 @@ main()
                              -values[6 * 2]; // entry 0, point 2, mu
                          });
     expect_error("negative mu", [] { Database::load("negative_mu.h5"); });
+    {
+      // A dataset whose header claims far more elements than it stores.
+      std::filesystem::copy_file(
+        "small.h5",
+        "huge_shape.h5",
+        std::filesystem::copy_options::overwrite_existing);
+      const hid_t file = H5Fopen("huge_shape.h5", H5F_ACC_RDWR, H5P_DEFAULT);
+      H5Ldelete(file, "entries/key", H5P_DEFAULT);
+      const hsize_t huge  = hsize_t(1) << 40;
+      const hid_t   space = H5Screate_simple(1, &huge, nullptr);
+      H5Dclose(H5Dcreate2(file,
+                          "entries/key",
+                          H5T_NATIVE_INT64,
+                          space,
+                          H5P_DEFAULT,
+                          H5P_DEFAULT,
+                          H5P_DEFAULT));
+      H5Sclose(space);
+      H5Fclose(file);
+    }
+    expect_error("dataset shape beyond its storage",
+                 [] { Database::load("huge_shape.h5"); });
     expect_error("other palette", [&log] {
       builder("small.h5", false)
         .open(palette("E=1e5 nu=0.45; E=2e6 nu=0.45"), log);
