@@ -506,7 +506,7 @@ namespace ddfem::coarsening
                                        db.fitted[db.entry_of[k]].key))) == k,
                   "has a lookup table whose symmetry at combination " +
                     std::to_string(k) + " does not map its entry onto it");
-        if (level2 != nullptr && !level2->load(h5, n_keys))
+        if (level2 != nullptr && !level2->load(h5, db))
           *level2 = Hierarchy();
         return db;
       }

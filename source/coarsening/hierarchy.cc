@@ -441,8 +441,13 @@ namespace ddfem::coarsening
 
 
   bool
-  Hierarchy::load(const std::int64_t file, const std::size_t n_level1_keys)
+  Hierarchy::load(const std::int64_t file, const Database &level1)
   {
+    const std::size_t n_level1_keys = level1.combinations().size();
+    // Whether a valid level-1 key has a level-1 entry.
+    const auto has_entry = [&level1](const std::int64_t key) {
+      return level1.contains(level1.combinations().combination(key));
+    };
     if (H5Lexists(file, "level2", H5P_DEFAULT) <= 0)
       return false;
     const std::string  text = read_attribute(file, "level 2 settings");
@@ -462,9 +467,11 @@ namespace ddfem::coarsening
     class_key = read_dataset<std::int64_t>(file, "level2/class key", {n1});
     for (const auto c : class_of)
       check(c >= 0 && hsize_t(c) <= n1, "has an invalid level-2 class table");
-    for (const auto k : class_key)
-      check(k >= 0 && std::size_t(k) < n_level1_keys,
-            "has an invalid level-2 class key");
+    for (hsize_t c = 0; c < n1; ++c)
+      check(class_key[c] >= 0 && std::size_t(class_key[c]) < n_level1_keys &&
+              has_entry(class_key[c]) && hsize_t(class_of[class_key[c]]) == c,
+            "has an invalid level-2 class key " + std::to_string(c) +
+              " (no level-1 entry, or not in its own class)");
     hsize_t n_previous = n1;
     for (unsigned int s = 0; s < 3; ++s)
       {
@@ -492,8 +499,11 @@ namespace ddfem::coarsening
         {
           required[b][p] = required_keys[8 * b + p];
           check(required[b][p] >= -1 &&
-                  required[b][p] < std::int64_t(n_level1_keys),
-                "has an invalid level-2 required block");
+                  required[b][p] < std::int64_t(n_level1_keys) &&
+                  (required[b][p] < 0 || has_entry(required[b][p])),
+                "has an invalid level-2 required block " + std::to_string(b) +
+                  " (a sub-block beyond the palette or with no level-1 "
+                  "entry)");
         }
     check(std::is_sorted(required.begin(), required.end()),
           "has unsorted level-2 required blocks");

@@ -150,10 +150,11 @@ namespace
     const std::string &name,
     const std::function<void(std::vector<T> &, std::vector<hsize_t> &)> &edit)
   {
-    static_assert(std::is_same_v<T, double> ||
-                  std::is_same_v<T, std::int32_t> ||
-                  std::is_same_v<T, std::uint8_t>);
+    static_assert(
+      std::is_same_v<T, double> || std::is_same_v<T, std::int64_t> ||
+      std::is_same_v<T, std::int32_t> || std::is_same_v<T, std::uint8_t>);
     const hid_t type = std::is_same_v<T, double>       ? H5T_NATIVE_DOUBLE :
+                       std::is_same_v<T, std::int64_t> ? H5T_NATIVE_INT64 :
                        std::is_same_v<T, std::int32_t> ? H5T_NATIVE_INT32 :
                                                          H5T_NATIVE_UINT8;
     std::filesystem::copy_file(
@@ -1078,6 +1079,39 @@ main()
     }
     expect_error("dataset shape beyond its storage",
                  [] { Database::load("huge_shape.h5"); });
+    {
+      // Level-2 tables naming a level-1 combination that has no entry: as
+      // the only required block (so that the blocks stay sorted), or as a
+      // class key.
+      const Database lazy2   = Database::load("lazy2.h5");
+      std::int64_t   missing = 0;
+      while (lazy2.contains(lazy2.combinations().combination(missing)))
+        ++missing;
+      using Edit = std::function<void(std::vector<std::int64_t> &,
+                                      std::vector<hsize_t> &)>;
+      for (const auto &[name, edit] : std::vector<std::pair<std::string, Edit>>{
+             {"required",
+              [&](std::vector<std::int64_t> &values,
+                  std::vector<hsize_t>      &dims) {
+                values.assign(8, -1);
+                values[0] = missing;
+                dims      = {1, 8};
+              }},
+             {"class key",
+              [&](std::vector<std::int64_t> &values, std::vector<hsize_t> &) {
+                values[0] = missing;
+              }}})
+        {
+          edit_dataset<std::int64_t>("lazy2.h5",
+                                     "bad_level2.h5",
+                                     "level2/" + name,
+                                     edit);
+          expect_error("level-2 " + name + " without a level-1 entry", [] {
+            Hierarchy level2;
+            Database::load("bad_level2.h5", &level2);
+          });
+        }
+    }
     expect_error("other palette", [&log] {
       builder("small.h5", false)
         .open(palette("E=1e5 nu=0.45; E=2e6 nu=0.45"), log);

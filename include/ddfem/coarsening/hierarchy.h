@@ -164,11 +164,14 @@ namespace ddfem::coarsening
 
     /**
      * Reads them from @p file if it has a level-2 group (returns false
-     * otherwise). Throws a message naming what is wrong if they are
-     * inconsistent.
+     * otherwise), over the level-1 database @p level1 read from it. Throws a
+     * message naming what is wrong if they are inconsistent, also with
+     * @p level1: every class key and every sub-block of a required block
+     * must have a level-1 entry, and every class key must lie in its own
+     * class.
      */
     bool
-    load(const std::int64_t file, const std::size_t n_level1_keys);
+    load(const std::int64_t file, const Database &level1);
 
   private:
     /**
