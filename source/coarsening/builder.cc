@@ -107,6 +107,15 @@ namespace ddfem::coarsening
                            Utilities::to_string(coarse_point_offset) + "."));
     AssertThrow(!database_file.empty(),
                 ExcMessage("Database/File must name a file."));
+    AssertThrow(fitting.held_out_every <= sampling.n_directions,
+                ExcMessage("Database/Fitting/Held-out every = " +
+                           std::to_string(fitting.held_out_every) +
+                           " exceeds Database/Sampling/Patterns = " +
+                           std::to_string(sampling.n_directions) +
+                           ": no pattern would be held out, and the held-out "
+                           "errors would be those of the fitted samples. Set "
+                           "it to at most the number of patterns, or to 0 to "
+                           "measure the errors on the fitted samples."));
     AssertThrow(n_representatives == 0 || run_scope == Scope::all,
                 ExcMessage("Database/Representatives (compression) needs "
                            "Database/Scope = all: only a complete database "

@@ -54,7 +54,9 @@ namespace ddfem::coarsening
                       "magnitudes) is held out of the fit and used to "
                       "measure the fit's relative energy error. 0 holds none "
                       "out and measures the error on the fitted samples; 1 "
-                      "would leave the fit no samples and is rejected.");
+                      "would leave the fit no samples and is rejected, as is "
+                      "a number above Sampling/Patterns, which would hold "
+                      "none out.");
     prm.leave_subsection();
   }
 

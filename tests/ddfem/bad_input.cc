@@ -139,6 +139,14 @@ main(int argc, char **argv)
     "held_out_every",
     cantilever,
     {"--set", "Method=ddfem", "--set", "Database/Fitting/Held-out every=1"});
+  run_case("held_out_beyond_patterns",
+           cantilever,
+           {"--set",
+            "Method=ddfem",
+            "--set",
+            "Database/Sampling/Patterns=10",
+            "--set",
+            "Database/Fitting/Held-out every=11"});
   run_case("negative_lambda_ddfem",
            cantilever,
            {"--set",
