@@ -19,22 +19,25 @@ namespace ddfem::coarsening
     prm.enter_subsection("Level 2");
     prm.declare_entry("Level-1 classes",
                       "400",
-                      Patterns::Integer(1),
+                      Patterns::Integer(1, 1000),
                       "The level-1 metamaterials are clustered into this many "
-                      "classes, the second level's palette.");
+                      "classes, the second level's palette. At most 1000: "
+                      "the next stage clusters the (n+1)^2 pairs of classes "
+                      "by 32 features each, about 0.3 GB at 1000.");
     prm.declare_entry("Intermediate representatives",
                       "400",
-                      Patterns::Integer(1),
+                      Patterns::Integer(1, 1000),
                       "Representatives kept after the 2x1x1 and the 1x2x1 "
-                      "stage (the paper keeps 400).");
+                      "stage (the paper keeps 400). At most 1000, for the "
+                      "same reason as Level-1 classes.");
     prm.declare_entry("Representatives",
                       "400",
-                      Patterns::Integer(1),
+                      Patterns::Integer(1, 10000),
                       "Second-level metamaterials (after the 1x1x2 stage); "
                       "each one is sampled and fitted with 64 points. A "
                       "scene's 4x4x4 blocks are picked first at every "
                       "stage, so within these budgets each is fitted as "
-                      "it is.");
+                      "it is. At most 10000 (hours of fits).");
     prm.declare_entry(
       "Regularization",
       "1",
