@@ -228,6 +228,10 @@ namespace ddfem::coarsening
         read_dataset<double>(file, group + "/strain range", {n, 2});
       const auto counts =
         read_dataset<std::int64_t>(file, group + "/samples", {n, 2});
+      // Whether a stored sample count fits into Entry's counts.
+      const auto is_count = [](const std::int64_t count) {
+        return count >= 0 && count <= std::numeric_limits<unsigned int>::max();
+      };
       std::vector<Entry> entries;
       for (hsize_t e = 0; e < n; ++e)
         {
@@ -246,8 +250,8 @@ namespace ddfem::coarsening
           check(std::isfinite(errors[2 * e]) && errors[2 * e] >= 0 &&
                   std::isfinite(errors[2 * e + 1]) && errors[2 * e + 1] >= 0 &&
                   std::isfinite(strains[2 * e]) &&
-                  std::isfinite(strains[2 * e + 1]) && counts[2 * e] >= 0 &&
-                  counts[2 * e + 1] >= 0,
+                  std::isfinite(strains[2 * e + 1]) &&
+                  is_count(counts[2 * e]) && is_count(counts[2 * e + 1]),
                 "has invalid fit statistics at " + group + " " +
                   std::to_string(e));
           entry.median_error = errors[2 * e];

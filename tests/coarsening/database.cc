@@ -1079,6 +1079,15 @@ main()
     }
     expect_error("dataset shape beyond its storage",
                  [] { Database::load("huge_shape.h5"); });
+    edit_dataset<std::int64_t>("small.h5",
+                               "huge_count.h5",
+                               "entries/samples",
+                               [](std::vector<std::int64_t> &values,
+                                  std::vector<hsize_t> &) {
+                                 values[0] = std::int64_t(1) << 32;
+                               });
+    expect_error("sample count beyond the range of unsigned int",
+                 [] { Database::load("huge_count.h5"); });
     {
       // Level-2 tables naming a level-1 combination that has no entry: as
       // the only required block (so that the blocks stay sorted), or as a
