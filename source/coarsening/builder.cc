@@ -221,11 +221,22 @@ namespace ddfem::coarsening
                     database.combinations().size());
     unsigned int recovered = 0;
     for (const Entry &e : journaled)
-      if (!database.contains(database.combinations().combination(e.key)))
-        {
-          database.add(e);
-          ++recovered;
-        }
+      {
+        const Combination c = database.combinations().combination(e.key);
+        AssertThrow(database.symmetries().canonical(c).first == c,
+                    ExcMessage("The build journal " + database_file +
+                               ".journal holds an entry for combination " +
+                               std::to_string(e.key) +
+                               ", which is not its symmetry orbit's "
+                               "representative: the journal is damaged. "
+                               "Delete it (the entries it held are fitted "
+                               "again)."));
+        if (!database.contains(c))
+          {
+            database.add(e);
+            ++recovered;
+          }
+      }
     if (recovered > 0)
       out << "Resumed: " << recovered
           << " entries recovered from the build journal" << std::endl;

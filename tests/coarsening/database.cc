@@ -285,6 +285,20 @@ main()
                   << Journal::read("forged.h5", fingerprint, n_keys).size()
                   << " of 3" << std::endl;
       }
+    // A record of a combination that is not its orbit's representative
+    // (damage a checksum cannot catch) is an error naming the journal.
+    std::filesystem::remove("forged.h5.journal");
+    {
+      Journal           journal("forged.h5", fingerprint, n_keys);
+      Entry             image = full.entries()[1];
+      const Combination c     = full.combinations().combination(image.key);
+      for (unsigned int g = 0; image.key == full.entries()[1].key; ++g)
+        image.key = full.combinations().key(full.symmetries().apply(g, c));
+      journal.append(image);
+    }
+    expect_error("journal with a record of a combination that is not its "
+                 "orbit's representative",
+                 [&] { builder("forged.h5", true).open(palette(), log); });
     // A build killed while appending leaves a torn record; a resumed
     // build cuts it off, so the records it appends can be read.
     std::filesystem::remove("forged.h5.journal");
