@@ -152,7 +152,9 @@ namespace ddfem::app
         linear_solver.parse_parameters(prm);
         vtu.parse_parameters(prm);
         dg_parameters.parse_parameters(prm);
-        database.parse_parameters(prm);
+        // Only coarse models read the database and coarse point settings.
+        if (method != "fine" && method != "dg")
+          database.parse_parameters(prm);
         scene.parse_parameters(prm);
         AssertThrow(method != "dg" || scene.n_edits() == 0,
                     ExcMessage("Layout/Edits is not supported with Method = "

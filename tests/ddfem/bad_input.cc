@@ -482,6 +482,13 @@ end
     "",
     cantilever,
     {"--set", "Run type=compare", "--set", "Comparison/Methods="});
+  // Not bad input: a fine run does not read the database settings.
+  run_case("fine_ignores_database_settings",
+           cantilever,
+           {"--set",
+            "Database/File=",
+            "--set",
+            "Discretization/Coarse point offset=0"});
   run_case(
     "duplicate_methods",
     cantilever,
