@@ -232,9 +232,15 @@ namespace ddfem::scene
       skin_thickness = prm.get_double("Thickness");
       skin_faces     = Utilities::split_string_list(prm.get("Faces"));
       if (type == "skin")
-        skin_material = checked_id(prm.get_integer("Skin material"),
-                                   n_materials,
-                                   "Layout/Skin/Skin material");
+        {
+          skin_material = checked_id(prm.get_integer("Skin material"),
+                                     n_materials,
+                                     "Layout/Skin/Skin material");
+          AssertThrow(!skin_faces.empty(),
+                      ExcMessage("Layout/Skin/Faces is empty: name the faces "
+                                 "that carry the skin (all, x-, x+, y-, y+, "
+                                 "z-, z+)."));
+        }
       prm.leave_subsection();
 
       prm.enter_subsection("Fibers");

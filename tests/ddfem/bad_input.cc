@@ -203,6 +203,10 @@ main(int argc, char **argv)
            cantilever + "subsection Layout\n  set Type = skin\n"
                         "  subsection Skin\n    set Thickness = 0\n"
                         "  end\nend\n");
+  run_case("no_skin_faces",
+           cantilever + "subsection Layout\n  set Type = skin\n"
+                        "  subsection Skin\n    set Faces =\n"
+                        "  end\nend\n");
   run_case("thin_layers",
            cantilever + "subsection Layout\n  set Type = layers\n"
                         "  subsection Layers\n    set Thickness = 1e-300\n"
