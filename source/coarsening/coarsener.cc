@@ -108,12 +108,7 @@ namespace ddfem::coarsening
   Coarsener::block_material(const scene::VoxelGrid &grid,
                             const std::size_t       block) const
   {
-    const unsigned int width = 1u << coarsening_level;
-    const auto        &n     = grid.size();
-    const unsigned int m0 = n[0] / width, m1 = n[1] / width;
-    const unsigned int i = width * (block % m0),
-                       j = width * ((block / m0) % m1),
-                       k = width * (block / (std::size_t(m0) * m1));
+    const auto [i, j, k] = scene::block_origin(grid, block, coarsening_level);
 
     if (coarsening == CoarseningMethod::ddfem)
       return coarsening_level == 1 ?

@@ -137,6 +137,21 @@ namespace ddfem::scene
 
 
 
+  std::array<unsigned int, 3>
+  block_origin(const VoxelGrid   &grid,
+               const std::size_t  block,
+               const unsigned int level)
+  {
+    const unsigned int width = 1u << level;
+    const unsigned int m0 = grid.size()[0] / width, m1 = grid.size()[1] / width;
+    return {
+      {static_cast<unsigned int>(width * (block % m0)),
+       static_cast<unsigned int>(width * ((block / m0) % m1)),
+       static_cast<unsigned int>(width * (block / (std::size_t(m0) * m1)))}};
+  }
+
+
+
   std::vector<std::size_t>
   make_voxel_mesh(const VoxelGrid   &grid,
                   const unsigned int level,

@@ -50,20 +50,14 @@ namespace ddfem::solver
     dof_handler.distribute_dofs(fe);
 
     const unsigned int width = 1u << level;
-    const auto        &n     = scene.grid.size();
     solid_voxels.resize(cell_blocks.size());
     for (std::size_t c = 0; c < cell_blocks.size(); ++c)
       {
-        const std::size_t  block = cell_blocks[c];
-        const unsigned int bi    = block % (n[0] / width),
-                           bj    = (block / (n[0] / width)) % (n[1] / width),
-                           bk    = block /
-                                (std::size_t(n[0] / width) * (n[1] / width));
+        const auto o = scene::block_origin(scene.grid, cell_blocks[c], level);
         for (unsigned int k = 0; k < width; ++k)
           for (unsigned int j = 0; j < width; ++j)
             for (unsigned int i = 0; i < width; ++i)
-              if (scene.grid(width * bi + i, width * bj + j, width * bk + k) !=
-                  scene::void_id)
+              if (scene.grid(o[0] + i, o[1] + j, o[2] + k) != scene::void_id)
                 solid_voxels[c] |= std::uint64_t(1)
                                    << (i + width * (j + width * k));
       }

@@ -91,6 +91,17 @@ namespace ddfem::scene
   check_coarsenable(const VoxelGrid &grid, const unsigned int level);
 
   /**
+   * The first voxel (i, j, k) of block @p block (lexicographic index in the
+   * grid coarsened @p level times, as make_voxel_mesh() returns it) of
+   * @p grid: the block holds the voxels from there on, 2^@p level along
+   * each axis.
+   */
+  std::array<unsigned int, 3>
+  block_origin(const VoxelGrid   &grid,
+               const std::size_t  block,
+               const unsigned int level);
+
+  /**
    * Builds the hexahedral mesh of a voxel grid coarsened @p level times:
    * cells are the 2^level x 2^level x 2^level blocks of voxels that contain
    * at least one solid voxel (level 0: the solid voxels themselves). Void
