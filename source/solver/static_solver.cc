@@ -255,23 +255,32 @@ namespace ddfem::solver
       return normal;
     };
 
-    // Every condition must act somewhere.
-    {
-      std::vector<Point<3>> face_centers;
+    // The fine solid's boundary faces of every cell and their centers,
+    // where tractions act.
+    const bool has_traction = boundary_conditions.has_traction();
+    std::vector<std::vector<std::pair<unsigned int, unsigned int>>>
+      boundary_faces(discretization.triangulation.n_active_cells());
+    std::vector<Point<3>> face_centers;
+    if (has_traction)
       for (const auto &cell :
            discretization.triangulation.active_cell_iterators())
-        for (const auto &[bit, face] :
-             solid_boundary_faces(discretization, *cell))
-          face_centers.push_back(face_center(*cell, bit, face));
-      if (discretization.level > 0)
-        boundary_conditions.check_coarse_supports(
-          discretization.extent,
-          discretization.triangulation.begin_active()->extent_in_direction(0) /
-            width,
-          width);
-      boundary_conditions.check_regions(
-        discretization.triangulation.get_vertices(), face_centers);
-    }
+        {
+          auto &faces = boundary_faces[cell->active_cell_index()];
+          faces       = solid_boundary_faces(discretization, *cell);
+          for (const auto &[bit, face] : faces)
+            face_centers.push_back(face_center(*cell, bit, face));
+        }
+
+    // Every condition must act somewhere, and supports where the fine
+    // model has them.
+    if (discretization.level > 0)
+      boundary_conditions.check_coarse_supports(
+        discretization.extent,
+        discretization.triangulation.begin_active()->extent_in_direction(0) /
+          width,
+        width);
+    boundary_conditions.check_regions(
+      discretization.triangulation.get_vertices(), face_centers);
 
     // Dirichlet nodes: every support point a condition covers.
     std::vector<Point<3>> points(n);
@@ -314,21 +323,25 @@ namespace ddfem::solver
     // where its blocks are partly void. One rule per voxel of a block, and
     // per voxel face.
     external_force.reinit(n);
-    const unsigned int                        n_gauss = fe.degree + 1;
+    const unsigned int n_gauss        = fe.degree + 1;
+    const bool         has_body_force = boundary_conditions.has_body_force();
     std::vector<std::unique_ptr<FEValues<3>>> voxel_values, face_values;
     for (unsigned int bit = 0; bit < width * width * width; ++bit)
       {
-        voxel_values.push_back(std::make_unique<FEValues<3>>(
-          discretization.mapping,
-          fe,
-          voxel_quadrature(bit, width, numbers::invalid_unsigned_int, n_gauss),
-          update_values | update_quadrature_points | update_JxW_values));
-        for (unsigned int face = 0; face < 6; ++face)
-          face_values.push_back(std::make_unique<FEValues<3>>(
+        if (has_body_force)
+          voxel_values.push_back(std::make_unique<FEValues<3>>(
             discretization.mapping,
             fe,
-            voxel_quadrature(bit, width, face, n_gauss),
-            update_values | update_quadrature_points));
+            voxel_quadrature(
+              bit, width, numbers::invalid_unsigned_int, n_gauss),
+            update_values | update_quadrature_points | update_JxW_values));
+        if (has_traction)
+          for (unsigned int face = 0; face < 6; ++face)
+            face_values.push_back(std::make_unique<FEValues<3>>(
+              discretization.mapping,
+              fe,
+              voxel_quadrature(bit, width, face, n_gauss),
+              update_values | update_quadrature_points));
       }
 
     std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
@@ -346,7 +359,7 @@ namespace ddfem::solver
     for (const auto &cell : dof_handler.active_cell_iterators())
       {
         cell->get_dof_indices(dofs);
-        if (boundary_conditions.has_body_force())
+        if (has_body_force)
           for (unsigned int bit = 0; bit < width * width * width; ++bit)
             if (is_solid(discretization,
                          cell->active_cell_index(),
@@ -362,9 +375,9 @@ namespace ddfem::solver
                   },
                   [&](const unsigned int q) { return values.JxW(q); });
               }
-        if (boundary_conditions.has_traction())
+        if (has_traction)
           for (const auto &[bit, face] :
-               solid_boundary_faces(discretization, *cell))
+               boundary_faces[cell->active_cell_index()])
             {
               FEValues<3> &values = *face_values[6 * bit + face];
               values.reinit(cell);
