@@ -522,12 +522,9 @@ namespace ddfem::coarsening
           wanted.push_back(c);
     const std::vector<Combination> todo = database.missing(wanted);
     // The entries open() recovered from the journal of a build killed
-    // before its save are in @p database but perhaps not in the file: they
-    // are saved like new ones, which retires the journal.
-    const bool journaled = !Journal::read(database_file,
-                                          database.fingerprint(),
-                                          database.combinations().size())
-                              .empty();
+    // before its save are in @p database but perhaps not in the file: a
+    // journal makes the build save, which retires it.
+    const bool journaled = Journal::exists(database_file);
     out << "Metamaterial database '" << database_file
         << "', level 1: " << database.combinations().size() << " combinations, "
         << database.entries().size() << " entries present, " << todo.size()

@@ -966,4 +966,12 @@ namespace ddfem::coarsening
   {
     std::filesystem::remove(journal_name(database_file));
   }
+
+
+
+  bool
+  Journal::exists(const std::string &database_file)
+  {
+    return std::filesystem::exists(journal_name(database_file));
+  }
 } // namespace ddfem::coarsening

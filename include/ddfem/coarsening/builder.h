@@ -125,10 +125,10 @@ namespace ddfem::coarsening
      * level-2 representatives (all, or those of @p scene_grids' 4x4x4
      * blocks), journaled too. Prints a report to @p out; with
      * @p show_progress a progress bar with the estimated time left, and
-     * timings. The file is written only if something was added, which
-     * includes the entries of a build killed before its save that the
-     * journals hold (open() recovers the level-1 ones); the journals are
-     * removed once it is. A level-1 build keeps the file's level 2 (unless
+     * timings. The file is written only if something was added or a
+     * journal is left by a build killed before its save (its entries are
+     * saved; open() recovers the level-1 ones); the journals are removed
+     * once it is. A level-1 build keeps the file's level 2 (unless
      * it compresses). With Levels = 2 the level-2 tables and entries end up
      * in @p level2_result if given. Level-2 tables are built anew if they
      * do not know a combination the build covers (built before lazy builds

@@ -337,6 +337,11 @@ namespace ddfem::coarsening
     static void
     remove(const std::string &database_file);
 
+    /// Whether @p database_file has a journal (a build of it was killed
+    /// before its save).
+    static bool
+    exists(const std::string &database_file);
+
   private:
     /// The journal's file name.
     std::string name;
