@@ -314,8 +314,10 @@ namespace ddfem::coarsening
   Database::missing(const std::vector<Combination> &combinations) const
   {
     std::vector<Combination> result;
+    // All-void blocks get no element, and a database without void does
+    // not index them.
     for (const Combination &c : combinations)
-      AssertThrow(index.contains(c),
+      AssertThrow(all_void(c) || index.contains(c),
                   ExcMessage("A block has a material id the metamaterial "
                              "database does not cover (void, with a database "
                              "built with Database/Include void = false, or "

@@ -666,6 +666,18 @@ main()
               << " entries, a second run has "
               << again.missing(DatabaseBuilder::scene_combinations(grid)).size()
               << " to fit" << std::endl;
+
+    // An all-void block gets no element, so a database without void need
+    // not cover it.
+    scene::VoxelGrid holed({{4, 2, 2}}, 0.01, 2);
+    for (unsigned int i = 2; i < 4; ++i)
+      for (unsigned int j = 0; j < 2; ++j)
+        for (unsigned int k = 0; k < 2; ++k)
+          holed(i, j, k) = 0;
+    std::cout
+      << "a scene with an all-void block, without void in the database: "
+      << again.missing(DatabaseBuilder::scene_combinations(holed)).size()
+      << " to fit" << std::endl;
   }
 
   {
