@@ -31,7 +31,17 @@ namespace ddfem::app
       /// every method of a level.
       report::VertexError grid_fit;
       double              grid_bound = 0;
-      double              speedup = 0, speedup_direct = 0;
+      /// Against the fastest converged fine run and the converged direct
+      /// one; 0 where there is none or this run did not converge.
+      double speedup = 0, speedup_direct = 0;
+
+      /// Whether the row has vertex errors: a coarse model measured against
+      /// a fine solution that reached the full load.
+      bool
+      has_error() const
+      {
+        return error.n_vertices > 0;
+      }
 
       /// "fine", "fine-amg", "fine-direct" or "<method> L<level>".
       std::string
@@ -80,7 +90,7 @@ namespace ddfem::app
               << row.grid << std::right << std::setw(7) << row.cells
               << std::setw(8) << row.dofs << std::setw(8)
               << row.result.statistics.newton_iterations;
-          if (row.level == 0)
+          if (row.level == 0 || !row.has_error())
             out << std::setw(12) << "-" << std::setw(12) << "-" << std::setw(12)
                 << "-";
           else
@@ -92,12 +102,17 @@ namespace ddfem::app
               out << std::fixed << std::setprecision(3) << std::setw(10)
                   << row.result.wall_time << std::setw(12)
                   << row.result.time_per_iteration() << std::setw(13)
-                  << 1e3 * row.result.coarsening_time << std::setprecision(1)
-                  << std::setw(9) << row.speedup << std::setw(15);
-              if (row.speedup_direct > 0)
-                out << row.speedup_direct;
-              else
-                out << "-";
+                  << 1e3 * row.result.coarsening_time << std::setprecision(1);
+              for (const auto &[speedup, width] :
+                   {std::pair(row.speedup, 9),
+                    std::pair(row.speedup_direct, 15)})
+                {
+                  out << std::setw(width);
+                  if (speedup > 0)
+                    out << speedup;
+                  else
+                    out << "-";
+                }
               out << std::defaultfloat << std::setprecision(6);
             }
           if (!row.result.statistics.converged)
@@ -125,12 +140,21 @@ namespace ddfem::app
               << ',' << r.cells << ',' << r.dofs << ','
               << r.result.statistics.newton_iterations << ','
               << r.result.time_per_iteration() << ',' << r.result.wall_time
-              << ',' << r.result.coarsening_time << ',' << r.speedup << ',';
-          if (r.speedup_direct > 0)
-            csv << r.speedup_direct;
-          csv << ',' << r.error.mean << ',' << r.error.max << ','
-              << r.grid_fit.mean << ',' << r.grid_fit.max << ',' << r.grid_bound
-              << ',' << r.linear_solver << ','
+              << ',' << r.result.coarsening_time;
+          // Empty fields where a value does not exist.
+          for (const double speedup : {r.speedup, r.speedup_direct})
+            {
+              csv << ',';
+              if (speedup > 0)
+                csv << speedup;
+            }
+          csv << ',';
+          if (r.has_error())
+            csv << r.error.mean << ',' << r.error.max;
+          else
+            csv << ',';
+          csv << ',' << r.grid_fit.mean << ',' << r.grid_fit.max << ','
+              << r.grid_bound << ',' << r.linear_solver << ','
               << (r.result.statistics.converged ? "true" : "false") << '\n';
         }
       AssertThrow(csv, ExcMessage("Cannot write \"" + file + "\"."));
@@ -448,13 +472,18 @@ namespace ddfem::app
               create_directories(run_directory, "Output/Output directory");
             row.result        = model.solve(&writer);
             row.linear_solver = config.linear_solver->method();
-            // Against the fine model, which runs first.
-            row.error = report::vertex_error(scene.grid,
-                                             models[0]->discretization(),
-                                             models[0]->solution(),
-                                             model.discretization(),
-                                             model.solution());
-            if (config.level > 0)
+            // Against the fine model, which runs first (this one, if no
+            // row of the state exists yet), if it reached the full load.
+            const Row &reference =
+              rows.size() > first_row ? rows[first_row] : row;
+            const bool have_reference = reference.result.statistics.converged;
+            if (have_reference)
+              row.error = report::vertex_error(scene.grid,
+                                               models[0]->discretization(),
+                                               models[0]->solution(),
+                                               model.discretization(),
+                                               model.solution());
+            if (config.level > 0 && have_reference)
               {
                 if (grid_fits.count(config.level) == 0)
                   {
@@ -492,22 +521,25 @@ namespace ddfem::app
             rows.push_back(std::move(row));
           }
 
-        // Speedups against the fastest fine run and against the direct one.
-        double fastest_fine = rows[first_row].result.wall_time;
-        double direct_time  = 0;
+        // Speedups of the converged runs against the fastest converged fine
+        // run and against the direct one: a fine run that failed early is
+        // no reference.
+        double fastest_fine = 0, direct_time = 0;
         for (std::size_t r = first_row; r < rows.size(); ++r)
-          if (rows[r].level == 0)
+          if (rows[r].level == 0 && rows[r].result.statistics.converged)
             {
-              fastest_fine = std::min(fastest_fine, rows[r].result.wall_time);
+              const double time = rows[r].result.wall_time;
+              if (fastest_fine == 0 || time < fastest_fine)
+                fastest_fine = time;
               if (rows[r].method == "fine-direct")
-                direct_time = rows[r].result.wall_time;
+                direct_time = time;
             }
         for (std::size_t r = first_row; r < rows.size(); ++r)
-          {
-            rows[r].speedup = fastest_fine / rows[r].result.wall_time;
-            if (direct_time > 0)
+          if (rows[r].result.statistics.converged)
+            {
+              rows[r].speedup        = fastest_fine / rows[r].result.wall_time;
               rows[r].speedup_direct = direct_time / rows[r].result.wall_time;
-          }
+            }
       }
 
     print_table(rows, screen_timings, out);
@@ -525,18 +557,23 @@ namespace ddfem::app
     json["runs"]  = nlohmann::json::array();
     for (const Row &r : rows)
       {
-        nlohmann::json run                = r.result.to_json();
-        run["state"]                      = r.state;
-        run["method"]                     = r.method;
-        run["level"]                      = r.level;
-        run["grid"]                       = r.grid;
-        run["cells"]                      = r.cells;
-        run["dofs"]                       = r.dofs;
-        run["linear_solver"]              = r.linear_solver;
-        run["speedup_vs_fine"]            = r.speedup;
-        run["speedup_vs_fine_direct"]     = r.speedup_direct;
-        run["mean_vertex_error"]          = r.error.mean;
-        run["max_vertex_error"]           = r.error.max;
+        nlohmann::json run   = r.result.to_json();
+        run["state"]         = r.state;
+        run["method"]        = r.method;
+        run["level"]         = r.level;
+        run["grid"]          = r.grid;
+        run["cells"]         = r.cells;
+        run["dofs"]          = r.dofs;
+        run["linear_solver"] = r.linear_solver;
+        // null where a value does not exist.
+        const auto value = [](const double v, const bool exists) {
+          return exists ? nlohmann::json(v) : nlohmann::json();
+        };
+        run["speedup_vs_fine"] = value(r.speedup, r.speedup > 0);
+        run["speedup_vs_fine_direct"] =
+          value(r.speedup_direct, r.speedup_direct > 0);
+        run["mean_vertex_error"]          = value(r.error.mean, r.has_error());
+        run["max_vertex_error"]           = value(r.error.max, r.has_error());
         run["grid_fit_mean_vertex_error"] = r.grid_fit.mean;
         run["grid_fit_max_vertex_error"]  = r.grid_fit.max;
         run["grid_fit_lower_bound"]       = r.grid_bound;

@@ -4,7 +4,8 @@
 // database. The screen table (without timings) is compared; the files the
 // run writes are checked for their columns, their speedups against the
 // fine runs' wall times, and the CSV against the JSON. A second, smaller run
-// compares a quadratic fine model with the trilinear naive one.
+// compares a quadratic fine model with the trilinear naive one; a third one
+// has a fine model that fails.
 
 #include <nlohmann/json.hpp>
 
@@ -33,6 +34,23 @@ namespace
            probe + "\nend\n";
   }
 
+  /// Layers of the palette's three materials, @p thickness thick, along
+  /// the cantilever.
+  std::string
+  layers(const std::string &thickness)
+  {
+    return "subsection Materials\n"
+           "  set Palette = E=1e5 nu=0.45; E=1e6 nu=0.45; E=1e7 nu=0.45\n"
+           "end\n"
+           "subsection Layout\n"
+           "  set Type = layers\n"
+           "  subsection Layers\n"
+           "    set Axis = y\n"
+           "    set Materials = 1, 2, 3\n"
+           "    set Thickness = " +
+           thickness + "\n  end\nend\n";
+  }
+
   /// Output into @p directory without timings, VTU as @p vtu.
   std::string
   output(const std::string &directory, const std::string &vtu)
@@ -57,18 +75,8 @@ main(int argc, char **argv)
   // average differ at level 1.
   std::ofstream prm("compare_bending.prm");
   prm << compare_run("bending", "4, 16, 4", "0.04, 0.32, 0.04")
-      << "subsection Materials\n"
-         "  set Palette = E=1e5 nu=0.45; E=1e6 nu=0.45; E=1e7 nu=0.45\n"
-         "end\n"
-         "subsection Layout\n"
-         "  set Type = layers\n"
-         "  subsection Layers\n"
-         "    set Axis = y\n"
-         "    set Materials = 1, 2, 3\n"
-         "    set Thickness = 0.06\n"
-         "  end\n"
-         "end\n"
-         "subsection Database\n"
+      << layers("0.06")
+      << "subsection Database\n"
          "  set File = compare.h5\n"
          "  subsection Sampling\n"
          "    set Patterns = 60\n"
@@ -202,4 +210,37 @@ main(int argc, char **argv)
             << std::filesystem::exists(q2_directory + "/error_vs_time.png")
             << ", command run: " << std::filesystem::exists("injected")
             << std::endl;
+
+  // The scene's fine model fails (CG may take one iteration only), the
+  // direct one does not: the speedups divide the direct run's time, and
+  // there are no vertex errors (empty CSV fields).
+  std::filesystem::remove_all("compare_failed");
+  std::ofstream failed("compare_failed.prm");
+  failed << compare_run("failed", "2, 8, 2", "0.02, 0.16, 0.02")
+         << layers("0.04")
+         << "subsection Linear solver\n"
+            "  set Type = cg-amg\n"
+            "  set Maximum iterations = 1\n"
+            "end\n"
+            "subsection Comparison\n"
+            "  set Methods = naive\n"
+            "  set Levels = 1\n"
+            "end\n"
+         << output("compare_failed", "none");
+  failed.close();
+  std::ostringstream failed_log;
+  const int          status_failed =
+    ddfem::app::run({"compare_failed.prm"}, failed_log, failed_log);
+  std::cout << "fine model failing: exit status " << status_failed << std::endl;
+  std::ifstream failed_csv("compare_failed/comparison.csv");
+  std::getline(failed_csv, header);
+  for (std::string line; std::getline(failed_csv, line);)
+    {
+      const std::vector<std::string> fields = split(line);
+      std::cout << "  " << fields[1] << ": converged " << fields[18]
+                << ", speedup_vs_fine '"
+                << (fields[1] == "fine-direct" ? fields[10] : "...") << "' ("
+                << (fields[10].empty() ? "empty" : "a number")
+                << "), mean_vertex_error '" << fields[12] << "'" << std::endl;
+    }
 }
