@@ -355,7 +355,9 @@ namespace ddfem::app
                   << " after " << statistics.load_steps << " load steps and "
                   << statistics.newton_iterations << " Newton iterations\n"
                   << "  min J = " << std::setprecision(4) << result.min_J
-                  << ", max |u| = " << result.max_displacement << " m\n"
+                  << " at the quadrature points, " << statistics.min_vertex_J
+                  << " at the vertices, max |u| = " << result.max_displacement
+                  << " m\n"
                   << "  principal strain per cell: median "
                   << result.strain_quantiles[0] << ", 99 % "
                   << result.strain_quantiles[1] << ", max "

@@ -64,6 +64,7 @@ namespace ddfem::app
     if (!statistics.converged)
       json["failure"] = statistics.failure;
     json["min_J"]                = min_J;
+    json["min_vertex_J"]         = statistics.min_vertex_J;
     json["principal_strain"]     = {{"median", strain_quantiles[0]},
                                     {"p99", strain_quantiles[1]},
                                     {"max", strain_quantiles[2]}};

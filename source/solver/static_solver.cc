@@ -800,7 +800,29 @@ namespace ddfem::solver
           }
         if (newton(t_new, u, statistics))
           {
-            last_increment = u;
+            // A state that turns a cell inside out at a vertex solves the
+            // discrete equations but is no deformation. A shorter increment
+            // leads to the same state, so the solve stops.
+            const auto [vertex_J, vertex] = smallest_vertex_jacobian(u);
+            if (!(vertex_J > 0))
+              {
+                std::ostringstream message;
+                message << "the load increment to load factor " << t_new
+                        << " converged to a state that turns the cell at "
+                        << format_point(vertex)
+                        << " m inside out at that vertex (det F = "
+                        << std::setprecision(3) << vertex_J
+                        << " there, positive at every quadrature point): "
+                           "the voxels are too coarse for this deformation. "
+                           "Lower the load or refine the grid (Geometry/Grid "
+                           "size and Geometry/Voxel size); the last "
+                           "converged state is kept";
+                statistics.failure = message.str();
+                pcout << "  Stopped: " << statistics.failure << std::endl;
+                return statistics;
+              }
+            statistics.min_vertex_J = vertex_J;
+            last_increment          = u;
             last_increment -= displacement;
             last_step    = t_new - t;
             predict      = true;
@@ -834,6 +856,45 @@ namespace ddfem::solver
       }
     statistics.converged = true;
     return statistics;
+  }
+
+
+
+  std::pair<double, Point<3>>
+  StaticSolver::smallest_vertex_jacobian(const Vector<double> &u) const
+  {
+    // The trapezoidal rule's points are the vertices, in deal.II's order
+    // v = i + 2 j + 4 k.
+    FEValues<3>               fe_values(discretization.mapping,
+                          discretization.fe,
+                          QTrapezoid<3>(),
+                          update_gradients | update_quadrature_points);
+    Vector<double>            local_u(discretization.fe.n_dofs_per_cell());
+    std::vector<Tensor<2, 3>> F;
+    const unsigned int        w        = 1u << discretization.level;
+    double                    smallest = infinity;
+    Point<3>                  where;
+    for (const auto &cell : discretization.dof_handler.active_cell_iterators())
+      {
+        fe_values.reinit(cell);
+        cell->get_dof_values(u, local_u);
+        deformation_gradients(fe_values, local_u, F);
+        const std::uint64_t solid =
+          discretization.solid_voxels[cell->active_cell_index()];
+        for (const unsigned int v : cell->vertex_indices())
+          {
+            // The voxel of the block at this corner.
+            const unsigned int bit =
+              (w - 1) * ((v & 1) + w * (((v >> 1) & 1) + w * (v >> 2)));
+            const double J = determinant(F[v]);
+            if (((solid >> bit) & 1) != 0 && J < smallest)
+              {
+                smallest = J;
+                where    = fe_values.quadrature_point(v);
+              }
+          }
+      }
+    return {smallest, where};
   }
 
 

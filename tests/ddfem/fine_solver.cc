@@ -15,6 +15,8 @@
 #include <deal.II/lac/sparse_direct.h>
 #include <deal.II/numerics/matrix_tools.h>
 
+#include <ddfem/solver/supports.h>
+
 #include <random>
 
 #include "../tests.h"
@@ -338,6 +340,49 @@ namespace
               << (short_.converged ? "converged (FAILED)" : "not converged")
               << std::endl;
   }
+
+  /**
+   * StaticSolver::smallest_vertex_jacobian() on one voxel of edge h: an
+   * affine displacement has det F at every vertex; moving vertex (h, h, h)
+   * by -1.5 h along x turns the cell inside out at that vertex and at
+   * (0, h, h), where the x edge is -0.5 h long (det F = -0.5), and leaves
+   * it positive at every quadrature point.
+   */
+  void
+  vertex_jacobians()
+  {
+    testing::Problem problem(testing::cantilever("1, 1, 1", "0; 0; 0"));
+    const double     h              = 0.01; // the default voxel size
+    const auto      &discretization = *problem.discretization;
+    Tensor<2, 3>     gradient;
+    gradient[0][0] = -0.3, gradient[0][1] = 0.2, gradient[1][1] = 0.1,
+    gradient[2][0] = 0.4, gradient[2][2] = -0.2;
+    const std::vector<Point<3>> points = support_points(problem);
+    Vector<double>              affine(points.size()), folded(points.size());
+    const std::vector<unsigned int> component =
+      solver::dof_components(discretization.dof_handler);
+    for (unsigned int i = 0; i < points.size(); ++i)
+      {
+        affine(i) = (gradient * points[i])[component[i]];
+        if (component[i] == 0 && points[i].distance(Point<3>(h, h, h)) < 1e-12)
+          folded(i) = -1.5 * h;
+      }
+    Tensor<2, 3> F = gradient;
+    for (unsigned int d = 0; d < 3; ++d)
+      F[d][d] += 1;
+    const auto [affine_J, affine_vertex] =
+      problem.solver->smallest_vertex_jacobian(affine);
+    const auto [folded_J, folded_vertex] =
+      problem.solver->smallest_vertex_jacobian(folded);
+    std::cout << "Smallest det F at a vertex: affine displacement " << affine_J
+              << " (det F = " << determinant(F)
+              << "); vertex (h, h, h) moved by -1.5 h along x " << folded_J
+              << " at " << folded_vertex / h << " h, quadrature points "
+              << (std::isfinite(problem.solver->energy(folded, 0)) ?
+                    "admissible" :
+                    "not admissible")
+              << std::endl;
+  }
 } // namespace
 
 int
@@ -349,4 +394,5 @@ main(int argc, char **argv)
   patch_test();
   small_load_limit();
   newton_budget();
+  vertex_jacobians();
 }

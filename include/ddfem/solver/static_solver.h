@@ -77,6 +77,9 @@ namespace ddfem::solver
       unsigned int regularized_iterations = 0;
       /// Smallest det F at any quadrature point in the final state.
       double min_J = 1;
+      /// Smallest det F at a cell vertex that is a corner of a solid voxel,
+      /// in the final state (smallest_vertex_jacobian()).
+      double min_vertex_J = 1;
       /// Why the solve stopped early (empty if converged).
       std::string failure;
     };
@@ -158,6 +161,15 @@ namespace ddfem::solver
     /// the state @p u (see CellFields).
     CellFields
     cell_fields(const Vector<double> &u) const;
+
+    /**
+     * The smallest det F of the state @p u at the vertices of the cells
+     * that are corners of solid voxels, and that vertex. Where it is not
+     * positive, a cell is turned inside out at a vertex although det F may
+     * be positive at every quadrature point.
+     */
+    std::pair<double, Point<3>>
+    smallest_vertex_jacobian(const Vector<double> &u) const;
 
     /// The displacement at point @p p of the state @p u (throws if @p p
     /// lies outside the solid).
