@@ -118,22 +118,19 @@ namespace ddfem::coarsening
     // The baselines: the palette materials of the block's voxels.
     Metamaterial result;
     result.points.resize(point_voxel.size());
-    double max_mu = 0;
     for (unsigned int q = 0; q < point_voxel.size(); ++q)
       {
         const auto &o = point_voxel[q];
         if (const auto id = grid(i + o[0], j + o[1], k + o[2]); id != 0)
-          {
-            result.points[q] = palette[id].material_point();
-            max_mu           = std::max(max_mu, result.points[q].mu);
-          }
+          result.points[q] = palette[id].material_point();
       }
     // Palette materials have mu > 0, so the points with mu = 0 are void.
     if (coarsening == CoarseningMethod::naive)
       {
+        const double floor = result.stiffness_floor(void_stiffness);
         for (auto &p : result.points)
           if (p.mu == 0)
-            p.mu = void_stiffness * max_mu;
+            p.mu = floor;
       }
     else
       {

@@ -35,7 +35,9 @@ namespace ddfem::coarsening
                       Patterns::Double(1e-12, 1),
                       "Lower bound of every quadrature point's fitted shear "
                       "modulus, as a fraction of the block's largest fine "
-                      "shear modulus. Keeps points over void children "
+                      "shear modulus, but never above its smallest (which "
+                      "it would be beyond a contrast of 1 / this). Keeps "
+                      "points over void children "
                       "slightly stiff so a coarse element never has "
                       "zero-energy modes (so it must be above 0). Lambda "
                       "and C are bounded below by 0.");
@@ -219,7 +221,7 @@ namespace ddfem::coarsening
     if (scale[1] == 0)
       scale[1] = scale[0];
     // Lower bounds of (mu, lambda, C) per point.
-    const double floor = settings.stiffness_floor * scale[0];
+    const double floor = prior.stiffness_floor(settings.stiffness_floor);
     for (const auto &p0 : prior.points)
       lower.push_back({{std::max(floor, settings.point_floor * p0.mu),
                         settings.point_floor * p0.lambda,

@@ -6,8 +6,26 @@
 #include <ddfem/solver/cell_kernel.h>
 #include <ddfem/solver/discretization.h>
 
+#include <algorithm>
+#include <limits>
+
 namespace ddfem::coarsening
 {
+  double
+  Metamaterial::stiffness_floor(const double fraction) const
+  {
+    double largest = 0, smallest = std::numeric_limits<double>::max();
+    for (const material::MaterialPoint &p : points)
+      if (p.mu > 0)
+        {
+          largest  = std::max(largest, p.mu);
+          smallest = std::min(smallest, p.mu);
+        }
+    return std::min(fraction * largest, smallest);
+  }
+
+
+
   Metamaterial
   transform(const Metamaterial   &m,
             const CubeSymmetries &symmetries,

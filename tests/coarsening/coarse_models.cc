@@ -154,7 +154,9 @@ namespace
 
 
   /// The records of the naive and average elements of one 2x2x2 block
-  /// with a soft, a stiff (contrast 1e4) and a void voxel.
+  /// with a soft, a stiff (contrast 1e4) and a void voxel. The naive void
+  /// point gets the soft voxel's mu: 1e-3 of the stiff one would make it
+  /// ten times stiffer than the soft material.
   void
   baseline_records()
   {

@@ -44,9 +44,10 @@ namespace ddfem::coarsening
    * tables); the baselines need no database.
    *
    * A void voxel's quadrature point in the naive element gets a shear
-   * modulus of void_stiffness times the block's stiffest mu (and no
-   * lambda), the fitter's default stiffness floor: with zero stiffness a
-   * mostly void element would have zero-energy hourglass modes.
+   * modulus of void_stiffness times the block's stiffest mu, but no more
+   * than its softest (Metamaterial::stiffness_floor(), the fitter's
+   * default stiffness floor), and no lambda: with zero stiffness a mostly
+   * void element would have zero-energy hourglass modes.
    */
   class Coarsener
   {
@@ -131,7 +132,8 @@ namespace ddfem::coarsening
                const unsigned int      j,
                const unsigned int      k);
 
-    /// The naive element's void stiffness, relative to the block's mu.
+    /// The naive element's void stiffness, relative to the block's
+    /// largest mu (Metamaterial::stiffness_floor()).
     static constexpr double void_stiffness = 1e-3;
 
   private:

@@ -37,6 +37,18 @@ namespace ddfem::coarsening
   {
     /// One material record per quadrature point of the coarse element.
     std::vector<material::MaterialPoint> points;
+
+    /**
+     * The smallest shear modulus a point of this element may have, as a
+     * void point of the naive element or as a fitted value: @p fraction
+     * of the largest mu of the solid points (mu > 0; void points have
+     * mu = 0), but never more than the smallest. Beyond a stiffness
+     * contrast of 1 / @p fraction a fraction of the largest mu would make
+     * void, or a fitted soft point, stiffer than the block's softest
+     * material.
+     */
+    double
+    stiffness_floor(const double fraction) const;
   };
 
   /**
