@@ -4,15 +4,21 @@
 // region, weighted with the coarse shape functions: the coarse load vector
 // is the fine load functional restricted to the coarse displacements. So
 // fine, level-1 and level-2 models of a part with a notch carry the same
-// total force, the known one. The total force f is read off the potential
-// energy of the rigid translations c, E(c) = -f . c (a translation stores
-// no elastic energy).
+// total force and moment, the known ones. The total force f is read off
+// the potential energy of the rigid translations c, E(c) = -f . c (a
+// translation stores no elastic energy), and the moment M about the origin
+// off that of the small rotations u = w x x: their elastic energy is even
+// in w, so the central difference of E(w) and E(-w) is -2 M . w. A moment
+// catches loads put on the wrong coarse nodes that keep the total force.
 //
 // Also: a Dirichlet condition on a box region whose node planes a coarse
 // grid does not have is rejected for the coarse models, with a message
 // naming the condition and the spacing, and accepted for the fine one.
 
+#include <deal.II/dofs/dof_tools.h>
+
 #include <ddfem/base/exceptions.h>
+#include <ddfem/solver/supports.h>
 
 #include "../tests.h"
 
@@ -50,48 +56,77 @@ namespace
       )" + loads;
   }
 
-  /// The total external force of @p problem, from the energy of the unit
-  /// translations.
-  Tensor<1, 3>
-  total_force(const testing::Problem &problem)
+  /// The potential energy of @p problem at the displacement field
+  /// c + w x x, at full load.
+  double
+  rigid_motion_energy(const testing::Problem &problem,
+                      const Tensor<1, 3>     &c,
+                      const Tensor<1, 3>     &w)
   {
-    const auto  &dof_handler = problem.discretization->dof_handler;
-    Tensor<1, 3> force;
+    const auto           &dof_handler = problem.discretization->dof_handler;
+    std::vector<Point<3>> points(dof_handler.n_dofs());
+    DoFTools::map_dofs_to_support_points(problem.discretization->mapping,
+                                         dof_handler,
+                                         points);
+    const std::vector<unsigned int> component =
+      solver::dof_components(dof_handler);
+    Vector<double> u(dof_handler.n_dofs());
+    for (unsigned int i = 0; i < u.size(); ++i)
+      u(i) = (c + cross_product_3d(w, points[i]))[component[i]];
+    return problem.solver->energy(u, 1.);
+  }
+
+  /// The total external force of @p problem and its moment about the
+  /// origin, from the energies of unit translations and of rotations by
+  /// +-1e-3 rad (the round-off of their elastic energies leaves about
+  /// 1e-9 of the moment).
+  std::pair<Tensor<1, 3>, Tensor<1, 3>>
+  force_and_moment(const testing::Problem &problem)
+  {
+    const double angle = 1e-3;
+    Tensor<1, 3> force, moment;
     for (unsigned int d = 0; d < 3; ++d)
       {
-        Vector<double> u(dof_handler.n_dofs());
-        for (const auto &cell : dof_handler.active_cell_iterators())
-          for (unsigned int i = 0; i < cell->get_fe().n_dofs_per_cell(); ++i)
-            if (cell->get_fe().system_to_component_index(i).first == d)
-              {
-                std::vector<types::global_dof_index> dofs(
-                  cell->get_fe().n_dofs_per_cell());
-                cell->get_dof_indices(dofs);
-                u(dofs[i]) = 1;
-              }
-        force[d] = -problem.solver->energy(u, 1.);
+        Tensor<1, 3> e;
+        e[d]     = 1;
+        force[d] = -rigid_motion_energy(problem, e, Tensor<1, 3>());
+        moment[d] =
+          -(rigid_motion_energy(problem, Tensor<1, 3>(), angle * e) -
+            rigid_motion_energy(problem, Tensor<1, 3>(), -angle * e)) /
+          (2 * angle);
       }
-    return force;
+    return {force, moment};
+  }
+
+  /// "equal" if @p value is @p expected within @p tolerance of its size,
+  /// else the value.
+  std::string
+  compare(const Tensor<1, 3> &value,
+          const Tensor<1, 3> &expected,
+          const double        tolerance)
+  {
+    if ((value - expected).norm() <= tolerance * expected.norm())
+      return "equal";
+    return "FAILED, (" + Utilities::to_string(value[0]) + " " +
+           Utilities::to_string(value[1]) + " " +
+           Utilities::to_string(value[2]) + ")";
   }
 
   void
   check_loads(const std::string  &name,
               const std::string  &loads,
-              const Tensor<1, 3> &expected)
+              const Tensor<1, 3> &expected_force,
+              const Tensor<1, 3> &expected_moment)
   {
-    std::cout << name << ", expected force (" << expected
-              << ") N:" << std::endl;
+    std::cout << name << ", expected force (" << expected_force
+              << ") N, moment (" << expected_moment << ") N m:" << std::endl;
     for (const unsigned int level : {0u, 1u, 2u})
       {
         const testing::Problem problem(notched_block(loads), false, level);
-        const Tensor<1, 3>     force = total_force(problem);
-        std::cout << "  level " << level << ": "
-                  << ((force - expected).norm() <= 1e-10 * expected.norm() ?
-                        "equal" :
-                        "FAILED, force (" + Utilities::to_string(force[0]) +
-                          " " + Utilities::to_string(force[1]) + " " +
-                          Utilities::to_string(force[2]) + ")")
-                  << std::endl;
+        const auto [force, moment] = force_and_moment(problem);
+        std::cout << "  level " << level << ": force "
+                  << compare(force, expected_force, 1e-10) << ", moment "
+                  << compare(moment, expected_moment, 1e-8) << std::endl;
       }
   }
 
@@ -126,11 +161,15 @@ main(int argc, char **argv)
 {
   Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
 
-  // 60 solid voxels of 1 m^3.
+  // 60 solid voxels of 1 m^3: the cube's 64 with centroid (2, 2, 2) less
+  // the notch's 4 with centroid (0.5, 2, 3.5), so the first moment of the
+  // volume is (126, 120, 114) m^4.
   check_loads("Body force (1, -2, -3) N/m^3",
               "subsection Loads\n  set Body force = 1; -2; -3\nend\n",
-              Tensor<1, 3>({60., -120., -180.}));
-  // The top face z = 4 has 12 solid voxel faces of 1 m^2.
+              Tensor<1, 3>({60., -120., -180.}),
+              Tensor<1, 3>({-132., 492., -372.}));
+  // The top face z = 4 has 12 solid voxel faces of 1 m^2, centroid
+  // (2.5, 2, 4).
   check_loads("Traction (0, 0, -1) Pa on z+",
               R"(
       subsection Boundary conditions
@@ -140,8 +179,10 @@ main(int argc, char **argv)
           set Value  = 0; 0; -1
         end
       end)",
-              Tensor<1, 3>({0., 0., -12.}));
-  // The face x = 0 has 12 solid voxel faces (the notch takes 4 of 16).
+              Tensor<1, 3>({0., 0., -12.}),
+              Tensor<1, 3>({-24., 30., 0.}));
+  // The face x = 0 has 12 solid voxel faces (the notch takes 4 of 16),
+  // centroid (0, 2, 1.5).
   check_loads("Pressure 2 Pa on x-",
               R"(
       subsection Boundary conditions
@@ -151,9 +192,11 @@ main(int argc, char **argv)
           set Value  = 2
         end
       end)",
-              Tensor<1, 3>({24., 0., 0.}));
+              Tensor<1, 3>({24., 0., 0.}),
+              Tensor<1, 3>({0., 36., -48.}));
   // The notch's floor (z = 3, x < 1) and wall (x = 1, z > 3): 8 faces whose
-  // centers lie in the box, 4 of them inside level-1 and level-2 blocks.
+  // centers lie in the box, 4 of them inside level-1 and level-2 blocks;
+  // centroids (0.5, 2, 3) and (1, 2, 3.5).
   check_loads("Traction (1, 0, 0) Pa on the notch's faces",
               R"(
       subsection Boundary conditions
@@ -163,7 +206,8 @@ main(int argc, char **argv)
           set Value  = 1; 0; 0
         end
       end)",
-              Tensor<1, 3>({8., 0., 0.}));
+              Tensor<1, 3>({8., 0., 0.}),
+              Tensor<1, 3>({0., 26., -16.}));
 
   std::cout << "Dirichlet conditions on boxes:" << std::endl;
   for (const std::string region :
