@@ -353,11 +353,13 @@ namespace ddfem::dg
       "Condition number limit",
       "20000",
       Patterns::Integer(0),
-      "The condition number of K is estimated (Lanczos estimate of an "
-      "unpreconditioned CG solve) for systems with at most this many DoFs. "
-      "It is printed as nan where it is not estimated (above the limit, or "
-      "where CG converges in too few iterations for an estimate) and as inf "
-      "where CG does not converge.");
+      "The condition number of K is estimated (column 'cond est': the "
+      "Lanczos estimate of one unpreconditioned CG solve, with the load "
+      "vector as right-hand side) for systems with at most this many DoFs; "
+      "0 estimates none. It is printed as nan where it is not estimated "
+      "(above the limit, or where CG converges in too few iterations for an "
+      "estimate) and as inf where CG does not converge; the plot leaves out "
+      "the methods without a finite estimate.");
     prm.leave_subsection();
   }
 
@@ -398,12 +400,12 @@ namespace ddfem::dg
     // fails (out of memory, say) leaves no partial files.
     check_creatable(directory, "Output/Output directory");
     std::ostringstream text, csv;
-    csv << "problem,method,cells,dofs,L2,H1,condition,eta\n";
+    csv << "problem,method,cells,dofs,L2,H1,condition_estimate,eta\n";
     csv << std::setprecision(6);
     // The same numbers as gnuplot data blocks, one per problem and method.
     std::ostringstream dat;
     dat << std::setprecision(6);
-    std::vector<std::pair<std::string, std::string>> blocks;
+    std::vector<Block> blocks;
     out << "DG convergence study, element " << dg.element_name()
         << ", Dirichlet weak (DG) / strong (CG)\n";
     for (const std::string &problem : problems)
@@ -418,8 +420,8 @@ namespace ddfem::dg
           ConvergenceTable    table;
           std::vector<Result> results;
           dat << "# " << problem << ", " << method.name
-              << "\n# cells dofs L2 H1 condition\n";
-          blocks.emplace_back(problem, method.name);
+              << "\n# cells dofs L2 H1 condition_estimate\n";
+          blocks.push_back({problem, method.name, false});
           for (unsigned int l = lo; l <= hi; ++l)
             {
               const Result r = poisson ?
@@ -432,7 +434,8 @@ namespace ddfem::dg
               table.add_value("dofs", r.dofs);
               table.add_value("L2", r.l2);
               table.add_value("H1", r.h1);
-              table.add_value("cond", r.condition);
+              table.add_value("cond est", r.condition);
+              blocks.back().has_condition |= std::isfinite(r.condition);
               csv << problem << ',' << method.name << ',' << r.cells << ','
                   << r.dofs << ',' << r.l2 << ',' << r.h1 << ',' << r.condition
                   << ',' << r.eta << '\n';
@@ -450,8 +453,8 @@ namespace ddfem::dg
                 ConvergenceTable::reduction_rate_log2,
                 poisson ? 2 : 3);
             }
-          table.set_scientific("cond", true);
-          table.set_precision("cond", 2);
+          table.set_scientific("cond est", true);
+          table.set_precision("cond est", 2);
           std::ostringstream heading;
           heading << "\n" << problem << ", " << method.name;
           if (!method.continuous)
@@ -485,43 +488,49 @@ namespace ddfem::dg
 
 
   void
-  ConvergenceStudy::plot(
-    const std::string                                      &directory,
-    const std::vector<std::pair<std::string, std::string>> &blocks)
+  ConvergenceStudy::plot(const std::string        &directory,
+                         const std::vector<Block> &blocks)
   {
     // One figure per problem: errors (L2 solid, H1 dashed) and condition
-    // numbers against the number of cells, log-log, as the paper's fig. 4.
+    // number estimates against the number of cells, log-log, as the
+    // paper's fig. 4.
     std::ofstream script(directory + "/dg_convergence.gnuplot");
-    script << "set terminal pngcairo size 1500,500\n"
-           << "set logscale xy\nset format y '10^{%L}'\nset key outside\n"
+    script << "set logscale xy\nset format y '10^{%L}'\nset key outside\n"
            << "set xlabel 'cells'\n";
     std::vector<std::string> problems;
-    for (const auto &block : blocks)
-      if (std::find(problems.begin(), problems.end(), block.first) ==
+    for (const Block &block : blocks)
+      if (std::find(problems.begin(), problems.end(), block.problem) ==
           problems.end())
-        problems.push_back(block.first);
+        problems.push_back(block.problem);
     for (const std::string &problem : problems)
       {
+        // Panels: y label and the data columns drawn in it.
+        std::vector<std::pair<std::string, std::string>> panels = {
+          {"error", "34"}};
+        if (std::any_of(blocks.begin(), blocks.end(), [&](const Block &b) {
+              return b.problem == problem && b.has_condition;
+            }))
+          panels.emplace_back("condition number estimate", "5");
         std::string file = "dg_convergence_" + problem + ".png";
         std::replace(file.begin(), file.end(), ' ', '_');
-        script << "set output '" << file << "'\n"
-               << "set multiplot layout 1,2 title '" << problem << "'\n";
-        for (const auto &[ylabel, columns] :
-             {std::pair<std::string, std::string>{"error", "3 4"},
-              std::pair<std::string, std::string>{"condition number", "5"}})
+        script << "set terminal pngcairo size " << 750 * panels.size()
+               << ",500\nset output '" << file << "'\n"
+               << "set multiplot layout 1," << panels.size() << " title '"
+               << problem << "'\n";
+        for (const auto &[ylabel, columns] : panels)
           {
             script << "set ylabel '" << ylabel << "'\nplot ";
             bool first = true;
             for (unsigned int b = 0; b < blocks.size(); ++b)
-              if (blocks[b].first == problem)
+              if (blocks[b].problem == problem)
                 for (const char column : columns)
-                  if (column != ' ')
+                  if (column != '5' || blocks[b].has_condition)
                     {
                       script << (first ? "" : ", \\\n     ")
                              << "'dg_convergence.dat' index " << b
                              << " using 1:" << column << " with linespoints"
                              << (column == '4' ? " dashtype 2" : "") << " lc "
-                             << b + 1 << " title '" << blocks[b].second
+                             << b + 1 << " title '" << blocks[b].method
                              << (column == '3' ? " L2" :
                                  column == '4' ? " H1" :
                                                  "")

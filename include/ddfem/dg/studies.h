@@ -81,9 +81,10 @@ namespace ddfem::dg
    * on 2^l x 2^l squares (Poisson) and 2^l x 2^l x 2^l cubes (linear
    * elasticity, mu = 1, lambda = 1.5, i.e. nu = 0.3) with Dirichlet data
    * on the whole boundary (weak for DG, strong for CG). For each method a
-   * ConvergenceTable of the L2 error, the broken H1 seminorm error and a
-   * condition number estimate of K (the Lanczos estimate of an
-   * unpreconditioned CG solve), with observed rates in h. The DG penalty
+   * ConvergenceTable of the L2 error, the broken H1 seminorm error and an
+   * estimate of the condition number of K (column "cond est": the Lanczos
+   * estimate of one unpreconditioned CG solve, with the load vector as its
+   * only right-hand side), with observed rates in h. The DG penalty
    * is that of subsection "DG"; 'automatic' is settled on the coarsest
    * grid and kept on the finer ones (eq. 7 scales it with the mesh).
    * Declared in the prm subsection "DG convergence".
@@ -108,15 +109,27 @@ namespace ddfem::dg
     run(const std::string &directory, std::ostream &out) const;
 
   private:
+    /// One data block of dg_convergence.dat: a problem and a method.
+    struct Block
+    {
+      /// "2D Poisson" or "3D elasticity".
+      std::string problem;
+      /// "CG Q1", "BZ quad", ...
+      std::string method;
+      /// Whether any of its condition number estimates is finite.
+      bool has_condition;
+    };
+
     /**
      * Writes dg_convergence.gnuplot and runs gnuplot on it: per problem a
-     * PNG with the L2 and H1 errors and the condition numbers of every
-     * method against the number of cells, log-log. @p blocks names the
-     * (problem, method) of each data block of dg_convergence.dat.
+     * PNG with the L2 and H1 errors of every method against the number of
+     * cells, log-log, and a panel with the condition number estimates of
+     * the methods that have a finite one (no panel if none has: gnuplot
+     * stops on a plot without a finite point). @p blocks describes the
+     * data blocks of dg_convergence.dat in order.
      */
     static void
-    plot(const std::string                                      &directory,
-         const std::vector<std::pair<std::string, std::string>> &blocks);
+    plot(const std::string &directory, const std::vector<Block> &blocks);
 
     Parameters               dg;
     std::vector<StudyMethod> methods;
