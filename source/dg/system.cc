@@ -4,6 +4,7 @@
 #include <deal.II/fe/fe_values.h>
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/lac/full_matrix.h>
+#include <deal.II/lac/lapack_full_matrix.h>
 #include <deal.II/lac/sparse_direct.h>
 #include <deal.II/lac/sparsity_tools.h>
 #include <deal.II/meshworker/mesh_loop.h>
@@ -168,21 +169,35 @@ namespace ddfem::dg
       std::vector<FaceCopy>                faces;
     };
 
-    /// Orthogonal factor of the polar decomposition of @p A (Newton).
+    /**
+     * The rotation closest to @p A in the Frobenius norm, U diag(1, ..., 1,
+     * det(U V^T)) V^T from the singular value decomposition A = U S V^T
+     * (singular values in decreasing order). Where det A > 0 this is the
+     * orthogonal factor of the polar decomposition of A. Where A is
+     * inverted (det A < 0) that factor is a reflection, and where A is flat
+     * (det A = 0) it is not unique; the sign fix of the smallest singular
+     * value's vectors gives a proper rotation in both cases.
+     */
     template <int dim>
     Tensor<2, dim>
-    polar_rotation(const Tensor<2, dim> &A)
+    closest_rotation(const Tensor<2, dim> &A)
     {
-      Tensor<2, dim> R = A;
-      for (unsigned int it = 0; it < 100; ++it)
-        {
-          const Tensor<2, dim> next   = 0.5 * (R + transpose(invert(R)));
-          const double         change = (next - R).norm();
-          R                           = next;
-          if (change < 1e-14 * std::sqrt(double(dim)))
-            break;
-        }
-      return R;
+      LAPACKFullMatrix<double> svd(dim, dim);
+      for (unsigned int i = 0; i < dim; ++i)
+        for (unsigned int j = 0; j < dim; ++j)
+          svd(i, j) = A[i][j];
+      svd.compute_svd();
+      Tensor<2, dim> U, VT;
+      for (unsigned int i = 0; i < dim; ++i)
+        for (unsigned int j = 0; j < dim; ++j)
+          {
+            U[i][j]  = svd.get_svd_u()(i, j);
+            VT[i][j] = svd.get_svd_vt()(i, j);
+          }
+      if (determinant(U) * determinant(VT) < 0)
+        for (unsigned int i = 0; i < dim; ++i)
+          U[i][dim - 1] = -U[i][dim - 1];
+      return U * VT;
     }
 
     /// What MeshWorker::mesh_loop() calls on an interior face.
@@ -964,7 +979,7 @@ namespace ddfem::dg
             XX += fv.JxW(q) * outer_product(dx, dx);
             YX += fv.JxW(q) * outer_product(dy, dx);
           }
-        R[cell->active_cell_index()] = polar_rotation(YX * invert(XX));
+        R[cell->active_cell_index()] = closest_rotation(YX * invert(XX));
       }
     return R;
   }

@@ -3,6 +3,7 @@
 
 // Helpers shared by the DG tests: small meshes and problem data.
 
+#include <deal.II/base/function.h>
 #include <deal.II/grid/grid_generator.h>
 #include <deal.II/grid/tria.h>
 #include <deal.II/numerics/vector_tools.h>
@@ -11,6 +12,8 @@
 #include <ddfem/dg/system.h>
 
 #include <array>
+#include <cmath>
+#include <functional>
 #include <string>
 
 namespace ddfem::testing
@@ -96,6 +99,69 @@ namespace ddfem::testing
     p.degree  = degree;
     p.flux    = flux;
     return p;
+  }
+
+  /// The rotation by @p degrees about the unit vector @p axis (Rodrigues).
+  inline Tensor<2, 3>
+  rotation_about(const Tensor<1, 3> &axis, const double degrees)
+  {
+    const double a = degrees * numbers::PI / 180;
+    Tensor<2, 3> K;
+    K[0][1] = -axis[2];
+    K[0][2] = axis[1];
+    K[1][0] = axis[2];
+    K[1][2] = -axis[0];
+    K[2][0] = -axis[1];
+    K[2][1] = axis[0];
+    return unit_symmetric_tensor<3>() + std::sin(a) * K +
+           (1 - std::cos(a)) * K * K;
+  }
+
+  /**
+   * The coefficients of the field A_K v on every cell K of @p system, for
+   * the coefficients @p v of a vector field and A_K = @p A(K): the dim
+   * coefficients of each scalar shape function are multiplied by A_K. With
+   * v = X0, the coefficients of the identity map x, this is the affine map
+   * A_K x, exactly, for FE_DGQ and FE_DGP alike.
+   */
+  inline Vector<double>
+  transform_blocks(const dg::System<3>                             &system,
+                   const Vector<double>                            &v,
+                   const std::function<Tensor<2, 3>(
+                     const DoFHandler<3>::active_cell_iterator &)> &A)
+  {
+    Vector<double>                       w(v.size());
+    const FiniteElement<3>              &fe = system.fe;
+    std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
+    for (const auto &cell : system.dof_handler.active_cell_iterators())
+      {
+        const Tensor<2, 3> A_K = A(cell);
+        cell->get_dof_indices(dofs);
+        for (unsigned int i = 0; i < dofs.size(); ++i)
+          {
+            const auto [c, base] = fe.system_to_component_index(i);
+            for (unsigned int a = 0; a < 3; ++a)
+              w[dofs[i]] +=
+                A_K[c][a] * v[dofs[fe.component_to_system_index(a, base)]];
+          }
+      }
+    return w;
+  }
+
+  /**
+   * The coefficients of the displacement u = A_K x - x on every cell K of
+   * @p system, A_K = @p A(K).
+   */
+  inline Vector<double>
+  cellwise_affine(const dg::System<3>                             &system,
+                  const std::function<Tensor<2, 3>(
+                    const DoFHandler<3>::active_cell_iterator &)> &A)
+  {
+    Vector<double> x;
+    system.project_locally(Functions::IdentityFunction<3>(), x);
+    Vector<double> u = transform_blocks(system, x, A);
+    u -= x;
+    return u;
   }
 
   /// "IP FE_DGQ(1)" and the like.

@@ -189,9 +189,13 @@ namespace ddfem::dg
     project_locally(const Function<dim> &function, Vector<double> &v) const;
 
     /**
-     * The rotation of every cell (by active cell index): the orthogonal
-     * factor of the polar decomposition of the least-squares affine fit
-     * of the deformed positions x + @p u over the cell's quadrature points.
+     * The rotation of every cell (by active cell index): the rotation
+     * closest to the least-squares affine fit A of the deformed positions
+     * x + @p u over the cell's quadrature points. That is the orthogonal
+     * factor of the polar decomposition of A where det A > 0, and a proper
+     * rotation (det +1, from the singular value decomposition) also where
+     * the cell is inverted or flat (det A <= 0), where the polar factor
+     * would be a reflection or not unique.
      */
     std::vector<Tensor<2, dim>>
     rotations(const Vector<double> &u) const;
