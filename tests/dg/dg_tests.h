@@ -164,6 +164,19 @@ namespace ddfem::testing
     return u;
   }
 
+  /**
+   * The internal force K u - F of @p system as last assembled, relative to
+   * |K| |u| (max row sum norm of K, l2 norm of u).
+   */
+  inline double
+  relative_force(const dg::System<3> &system, const Vector<double> &u)
+  {
+    Vector<double> force(u.size());
+    system.matrix.vmult(force, u);
+    force -= system.rhs;
+    return force.l2_norm() / (system.matrix.linfty_norm() * u.l2_norm());
+  }
+
   /// "IP FE_DGQ(1)" and the like.
   inline std::string
   describe(const dg::Parameters &p)

@@ -1,4 +1,6 @@
-// The stiffness matrix is symmetric for both fluxes (also corotated); the
+// The stiffness matrix is symmetric for both fluxes, also corotated with a
+// different rotation in every cell (pseudo-random axes and angles of 5 to
+// 175 degrees, which the fitted rotations must reproduce); the
 // Babuska-Zlamal matrix is positive definite for any penalty > 0; the
 // interior penalty matrix is not for a too small penalty, and the
 // automatic penalty (start at 1, double) ends positive definite. A cube
@@ -25,6 +27,17 @@ namespace
       for (auto e = K.begin(i); e != K.end(i); ++e)
         a = std::max(a, std::abs(e->value() - K.el(e->column(), i)));
     return a / K.linfty_norm();
+  }
+
+  /// A rotation per cell, pseudo-random: axis and angle from its index.
+  Tensor<2, 3>
+  cell_rotation(const DoFHandler<3>::active_cell_iterator &cell)
+  {
+    const double       i = cell->active_cell_index();
+    const Tensor<1, 3> axis(
+      {std::sin(1 + 2 * i), std::cos(3 + 5 * i), std::sin(0.5 + 7 * i)});
+    return testing::rotation_about(axis / axis.norm(),
+                                   5 + 170 * std::abs(std::sin(1 + 11 * i)));
   }
 } // namespace
 
@@ -53,9 +66,16 @@ main(int argc, char **argv)
         std::cout << testing::describe(p) << ":\n  ";
         system.assemble(10, 1);
         testing::check_below("asymmetry", asymmetry(system.matrix), 1e-14);
-        Vector<double> u;
-        system.project_locally(Functions::IdentityFunction<3>(), u);
-        u *= 0.3;
+        const Vector<double> u =
+          testing::cellwise_affine(system, cell_rotation);
+        const std::vector<Tensor<2, 3>> fitted         = system.rotations(u);
+        double                          rotation_error = 0;
+        for (const auto &cell : system.dof_handler.active_cell_iterators())
+          rotation_error = std::max(
+            rotation_error,
+            (fitted[cell->active_cell_index()] - cell_rotation(cell)).norm());
+        std::cout << "  ";
+        testing::check_below("fitted rotation error", rotation_error, 1e-12);
         system.assemble(10, 1, &u);
         std::cout << "  corotated ";
         testing::check_below("asymmetry", asymmetry(system.matrix), 1e-14);
