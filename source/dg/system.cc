@@ -459,14 +459,16 @@ namespace ddfem::dg
       for (unsigned int q = 0; q < fv.n_quadrature_points; ++q)
         area += fv.JxW(q);
       const double eta_f = 2 * eta * area / cell->measure();
-      // Nitsche's consistency terms, warped (all components prescribed)
-      // or not (some prescribed), and their Dirichlet data parts.
-      FullMatrix<double>          warped(n, n), plain(n, n);
-      Vector<double>              warped_data(n);
+      // Nitsche's consistency and symmetry terms and their Dirichlet data
+      // part, in the element's frame (warped with its rotation R if
+      // corotated); the penalty term in the world frame, not warped.
+      FullMatrix<double>          nitsche(n, n);
+      Vector<double>              nitsche_data(n);
       const Tensor<2, dim>        R = current ?
                                         cell_rotations[cell->active_cell_index()] :
                                         unit_symmetric_tensor<dim>();
       std::vector<Tensor<2, dim>> stress(n);
+      std::vector<Tensor<1, dim>> masked(n), masked_R(n);
       for (unsigned int q = 0; q < fv.n_quadrature_points; ++q)
         {
           const Point<dim>     &x  = fv.quadrature_point(q);
@@ -481,77 +483,76 @@ namespace ddfem::dg
             }
           if (!weak)
             continue;
-          Tensor<1, dim> mask, g;
-          unsigned int   n_prescribed = 0;
+          // The condition P (u - g) = 0, P the projection onto the
+          // prescribed components (world frame). For the unrotated
+          // displacement u_R = R^T (x + u) - x of the element frame it
+          // reads P_R (u_R - g_R) = 0 with P_R = R^T P R and g_R = R^T (x +
+          // g) - x, so that only prescribed world components are held, also
+          // where only some are (sliding). With R = I, g_R = g exactly.
+          Tensor<1, dim> g;
+          Tensor<2, dim> P;
+          bool           prescribed = false;
           for (unsigned int d = 0; d < n_components; ++d)
             if (data.dirichlet(x, d, t, g[d]))
               {
-                mask[d] = 1;
-                ++n_prescribed;
+                P[d][d]    = 1;
+                prescribed = true;
               }
-          if (n_prescribed == 0)
+          if (!prescribed)
             continue;
-          const bool     warp    = current && n_prescribed == n_components;
-          Tensor<1, dim> g_local = g;
-          if (warp)
-            g_local = transpose(R) * (x + g) - x;
+          const Tensor<2, dim> P_R = transpose(R) * P * R;
+          const Tensor<1, dim> g_R = transpose(R) * g + (transpose(R) * x - x);
+          const Tensor<1, dim> Pg  = P * g;
+          const Tensor<1, dim> P_R_g_R = P_R * g_R;
           for (unsigned int j = 0; j < n; ++j)
-            stress[j] = flux(gradient_of(fe.system_to_component_index(j).first,
-                                         fv.shape_grad(j, q)),
-                             m,
-                             n_components);
-          FullMatrix<double> &M = warp ? warped : plain;
+            {
+              const unsigned int   cj  = fe.system_to_component_index(j).first;
+              const Tensor<1, dim> phi = value_of(cj, fv.shape_value(j, q));
+              stress[j] =
+                flux(gradient_of(cj, fv.shape_grad(j, q)), m, n_components);
+              masked[j]   = P * phi;
+              masked_R[j] = P_R * phi;
+            }
           for (unsigned int i = 0; i < n; ++i)
             {
-              const unsigned int   ci = fe.system_to_component_index(i).first;
-              const Tensor<1, dim> vi =
-                mask[ci] * value_of(ci, fv.shape_value(i, q));
               const Tensor<1, dim> si = stress[i] * nq;
-              Tensor<1, dim>       masked_g;
-              for (unsigned int d = 0; d < dim; ++d)
-                masked_g[d] = mask[d] * g[d];
               c.vector[i] += eta_f *
-                             penalty_product(masked_g,
-                                             vi,
+                             penalty_product(Pg,
+                                             masked[i],
                                              nq,
                                              m.mu,
                                              std::max(m.lambda, 0.),
                                              n_components) *
                              dx;
+              // -(u - g).sigma(v) n: the data part moves to F.
               if (ip)
-                {
-                  // -(u - g).sigma(v) n: the data part moves to F.
-                  double data_term = 0;
-                  for (unsigned int d = 0; d < dim; ++d)
-                    data_term -= mask[d] * g_local[d] * si[d];
-                  (warp ? warped_data[i] : c.vector[i]) += data_term * dx;
-                }
+                nitsche_data[i] -= (P_R_g_R * si) * dx;
               for (unsigned int j = 0; j < n; ++j)
                 {
-                  const unsigned int cj = fe.system_to_component_index(j).first;
-                  const Tensor<1, dim> vj =
-                    mask[cj] * value_of(cj, fv.shape_value(j, q));
-                  c.matrix(i, j) +=
-                    eta_f *
-                    penalty_product(
-                      vi, vj, nq, m.mu, std::max(m.lambda, 0.), n_components) *
-                    dx;
+                  c.matrix(i, j) += eta_f *
+                                    penalty_product(masked[i],
+                                                    masked[j],
+                                                    nq,
+                                                    m.mu,
+                                                    std::max(m.lambda, 0.),
+                                                    n_components) *
+                                    dx;
                   if (ip)
-                    M(i, j) -= (vi * (stress[j] * nq) + vj * si) * dx;
+                    nitsche(i, j) -=
+                      (masked_R[i] * (stress[j] * nq) + masked_R[j] * si) * dx;
                 }
             }
         }
-      c.matrix.add(1., plain);
       if (current)
         {
-          const Vector<double> x0 = local_identity(c.dofs);
-          add_warped(warped, R, blocks, x0, c.matrix, c.vector);
-          add_rotated(warped_data, R, blocks, c.vector);
+          add_warped(
+            nitsche, R, blocks, local_identity(c.dofs), c.matrix, c.vector);
+          add_rotated(nitsche_data, R, blocks, c.vector);
         }
       else
         {
-          c.matrix.add(1., warped);
-          c.vector += warped_data;
+          c.matrix.add(1., nitsche);
+          c.vector += nitsche_data;
         }
     };
 
