@@ -667,6 +667,14 @@ namespace ddfem::dg
         }
       if (current)
         {
+          // The penalty term is warped too, half with each side's rotation.
+          // That leaves its isotropic part 2 mu [u].[v] unchanged (the paper
+          // does not warp the penalty), and turns its part lambda ([u].n)
+          // ([v].n) with the elements: unwarped, the force of a rotated
+          // configuration would not be the rotated force.
+          A[0].add(0.5, face.matrix);
+          A[1].add(0.5, face.matrix);
+          face.matrix = 0;
           Blocks<dim> b;
           for (unsigned int i = 0; i < n_if; ++i)
             {

@@ -9,6 +9,8 @@
 // - A rigid rotation by 70 degrees about z on the sliding floor z = 0 (only
 //   u_z = 0 prescribed, which the rotation satisfies): f = 0. Unwarped
 //   Nitsche terms give the normal stress 2 lambda (cos 70 - 1) here.
+// - Objectivity: for a non-uniform u with jumps between the cells (a twist
+//   and a stretch, projected cellwise), f(Q (x + u) - x) = Q f(u).
 
 #include <deal.II/base/function.h>
 
@@ -28,6 +30,25 @@ namespace
   {
     return testing::rotation_about(Tensor<1, 3>({1. / 3, 2. / 3, 2. / 3}), 70);
   }
+
+  /// A twist about the z axis by 60 degrees per unit height, plus a
+  /// stretch: u = R_z(60 z) x + (0.05 x^2, 0, 0.1 z^2) - x.
+  class Twisted : public Function<3>
+  {
+  public:
+    Twisted()
+      : Function<3>(3)
+    {}
+
+    double
+    value(const Point<3> &p, const unsigned int c) const override
+    {
+      const Tensor<1, 3> y =
+        testing::rotation_about(Tensor<1, 3>({0, 0, 1}), 60 * p[2]) * p +
+        Tensor<1, 3>({0.05 * p[0] * p[0], 0, 0.1 * p[2] * p[2]});
+      return y[c] - p[c];
+    }
+  };
 } // namespace
 
 int
@@ -102,6 +123,38 @@ main(int argc, char **argv)
           std::cout << "  sliding floor, rigid rotation about z:\n    ";
           testing::check_below("corotated |force| / (|K| |u|)",
                                testing::relative_force(system, u),
+                               1e-12);
+        }
+
+        // Objectivity.
+        {
+          dg::System<3>  system(tria, *fe, 3, p, free);
+          Vector<double> u, x, force(system.dof_handler.n_dofs()),
+            rotated_force(force.size());
+          system.project_locally(Twisted(), u);
+          system.project_locally(Functions::IdentityFunction<3>(), x);
+          Vector<double> u_rotated = x;
+          u_rotated += u;
+          u_rotated =
+            testing::transform_blocks(system, u_rotated, [&](const auto &) {
+              return Q;
+            });
+          u_rotated -= x;
+          system.assemble(10, 1, &u);
+          system.matrix.vmult(force, u);
+          force -= system.rhs;
+          system.assemble(10, 1, &u_rotated);
+          system.matrix.vmult(rotated_force, u_rotated);
+          rotated_force -= system.rhs;
+          rotated_force -=
+            testing::transform_blocks(system, force, [&](const auto &) {
+              return Q;
+            });
+          std::cout << "  objectivity, |[u]| / |u| > 1e-6: "
+                    << (system.jump_norm(u) > 1e-6 * u.l2_norm() ? "yes" : "NO")
+                    << "\n    ";
+          testing::check_below("|f(Q (x + u) - x) - Q f(u)| / |f(u)|",
+                               rotated_force.l2_norm() / force.l2_norm(),
                                1e-12);
         }
       }
