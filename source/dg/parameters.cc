@@ -38,9 +38,10 @@ namespace ddfem::dg
       "and double until the stiffness matrix is positive definite (checked "
       "by a banded Cholesky factorization, see 'Definiteness check limit'). "
       "A number in (0, 2^30]: that eta; if the matrix is not positive definite "
-      "the run stops with an error. With babuska-zlamal every eta > 0 is "
-      "positive definite, so 'automatic' gives eta = 1, a soft glue; its "
-      "error is O(1/eta), so give a fixed eta (the paper uses 10 to 100).");
+      "the run stops with an error. 'automatic' is for interior penalty "
+      "only: with babuska-zlamal every eta > 0 is positive definite, so the "
+      "rule would stop at eta = 1, a soft glue with a large O(1/eta) error; "
+      "babuska-zlamal needs a fixed eta (the paper uses 10 to 100).");
     prm.declare_entry(
       "Dirichlet",
       "weak",
@@ -126,6 +127,21 @@ namespace ddfem::dg
                 ExcMessage("DG/Dirichlet = strong needs nodes on the "
                            "boundary: use DG/Element = FE_DGQ, or "
                            "DG/Dirichlet = weak with FE_DGP."));
+  }
+
+
+
+  void
+  Parameters::check_penalty(const Flux flux, const std::string &setting) const
+  {
+    AssertThrow(
+      !(automatic_penalty() && flux == Flux::babuska_zlamal),
+      ExcMessage(
+        "DG/Penalty = automatic cannot be used with " + setting +
+        ": with the Babuska-Zlamal flux every penalty eta > 0 gives a "
+        "positive definite stiffness matrix, so the automatic rule would stop "
+        "at eta = 1, where BZ's O(1/eta) error is large. Give a fixed "
+        "DG/Penalty (the paper uses 10 to 100)."));
   }
 
 

@@ -375,6 +375,11 @@ namespace ddfem::dg
     AssertThrow(!problems.empty() && !methods.empty(),
                 ExcMessage("DG convergence/Problems and Methods must each "
                            "name at least one entry."));
+    for (const StudyMethod &method : methods)
+      if (!method.continuous)
+        dg.check_penalty(method.flux,
+                         "the method " + method.name +
+                           " of DG convergence/Methods");
     const auto l2d = Utilities::string_to_int(
       Utilities::split_string_list(prm.get("2D refinements")));
     const auto l3d = Utilities::string_to_int(
@@ -567,6 +572,8 @@ namespace ddfem::dg
   CostStudy::parse_parameters(ParameterHandler &prm)
   {
     dg.parse_parameters(prm);
+    dg.check_penalty(Parameters::Flux::babuska_zlamal,
+                     "Run type = dg cost, which compares BZ with IP");
     prm.enter_subsection("DG cost");
     resolution = prm.get_integer("Resolution");
     prm.leave_subsection();
@@ -587,14 +594,8 @@ namespace ddfem::dg
       parse_methods("BZ lin, IP lin, BZ quad, IP quad");
     std::vector<std::pair<StudyMethod, Result>> results;
     for (const StudyMethod &method : dg_methods)
-      {
-        // Settled on a small mesh, but not one finer than the study's: a
-        // penalty settled on 2^3 cells may not hold on one cell.
-        const Parameters fixed =
-          fixed_penalty<3>(dg, method, std::min(2u, resolution), 3);
-        results.emplace_back(
-          method, solve_manufactured<3>(resolution, 3, method, fixed, 0));
-      }
+      results.emplace_back(method,
+                           solve_manufactured<3>(resolution, 3, method, dg, 0));
     // The CG mesh with the number of DoFs closest to linear DG.
     const double target = results[0].second.dofs;
     unsigned int n_cg   = 1;

@@ -794,6 +794,7 @@ namespace ddfem::dg
         assemble(0, t);
         return check_definiteness();
       }
+    parameters.check_penalty(parameters.flux, "DG/Flux = babuska-zlamal");
     if (!parameters.automatic_penalty())
       {
         assemble(parameters.penalty, t);

@@ -1,9 +1,9 @@
 // A too small fixed penalty must be detected and reported (exit code 1,
 // message naming DG/Penalty, nothing written), not silently solved; and
 // the other DG input errors give clear messages too: penalties out of
-// range, conditions that leave rigid motions free (of the whole solid, or
-// of a part joined to the rest by an edge only), loads that are not
-// finite.
+// range, an automatic penalty with the Babuska-Zlamal flux, conditions
+// that leave rigid motions free (of the whole solid, or of a part joined to
+// the rest by an edge only), loads that are not finite.
 
 #include <ddfem/app/application.h>
 
@@ -62,6 +62,20 @@ main(int argc, char **argv)
              "  end\nend\n",
            "");
   run_case("huge", cantilever, "set Penalty = 1e300\n");
+  // Babuska-Zlamal is positive definite for every eta > 0, so the automatic
+  // rule would stop at eta = 1, where BZ's O(1/eta) error is large: BZ
+  // needs a fixed penalty, in a simulation and in the studies.
+  run_case("bz_automatic", cantilever, "set Flux = babuska-zlamal\n");
+  run_case("bz_automatic_convergence",
+           "set Run type = dg convergence\n"
+           "subsection DG convergence\n  set Problems = 2D Poisson\n"
+           "  set Methods = IP lin, BZ lin\n  set 2D refinements = 1, 1\n"
+           "end\n",
+           "");
+  run_case("automatic_cost",
+           "set Run type = dg cost\n"
+           "subsection DG cost\n  set Resolution = 1\nend\n",
+           "");
   // Rigid motions the conditions leave free: singular K, which round-off
   // lets through the definiteness check, so the solver must find it first.
   run_case("no_dirichlet",

@@ -79,6 +79,17 @@ namespace ddfem::dg
     std::string
     element_name() const;
 
+    /**
+     * Throws ExcMessage if 'Penalty = automatic' is combined with the flux
+     * @p flux = Babuska-Zlamal. Its stiffness matrix is positive definite
+     * for every eta > 0, so the automatic rule (double eta from 1 until K
+     * is positive definite) would always stop at eta = 1, where BZ's
+     * O(1/eta) error is large. @p setting names the setting that chose the
+     * flux, for the message.
+     */
+    void
+    check_penalty(const Flux flux, const std::string &setting) const;
+
     /// Whether 'Penalty = automatic'.
     bool
     automatic_penalty() const

@@ -85,7 +85,8 @@ namespace ddfem::dg
    * estimate of the condition number of K (column "cond est": the Lanczos
    * estimate of one unpreconditioned CG solve, with the load vector as its
    * only right-hand side), with observed rates in h. The DG penalty
-   * is that of subsection "DG"; 'automatic' is settled on the coarsest
+   * is that of subsection "DG" ('automatic' only without BZ methods,
+   * see Parameters::check_penalty()); 'automatic' is settled on the coarsest
    * grid and kept on the finer ones (eq. 7 scales it with the mesh).
    * Declared in the prm subsection "DG convergence".
    */
@@ -145,7 +146,9 @@ namespace ddfem::dg
    * of DoFs is closest to that of the linear DG methods. Reports DoFs,
    * sparsity and the wall times of integration (local matrices), assembly
    * (adding into K) and solve (UMFPACK), on one thread, and the ratios
-   * DG/CG measured in the same run. Declared in "DG cost".
+   * DG/CG measured in the same run, all DG methods with the fixed penalty
+   * of subsection "DG" (BZ needs a fixed one, see
+   * Parameters::check_penalty()). Declared in "DG cost".
    */
   class CostStudy
   {

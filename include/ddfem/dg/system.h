@@ -160,8 +160,10 @@ namespace ddfem::dg
      * 'Penalty = automatic', starts at eta = 1 and doubles until the
      * matrix is positive definite (at most 30 times); with a fixed penalty,
      * checks it. Throws ExcMessage naming DG/Penalty if the fixed penalty
-     * gives a matrix that is not positive definite, or if the automatic
-     * penalty cannot be checked. Continuous elements need no penalty.
+     * gives a matrix that is not positive definite, if the automatic
+     * penalty cannot be checked, or if it is combined with the
+     * Babuska-Zlamal flux (Parameters::check_penalty()). Continuous
+     * elements need no penalty.
      * Returns the outcome of the last check.
      */
     Definiteness
