@@ -32,8 +32,7 @@ namespace ddfem::solver
       "cg-amg: the loosest relative residual reduction of a linear solve. "
       "Newton's method tightens it to 0.1 |R| / |R_ref| as its residual "
       "|R| falls (inexact Newton), so early iterations are cheap and the "
-      "last ones accurate, but never further than to a linear residual of "
-      "0.1 'Newton tolerance' |R_ref|, which is all convergence needs.");
+      "last ones accurate.");
     prm.declare_entry(
       "Cholesky tolerance",
       "1e-8",
