@@ -593,17 +593,11 @@ namespace ddfem::solver
   {
     const types::global_dof_index n = u.size();
     Vector<double> residual(n), rhs(n), du(n), trial(n), diagonal(n);
-    double         reference   = 0;
-    double         newton_step = infinity;
-    unsigned int   regularized = 0;
-    const double   length      = discretization.extent.norm();
-    // Inexact Newton: solve to 0.1 |R| / |R_ref| relative, which keeps
-    // the convergence quadratic, but never below the accuracy the
-    // convergence test asks for (0.1 'Newton tolerance' |R_ref|).
-    const auto forcing = [&](const double r, const double ref) {
-      return std::max(0.1 * r / ref, 0.1 * parameters.tolerance * ref / r);
-    };
-    const auto free_residual_norm = [&](Vector<double> &r) {
+    double         reference          = 0;
+    double         newton_step        = infinity;
+    unsigned int   regularized        = 0;
+    const double   length             = discretization.extent.norm();
+    const auto     free_residual_norm = [&](Vector<double> &r) {
       for (const DirichletDof &d : dirichlet_dofs)
         r(d.index) = 0;
       return r.l2_norm();
@@ -675,7 +669,7 @@ namespace ddfem::solver
                                       du,
                                       rhs,
                                       on_boundary_values ?
-                                        forcing(residual_norm, reference) :
+                                        0.1 * residual_norm / reference :
                                         1.);
                 constraints.distribute(du);
                 solved = true;
