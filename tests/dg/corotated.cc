@@ -73,89 +73,83 @@ main(int argc, char **argv)
       return c == 2 && x[2] < 1e-12;
     };
 
-  for (const auto element : testing::dg_elements)
-    for (const unsigned int degree : {1u, 2u})
-      {
-        dg::Parameters p =
-          testing::dg_parameters(element,
-                                 degree,
-                                 dg::Parameters::Flux::interior_penalty);
-        p.formulation = dg::Parameters::Formulation::corotated;
-        const auto fe = p.make_element<3>();
-        std::cout << testing::describe(p) << ":\n";
+  for (dg::Parameters p : testing::interior_penalty_variants(
+         dg::Parameters::Formulation::corotated))
+    {
+      const auto fe = p.make_element<3>();
+      std::cout << testing::describe(p) << ":\n";
 
-        // The rigid rotation, without and with Dirichlet conditions.
-        for (const dg::ProblemData<3> *data :
-             {&free, static_cast<const dg::ProblemData<3> *>(&clamped)})
-          {
-            dg::System<3>        system(tria, *fe, 3, p, *data);
-            const Vector<double> u =
-              testing::cellwise_affine(system, [&](const auto &) { return Q; });
-            std::cout << (data == &free ? "  free" : "  x- face clamped")
-                      << ", rigid rotation:\n    ";
-            if (data == &free)
-              {
-                double rotation_error = 0;
-                for (const Tensor<2, 3> &R : system.rotations(u))
-                  rotation_error = std::max(rotation_error, (R - Q).norm());
-                testing::check_below("fitted rotation error",
-                                     rotation_error,
-                                     1e-12);
-                std::cout << "    ";
-              }
-            system.assemble(10, 1, &u);
-            testing::check_below("corotated |force| / (|K| |u|)",
-                                 testing::relative_force(system, u),
-                                 1e-12);
-            system.assemble(10, 1);
-            std::cout << "    linear |force| / (|K| |u|) > 1e-3: "
-                      << (testing::relative_force(system, u) > 1e-3 ? "yes" :
-                                                                      "NO")
-                      << std::endl;
-          }
-
-        // A rotation about the normal of a sliding floor.
+      // The rigid rotation, without and with Dirichlet conditions.
+      for (const dg::ProblemData<3> *data :
+           {&free, static_cast<const dg::ProblemData<3> *>(&clamped)})
         {
-          dg::System<3>        system(tria, *fe, 3, p, sliding);
+          dg::System<3>        system(tria, *fe, 3, p, *data);
           const Vector<double> u =
-            testing::cellwise_affine(system, [&](const auto &) { return Q_z; });
+            testing::cellwise_affine(system, [&](const auto &) { return Q; });
+          std::cout << (data == &free ? "  free" : "  x- face clamped")
+                    << ", rigid rotation:\n    ";
+          if (data == &free)
+            {
+              double rotation_error = 0;
+              for (const Tensor<2, 3> &R : system.rotations(u))
+                rotation_error = std::max(rotation_error, (R - Q).norm());
+              testing::check_below("fitted rotation error",
+                                   rotation_error,
+                                   1e-12);
+              std::cout << "    ";
+            }
           system.assemble(10, 1, &u);
-          std::cout << "  sliding floor, rigid rotation about z:\n    ";
           testing::check_below("corotated |force| / (|K| |u|)",
                                testing::relative_force(system, u),
                                1e-12);
+          system.assemble(10, 1);
+          std::cout << "    linear |force| / (|K| |u|) > 1e-3: "
+                    << (testing::relative_force(system, u) > 1e-3 ? "yes" :
+                                                                    "NO")
+                    << std::endl;
         }
 
-        // Objectivity.
-        {
-          dg::System<3>  system(tria, *fe, 3, p, free);
-          Vector<double> u, x, force(system.dof_handler.n_dofs()),
-            rotated_force(force.size());
-          system.project_locally(Twisted(), u);
-          system.project_locally(Functions::IdentityFunction<3>(), x);
-          Vector<double> u_rotated = x;
-          u_rotated += u;
-          u_rotated =
-            testing::transform_blocks(system, u_rotated, [&](const auto &) {
-              return Q;
-            });
-          u_rotated -= x;
-          system.assemble(10, 1, &u);
-          system.matrix.vmult(force, u);
-          force -= system.rhs;
-          system.assemble(10, 1, &u_rotated);
-          system.matrix.vmult(rotated_force, u_rotated);
-          rotated_force -= system.rhs;
-          rotated_force -=
-            testing::transform_blocks(system, force, [&](const auto &) {
-              return Q;
-            });
-          std::cout << "  objectivity, |[u]| / |u| > 1e-6: "
-                    << (system.jump_norm(u) > 1e-6 * u.l2_norm() ? "yes" : "NO")
-                    << "\n    ";
-          testing::check_below("|f(Q (x + u) - x) - Q f(u)| / |f(u)|",
-                               rotated_force.l2_norm() / force.l2_norm(),
-                               1e-12);
-        }
+      // A rotation about the normal of a sliding floor.
+      {
+        dg::System<3>        system(tria, *fe, 3, p, sliding);
+        const Vector<double> u =
+          testing::cellwise_affine(system, [&](const auto &) { return Q_z; });
+        system.assemble(10, 1, &u);
+        std::cout << "  sliding floor, rigid rotation about z:\n    ";
+        testing::check_below("corotated |force| / (|K| |u|)",
+                             testing::relative_force(system, u),
+                             1e-12);
       }
+
+      // Objectivity.
+      {
+        dg::System<3>  system(tria, *fe, 3, p, free);
+        Vector<double> u, x, force(system.dof_handler.n_dofs()),
+          rotated_force(force.size());
+        system.project_locally(Twisted(), u);
+        system.project_locally(Functions::IdentityFunction<3>(), x);
+        Vector<double> u_rotated = x;
+        u_rotated += u;
+        u_rotated = testing::transform_blocks(system,
+                                              u_rotated,
+                                              [&](const auto &) { return Q; });
+        u_rotated -= x;
+        system.assemble(10, 1, &u);
+        system.matrix.vmult(force, u);
+        force -= system.rhs;
+        system.assemble(10, 1, &u_rotated);
+        system.matrix.vmult(rotated_force, u_rotated);
+        rotated_force -= system.rhs;
+        rotated_force -=
+          testing::transform_blocks(system, force, [&](const auto &) {
+            return Q;
+          });
+        std::cout << "  objectivity, |[u]| / |u| > 1e-6: "
+                  << (system.jump_norm(u) > 1e-6 * u.l2_norm() ? "yes" : "NO")
+                  << "\n    ";
+        testing::check_below("|f(Q (x + u) - x) - Q f(u)| / |f(u)|",
+                             rotated_force.l2_norm() / force.l2_norm(),
+                             1e-12);
+      }
+    }
 }

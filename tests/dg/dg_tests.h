@@ -15,6 +15,7 @@
 #include <cmath>
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace ddfem::testing
 {
@@ -99,6 +100,23 @@ namespace ddfem::testing
     p.degree  = degree;
     p.flux    = flux;
     return p;
+  }
+
+  /// Default DG parameters with the interior penalty flux and
+  /// @p formulation for every element type at degrees 1 and 2, element by
+  /// element.
+  inline std::vector<dg::Parameters>
+  interior_penalty_variants(const dg::Parameters::Formulation formulation)
+  {
+    std::vector<dg::Parameters> variants;
+    for (const auto element : dg_elements)
+      for (const unsigned int degree : {1u, 2u})
+        {
+          variants.push_back(dg_parameters(
+            element, degree, dg::Parameters::Flux::interior_penalty));
+          variants.back().formulation = formulation;
+        }
+    return variants;
   }
 
   /// The rotation by @p degrees about the unit vector @p axis (Rodrigues).
