@@ -299,12 +299,17 @@ namespace ddfem::coarsening
       sampling.for_block({combination.begin(), combination.end()});
     const std::vector<Sample> samples =
       sampler.sample(block_sampling, seed, entry.n_dropped);
-    const std::vector<Tensor<1, 3>> directions =
-      sampler.anisotropy_directions(block_sampling, element);
-    for (unsigned int q = 0; q < 8; ++q)
-      prior.points[q].direction = directions[q];
-    const PointTies ties =
-      symmetrize_directions(prior, combination, database.symmetries());
+    PointTies ties;
+    if (const auto axis = split_axis(combination))
+      ties = laminate_springs(prior, *axis);
+    else
+      {
+        const std::vector<Tensor<1, 3>> directions =
+          sampler.anisotropy_directions(block_sampling, element);
+        for (unsigned int q = 0; q < 8; ++q)
+          prior.points[q].direction = directions[q];
+        ties = symmetrize_directions(prior, combination, database.symmetries());
+      }
     // Both fits solve the least-squares problem of the same samples.
     const MetamaterialFit problem(element, samples, prior, fitting, ties);
     const FitResult       fit = problem.fit(fitting.regularization);

@@ -80,6 +80,54 @@ namespace ddfem::coarsening
 
 
 
+  std::optional<unsigned int>
+  split_axis(const Combination &combination)
+  {
+    for (unsigned int a = 0; a < 3; ++a)
+      {
+        const unsigned int bit   = 1u << a;
+        bool               split = combination[0] != combination[bit];
+        for (unsigned int k = 0; k < 8; ++k)
+          split &= combination[k] == combination[k & bit];
+        if (split)
+          return a;
+      }
+    return std::nullopt;
+  }
+
+
+
+  PointTies
+  laminate_springs(Metamaterial &m, const unsigned int axis)
+  {
+    Assert(m.points.size() == 8 && axis < 3, ExcInternalError());
+    const unsigned int b = (axis + 1) % 3, c = (axis + 2) % 3;
+    PointTies          ties;
+    ties.has_spring.assign(8, true);
+    for (unsigned int k = 0; k < 8; ++k)
+      {
+        // Neighbours in the plane alternate between the two lines of
+        // their half; the quarter turn about the normal maps each point's
+        // line to the next point's.
+        const bool   odd   = ((k >> b) ^ (k >> c)) & 1;
+        const bool   above = (k >> axis) & 1;
+        Tensor<1, 3> v;
+        if (above)
+          {
+            v[b] = 1;
+            v[c] = odd ? -1 : 1;
+            v /= v.norm();
+          }
+        else
+          v[odd ? c : b] = 1;
+        m.points[k].direction = v;
+        ties.point_class.push_back(above ? 1u << axis : 0);
+      }
+    return ties;
+  }
+
+
+
   namespace
   {
     /// The octant (0..7) of @p x relative to @p center.

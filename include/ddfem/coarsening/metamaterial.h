@@ -13,6 +13,7 @@
 
 #include <array>
 #include <memory>
+#include <optional>
 #include <vector>
 
 namespace ddfem::coarsening
@@ -93,6 +94,34 @@ namespace ddfem::coarsening
   symmetrize_directions(Metamaterial         &m,
                         const Combination    &combination,
                         const CubeSymmetries &symmetries);
+
+  /**
+   * The axis normal to the plane that splits the block @p combination into
+   * two halves of one material each, different from each other: two layers
+   * one voxel thick, or a layer on void. None for any other block.
+   */
+  std::optional<unsigned int>
+  split_axis(const Combination &combination);
+
+  /**
+   * Spring directions and ties of a block split by the plane normal to
+   * @p axis (split_axis()) into two layers. Such a block is a laminate,
+   * stiff along the plane and soft across it. The stretch test gives its
+   * points no line in the plane (all in-plane directions are alike), and
+   * the only lines the block's mirror symmetries keep, the plane's
+   * diagonals and its normal, cannot make a stretch along the plane's axes
+   * stiff without making the block stiff across. Here the four points of
+   * the half below the plane get springs along the plane's two axes and the
+   * four above it along the plane's two diagonals, alternating from point
+   * to point: stretch and shear in the plane both meet springs. Each
+   * half's points form one class of the fit. The pattern is kept by the
+   * block's quarter turns about the normal, so a fit with these ties is
+   * exactly symmetric under them. It is not kept by the block's mirrors: a
+   * lookup through a mirror returns the mirrored pattern, which has the
+   * same energy under every homogeneous deformation.
+   */
+  PointTies
+  laminate_springs(Metamaterial &m, const unsigned int axis);
 
   /**
    * One coarse element on the unit cube, trilinear (FE_Q(1)^3), with the
