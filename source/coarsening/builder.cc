@@ -299,8 +299,9 @@ namespace ddfem::coarsening
       sampling.for_block({combination.begin(), combination.end()});
     const std::vector<Sample> samples =
       sampler.sample(block_sampling, seed, entry.n_dropped);
-    PointTies ties;
-    if (const auto axis = split_axis(combination))
+    PointTies  ties;
+    const auto axis = split_axis(combination);
+    if (fitting.laminate_springs && axis)
       ties = laminate_springs(prior, *axis);
     else
       {

@@ -78,8 +78,11 @@ namespace ddfem::coarsening
       << ", child regularization: " << fitting.child_regularization
       << ", stiffness floor: " << fitting.stiffness_floor
       << ", point floor: " << fitting.point_floor
-      << ", held-out every: " << fitting.held_out_every
-      << " | coarse point offset: " << point_offset
+      << ", held-out every: " << fitting.held_out_every;
+    // Named only where it is on, as the seed above.
+    if (fitting.laminate_springs)
+      s << ", laminate springs";
+    s << " | coarse point offset: " << point_offset
       << " | sampler revision: " << sampler_revision;
     return s.str();
   }

@@ -58,6 +58,11 @@ namespace
     prm.set("Stretch directions", "20");
     prm.set("Seed", std::to_string(seed));
     prm.leave_subsection();
+    // Blocks split in two layers get their own springs, whose lookups
+    // commute with the symmetries only up to a mirror (tested below).
+    prm.enter_subsection("Fitting");
+    prm.set("Laminate springs", true);
+    prm.leave_subsection();
     prm.leave_subsection();
     DatabaseBuilder b;
     b.parse_parameters(prm);

@@ -25,7 +25,7 @@ namespace ddfem::coarsening
    * differently. Increase it with every change that alters entries for the
    * same settings.
    */
-  constexpr int sampler_revision = 6;
+  constexpr int sampler_revision = 5;
 
   /**
    * One fitted first-level metamaterial: the metamaterial of an orbit

@@ -35,6 +35,9 @@ namespace ddfem::coarsening
     /// measure its error (0: none held out; the error is then measured on
     /// the fit's own samples).
     unsigned int held_out_every = 5;
+    /// Whether blocks split in two layers get laminate springs
+    /// (laminate_springs()) instead of the springs their symmetries keep.
+    bool laminate_springs = false;
 
     /// Declares the subsection "Fitting".
     static void

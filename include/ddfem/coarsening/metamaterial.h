@@ -119,6 +119,9 @@ namespace ddfem::coarsening
    * exactly symmetric under them. It is not kept by the block's mirrors: a
    * lookup through a mirror returns the mirrored pattern, which has the
    * same energy under every homogeneous deformation.
+   *
+   * Used with 'Database/Fitting/Laminate springs' (FitSettings); without
+   * it, split blocks keep the springs of symmetrize_directions().
    */
   PointTies
   laminate_springs(Metamaterial &m, const unsigned int axis);
