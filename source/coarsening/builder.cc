@@ -299,9 +299,10 @@ namespace ddfem::coarsening
       sampling.for_block({combination.begin(), combination.end()});
     const std::vector<Sample> samples =
       sampler.sample(block_sampling, seed, entry.n_dropped);
-    PointTies  ties;
-    const auto axis = split_axis(combination);
-    if (fitting.laminate_springs && axis)
+    PointTies                         ties;
+    const std::optional<unsigned int> axis =
+      fitting.laminate_springs ? split_axis(combination) : std::nullopt;
+    if (axis)
       ties = laminate_springs(prior, *axis);
     else
       {

@@ -55,19 +55,18 @@ namespace ddfem::coarsening
     ties.point_class.assign(8, 8);
     ties.has_spring.assign(8, true);
     std::array<SymmetricTensor<2, 3>, 8> orientation;
-    for (unsigned int g = 0; g < CubeSymmetries::size; ++g)
-      if (symmetries.apply(g, combination) == combination)
-        {
-          const Metamaterial image = transform(m, symmetries, g);
-          for (unsigned int k = 0; k < 8; ++k)
-            {
-              const Tensor<1, 3> &v = image.points[k].direction;
-              orientation[k] += symmetrize(outer_product(v, v));
-              // Classes are numbered by their first point.
-              const unsigned int j = symmetries.image(g, k);
-              ties.point_class[j]  = std::min(ties.point_class[j], k);
-            }
-        }
+    for (const unsigned int g : symmetries.stabilizer(combination))
+      {
+        const Metamaterial image = transform(m, symmetries, g);
+        for (unsigned int k = 0; k < 8; ++k)
+          {
+            const Tensor<1, 3> &v = image.points[k].direction;
+            orientation[k] += symmetrize(outer_product(v, v));
+            // Classes are numbered by their first point.
+            const unsigned int j = symmetries.image(g, k);
+            ties.point_class[j]  = std::min(ties.point_class[j], k);
+          }
+      }
     for (unsigned int k = 0; k < 8; ++k)
       {
         const auto axes = eigenvectors(orientation[k]);

@@ -75,6 +75,18 @@ namespace ddfem::coarsening
 
 
 
+  std::vector<unsigned int>
+  CubeSymmetries::stabilizer(const Combination &c) const
+  {
+    std::vector<unsigned int> result;
+    for (unsigned int g = 0; g < size; ++g)
+      if (apply(g, c) == c)
+        result.push_back(g);
+    return result;
+  }
+
+
+
   CombinationIndex::CombinationIndex(const unsigned int n_materials,
                                      const bool         with_void)
     : n_mat(n_materials)

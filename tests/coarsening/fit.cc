@@ -80,17 +80,6 @@ namespace
       }
     return d;
   }
-
-  /// The symmetries that keep @p c.
-  std::vector<unsigned int>
-  stabilizer_of(const CubeSymmetries &symmetries, const Combination &c)
-  {
-    std::vector<unsigned int> stabilizer;
-    for (unsigned int g = 0; g < CubeSymmetries::size; ++g)
-      if (symmetries.apply(g, c) == c)
-        stabilizer.push_back(g);
-    return stabilizer;
-  }
 } // namespace
 
 int
@@ -309,8 +298,7 @@ main()
     Metamaterial       prior =
       naive(children, sampler.anisotropy_directions(sampling, element));
     const PointTies ties = symmetrize_directions(prior, layer, symmetries);
-    const std::vector<unsigned int> stabilizer =
-      stabilizer_of(symmetries, layer);
+    const std::vector<unsigned int> stabilizer = symmetries.stabilizer(layer);
     std::cout << "symmetries " << stabilizer.size() << ", point classes "
               << std::set<unsigned int>(ties.point_class.begin(),
                                         ties.point_class.end())
@@ -453,7 +441,7 @@ main()
       }
     double       turns = 0, mirror_energies = 0, mirror_lines = 1;
     unsigned int n_turns = 0, n_mirrors = 0;
-    for (const unsigned int g : stabilizer_of(symmetries, layer))
+    for (const unsigned int g : symmetries.stabilizer(layer))
       {
         const Metamaterial image = transform(fit.material, symmetries, g);
         if (determinant(symmetries.matrix(g)) > 0)

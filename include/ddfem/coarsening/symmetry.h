@@ -79,6 +79,10 @@ namespace ddfem::coarsening
     std::pair<Combination, unsigned int>
     canonical(const Combination &c) const;
 
+    /// The symmetries that leave @p c unchanged (its stabilizer).
+    std::vector<unsigned int>
+    stabilizer(const Combination &c) const;
+
   private:
     std::array<Tensor<2, 3>, size>                matrices;
     std::array<std::array<unsigned int, 8>, size> permutations;
