@@ -103,15 +103,21 @@ namespace ddfem::coarsening
     const unsigned int b = (axis + 1) % 3, c = (axis + 2) % 3;
     PointTies          ties;
     ties.has_spring.assign(8, true);
+    // The softer half gets the axes, whichever side of the plane it lies
+    // on, so the pattern follows the materials, not the palette's order.
+    const material::MaterialPoint &below = m.points[0],
+                                  &above = m.points[1u << axis];
+    const bool axes_above = std::make_pair(above.mu, above.lambda) <
+                            std::make_pair(below.mu, below.lambda);
     for (unsigned int k = 0; k < 8; ++k)
       {
         // Neighbours in the plane alternate between the two lines of
         // their half; the quarter turn about the normal maps each point's
         // line to the next point's.
         const bool   odd   = ((k >> b) ^ (k >> c)) & 1;
-        const bool   above = (k >> axis) & 1;
+        const bool   upper = (k >> axis) & 1;
         Tensor<1, 3> v;
-        if (above)
+        if (upper != axes_above)
           {
             v[b] = 1;
             v[c] = odd ? -1 : 1;
@@ -120,7 +126,7 @@ namespace ddfem::coarsening
         else
           v[odd ? c : b] = 1;
         m.points[k].direction = v;
-        ties.point_class.push_back(above ? 1u << axis : 0);
+        ties.point_class.push_back(upper ? 1u << axis : 0);
       }
     return ties;
   }

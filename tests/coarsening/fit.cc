@@ -15,7 +15,8 @@
 //    from its own energies, and fits its samples at least as well as the
 //    average of an untied fit over the symmetries (and no better than the
 //    untied fit);
-// 6. a block split in two layers is recognized, and its laminate springs
+// 6. a block split in two layers is recognized; its laminate springs put
+//    the plane's axes on the softer half, whichever side it lies on, and
 //    fit with less than 0.6 times the held-out error of the springs its
 //    mirrors keep; the fit is kept by the block's quarter turns, and its
 //    mirror images have other spring lines but the same energy under
@@ -385,10 +386,53 @@ main()
       }
     std::cout << std::endl;
 
+    // The plane's axes go to the softer half, on either side of the plane
+    // and for a layer on void, so the block mirrored across the plane gets
+    // the mirrored pattern.
+    const CubeSymmetries symmetries;
+    Tensor<2, 3>         mirror_z = unit_symmetric_tensor<3>();
+    mirror_z[2][2]                = -1;
+    unsigned int flip             = 0;
+    while ((symmetries.matrix(flip) - mirror_z).norm() > 1e-12)
+      ++flip;
+    const auto is_axis = [](const Tensor<1, 3> &v) {
+      return std::abs(std::abs(v[0]) + std::abs(v[1]) + std::abs(v[2]) - 1) <
+             1e-12;
+    };
+    bool on_softer_half = true, mirrored = true;
+    for (const auto &[below, above] :
+         {std::pair{1e6, 1e4}, std::pair{1e4, 1e6}, std::pair{0., 1e6}})
+      {
+        Metamaterial block, flipped;
+        for (unsigned int k = 0; k < 8; ++k)
+          {
+            const bool upper = (k >> 2) & 1;
+            block.points.push_back(
+              fine_child(upper ? above : below, 0.45).front());
+            flipped.points.push_back(
+              fine_child(upper ? below : above, 0.45).front());
+          }
+        laminate_springs(block, 2);
+        laminate_springs(flipped, 2);
+        const Metamaterial image = transform(block, symmetries, flip);
+        for (unsigned int k = 0; k < 8; ++k)
+          {
+            const bool softer = block.points[k].mu < block.points[k ^ 4].mu;
+            on_softer_half &= (is_axis(block.points[k].direction) == softer);
+            mirrored &= std::abs(std::abs(image.points[k].direction *
+                                          flipped.points[k].direction) -
+                                 1) < 1e-12;
+          }
+      }
+    std::cout << "springs along the plane's axes on the softer half: "
+              << on_softer_half << std::endl
+              << "the block mirrored across the plane gets the mirrored "
+                 "springs: "
+              << mirrored << std::endl;
+
     // A stiff lower and a soft upper layer, 100x contrast, sampled as the
     // database samples mixed blocks (embedded in their periodic images).
-    const CubeSymmetries symmetries;
-    const Combination    layer = {{1, 1, 1, 1, 2, 2, 2, 2}};
+    const Combination layer = {{1, 1, 1, 1, 2, 2, 2, 2}};
     std::array<std::vector<material::MaterialPoint>, 8> children;
     for (unsigned int k = 0; k < 8; ++k)
       children[k] = fine_child(layer[k] == 1 ? 1e6 : 1e4, 0.45);

@@ -111,14 +111,21 @@ namespace ddfem::coarsening
    * the only lines the block's mirror symmetries keep, the plane's
    * diagonals and its normal, cannot make a stretch along the plane's axes
    * stiff without making the block stiff across. Here the four points of
-   * the half below the plane get springs along the plane's two axes and the
-   * four above it along the plane's two diagonals, alternating from point
-   * to point: stretch and shear in the plane both meet springs. Each
-   * half's points form one class of the fit. The pattern is kept by the
-   * block's quarter turns about the normal, so a fit with these ties is
-   * exactly symmetric under them. It is not kept by the block's mirrors: a
-   * lookup through a mirror returns the mirrored pattern, which has the
-   * same energy under every homogeneous deformation.
+   * the softer half (smaller mu, then smaller lambda, of the points of @p m;
+   * void is softer than any material) get springs along the plane's two
+   * axes and the four of the stiffer half along the plane's two diagonals,
+   * alternating from point to point: stretch and shear in the plane both
+   * meet springs. Each half's points form one class of the fit. The
+   * pattern follows the materials, not the side of the plane: the block
+   * mirrored across the plane gets the mirrored pattern, so a fit does not
+   * depend on the orientation of its orbit's representative, which the
+   * palette's order sets. The axes on the stiffer half instead made a
+   * cantilever of layers normal to z 14 times less accurate
+   * (doc/coarsening.md). The pattern is kept by the block's quarter turns
+   * about the normal, so a fit with these ties is exactly symmetric under
+   * them. It is not kept by the mirrors across planes through the normal:
+   * a lookup through one returns the mirrored pattern, which has the same
+   * energy under every homogeneous deformation.
    *
    * Used with 'Database/Fitting/Laminate springs' (FitSettings); without
    * it, split blocks keep the springs of symmetrize_directions().
