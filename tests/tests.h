@@ -15,7 +15,9 @@
 #include <ddfem/solver/discretization.h>
 #include <ddfem/solver/linear_solver.h>
 #include <ddfem/solver/static_solver.h>
+#include <nlohmann/json.hpp>
 
+#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <memory>
@@ -97,6 +99,30 @@ namespace ddfem::testing
            "    set Region = y+\n"
            "    set Value = " +
            traction + "\n  end\nend\n";
+  }
+
+  /**
+   * Runs ddfem on the parameter text @p prm_text, written to NAME.prm with
+   * 'Output/Output directory = NAME' appended (no screen timings, no VTU),
+   * and returns its exit status and the comparison.json it wrote (null if
+   * none). The screen output is dropped. For 'Run type = compare'.
+   */
+  inline std::pair<int, nlohmann::json>
+  run_comparison(const std::string &prm_text, const std::string &name)
+  {
+    {
+      std::ofstream prm(name + ".prm");
+      prm << prm_text << "subsection Output\n"
+          << "  set Output directory = " << name << "\n"
+          << "  set Screen timings = false\n"
+          << "  set Write VTU = none\n"
+          << "end\n";
+    }
+    std::ostringstream screen;
+    const int          status = app::run({name + ".prm"}, screen, screen);
+    std::ifstream      file(name + "/comparison.json");
+    return {status,
+            file ? nlohmann::json::parse(file) : nlohmann::json(nullptr)};
   }
 
   /// Prints "name: ok" if @p value < @p bound, else the value and bound.

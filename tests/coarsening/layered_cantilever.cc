@@ -13,10 +13,8 @@
 // axes on the half below the plane of each orbit's representative, the
 // layers normal to z gave 9.7 times naive's error there).
 
-#include <nlohmann/json.hpp>
-
 #include <filesystem>
-#include <fstream>
+#include <map>
 
 #include "../tests.h"
 
@@ -42,57 +40,46 @@ main(int argc, char **argv)
   for (const auto &[label, palette, ids, database] : palettes)
     for (const auto &[axis, bound] : bounds)
       {
-        std::filesystem::remove_all("layers-" + axis);
-        std::ofstream prm("layers.prm");
-        prm << "set Run type = compare\nset Scene name = layers\n"
-            << ddfem::testing::cantilever("4, 16, 4", "0; 0; -2000")
-            << "subsection Geometry\n"
-               "  set Voxel size = 0.02\n"
-               "  set Probe points = 0.04, 0.32, 0.04\n"
-               "end\n"
-               "subsection Materials\n"
-               "  set Palette = "
-            << palette
-            << "\n"
-               "end\n"
-               "subsection Layout\n"
-               "  set Type = layers\n"
-               "  subsection Layers\n"
-               "    set Axis = "
-            << axis
-            << "\n"
-               "    set Materials = "
-            << ids
-            << "\n"
-               "    set Thickness = 0.02\n"
-               "  end\n"
-               "end\n"
-               "subsection Comparison\n"
-               "  set Methods = ddfem, naive\n"
-               "  set Levels = 1\n"
-               "  set Fine direct solver limit = 0\n"
-               "end\n"
-               "subsection Database\n"
-               "  set File = "
-            << database
-            << ".h5\n"
-               "  subsection Fitting\n"
-               "    set Laminate springs = true\n"
-               "  end\n"
-               "end\n"
-               "subsection Output\n"
-               "  set Output directory = layers-"
-            << axis
-            << "\n"
-               "  set Screen timings = false\n"
-               "  set Write VTU = none\n"
-               "end\n";
-        prm.close();
-
-        std::ostringstream screen;
-        const int     status = ddfem::app::run({"layers.prm"}, screen, screen);
-        std::ifstream file("layers-" + axis + "/comparison.json");
-        const auto    json = nlohmann::json::parse(file);
+        const std::string directory = "layers-" + axis;
+        std::filesystem::remove_all(directory);
+        const auto [status, json] = ddfem::testing::run_comparison(
+          "set Run type = compare\nset Scene name = layers\n" +
+            ddfem::testing::cantilever("4, 16, 4", "0; 0; -2000") +
+            "subsection Geometry\n"
+            "  set Voxel size = 0.02\n"
+            "  set Probe points = 0.04, 0.32, 0.04\n"
+            "end\n"
+            "subsection Materials\n"
+            "  set Palette = " +
+            palette +
+            "\n"
+            "end\n"
+            "subsection Layout\n"
+            "  set Type = layers\n"
+            "  subsection Layers\n"
+            "    set Axis = " +
+            axis +
+            "\n"
+            "    set Materials = " +
+            ids +
+            "\n"
+            "    set Thickness = 0.02\n"
+            "  end\n"
+            "end\n"
+            "subsection Comparison\n"
+            "  set Methods = ddfem, naive\n"
+            "  set Levels = 1\n"
+            "  set Fine direct solver limit = 0\n"
+            "end\n"
+            "subsection Database\n"
+            "  set File = " +
+            database +
+            ".h5\n"
+            "  subsection Fitting\n"
+            "    set Laminate springs = true\n"
+            "  end\n"
+            "end\n",
+          directory);
         std::map<std::string, double> error;
         bool                          converged = true;
         for (const auto &run : json.at("runs"))
