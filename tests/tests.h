@@ -102,6 +102,46 @@ namespace ddfem::testing
   }
 
   /**
+   * Parameter text of a compare run ('Run type = compare') of scene
+   * @p name: the cantilever() of @p grid voxels of @p voxel m, the traction
+   * @p traction on its tip and a probe at @p probe ("x, y, z").
+   */
+  inline std::string
+  compare_run(const std::string &name,
+              const std::string &grid,
+              const std::string &probe,
+              const std::string &voxel    = "0.02",
+              const std::string &traction = "0; 0; -2000")
+  {
+    return "set Run type = compare\nset Scene name = " + name + "\n" +
+           cantilever(grid, traction) + "subsection Geometry\n" +
+           "  set Voxel size = " + voxel + "\n  set Probe points = " + probe +
+           "\nend\n";
+  }
+
+  /**
+   * Parameter text of a palette and a layout of layers @p thickness m
+   * thick, normal to @p axis, cycling through the palette's materials
+   * @p ids (the palette of prm/default.prm unless @p palette is given).
+   */
+  inline std::string
+  layers(
+    const std::string &thickness,
+    const std::string &axis    = "y",
+    const std::string &palette = "E=1e5 nu=0.45; E=1e6 nu=0.45; E=1e7 nu=0.45",
+    const std::string &ids     = "1, 2, 3")
+  {
+    return "subsection Materials\n  set Palette = " + palette +
+           "\nend\n"
+           "subsection Layout\n"
+           "  set Type = layers\n"
+           "  subsection Layers\n"
+           "    set Axis = " +
+           axis + "\n    set Materials = " + ids +
+           "\n    set Thickness = " + thickness + "\n  end\nend\n";
+  }
+
+  /**
    * Runs ddfem on the parameter text @p prm_text, written to NAME.prm with
    * 'Output/Output directory = NAME' appended (no screen timings, no VTU),
    * and returns its exit status and the comparison.json it wrote (null if

@@ -20,37 +20,6 @@
 
 namespace
 {
-  /// The start of a compare run's parameters: a cantilever of @p grid
-  /// voxels of 0.02 m pulled down at its tip, probed at @p probe.
-  std::string
-  compare_run(const std::string &name,
-              const std::string &grid,
-              const std::string &probe)
-  {
-    return "set Run type = compare\nset Scene name = " + name + "\n" +
-           ddfem::testing::cantilever(grid, "0; 0; -2000") +
-           "subsection Geometry\n  set Voxel size = 0.02\n"
-           "  set Probe points = " +
-           probe + "\nend\n";
-  }
-
-  /// Layers of the palette's three materials, @p thickness thick, along
-  /// the cantilever.
-  std::string
-  layers(const std::string &thickness)
-  {
-    return "subsection Materials\n"
-           "  set Palette = E=1e5 nu=0.45; E=1e6 nu=0.45; E=1e7 nu=0.45\n"
-           "end\n"
-           "subsection Layout\n"
-           "  set Type = layers\n"
-           "  subsection Layers\n"
-           "    set Axis = y\n"
-           "    set Materials = 1, 2, 3\n"
-           "    set Thickness = " +
-           thickness + "\n  end\nend\n";
-  }
-
   /// Output into @p directory without timings, VTU as @p vtu.
   std::string
   output(const std::string &directory, const std::string &vtu)
@@ -74,8 +43,8 @@ main(int argc, char **argv)
   // voxels: they cut through the 2x2x2 blocks, so that ddfem, naive and
   // average differ at level 1.
   std::ofstream prm("compare_bending.prm");
-  prm << compare_run("bending", "4, 16, 4", "0.04, 0.32, 0.04")
-      << layers("0.06")
+  prm << ddfem::testing::compare_run("bending", "4, 16, 4", "0.04, 0.32, 0.04")
+      << ddfem::testing::layers("0.06")
       << "subsection Database\n"
          "  set File = compare.h5\n"
          "  subsection Sampling\n"
@@ -192,9 +161,9 @@ main(int argc, char **argv)
   std::filesystem::remove_all(q2_directory);
   std::filesystem::remove("injected");
   std::ofstream q2("compare_q2.prm");
-  q2 << compare_run("bending_q2 it's `touch injected`",
-                    "2, 8, 2",
-                    "0.02, 0.16, 0.02")
+  q2 << ddfem::testing::compare_run("bending_q2 it's `touch injected`",
+                                    "2, 8, 2",
+                                    "0.02, 0.16, 0.02")
      << "subsection Discretization\n"
         "  set Polynomial degree = 2\n"
         "end\n"
@@ -216,8 +185,8 @@ main(int argc, char **argv)
   // there are no vertex errors (empty CSV fields).
   std::filesystem::remove_all("compare_failed");
   std::ofstream failed("compare_failed.prm");
-  failed << compare_run("failed", "2, 8, 2", "0.02, 0.16, 0.02")
-         << layers("0.04")
+  failed << ddfem::testing::compare_run("failed", "2, 8, 2", "0.02, 0.16, 0.02")
+         << ddfem::testing::layers("0.04")
          << "subsection Linear solver\n"
             "  set Type = cg-amg\n"
             "  set Maximum iterations = 1\n"

@@ -43,29 +43,10 @@ main(int argc, char **argv)
         const std::string directory = "layers-" + axis;
         std::filesystem::remove_all(directory);
         const auto [status, json] = ddfem::testing::run_comparison(
-          "set Run type = compare\nset Scene name = layers\n" +
-            ddfem::testing::cantilever("4, 16, 4", "0; 0; -2000") +
-            "subsection Geometry\n"
-            "  set Voxel size = 0.02\n"
-            "  set Probe points = 0.04, 0.32, 0.04\n"
-            "end\n"
-            "subsection Materials\n"
-            "  set Palette = " +
-            palette +
-            "\n"
-            "end\n"
-            "subsection Layout\n"
-            "  set Type = layers\n"
-            "  subsection Layers\n"
-            "    set Axis = " +
-            axis +
-            "\n"
-            "    set Materials = " +
-            ids +
-            "\n"
-            "    set Thickness = 0.02\n"
-            "  end\n"
-            "end\n"
+          ddfem::testing::compare_run("layers",
+                                      "4, 16, 4",
+                                      "0.04, 0.32, 0.04") +
+            ddfem::testing::layers("0.02", axis, palette, ids) +
             "subsection Comparison\n"
             "  set Methods = ddfem, naive\n"
             "  set Levels = 1\n"

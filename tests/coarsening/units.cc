@@ -26,26 +26,13 @@ namespace
     const auto length = [&](const double voxels) {
       return std::to_string(voxels * voxel);
     };
-    return "set Run type = compare\nset Scene name = units\n" +
-           ddfem::testing::cantilever("4, 16, 4", traction) +
-           "subsection Geometry\n"
-           "  set Voxel size = " +
-           length(1) + "\n  set Probe points = " + length(2) + ", " +
-           length(16) + ", " + length(2) +
-           "\nend\n"
-           "subsection Materials\n"
-           "  set Palette = " +
-           palette +
-           "\nend\n"
-           "subsection Layout\n"
-           "  set Type = layers\n"
-           "  subsection Layers\n"
-           "    set Axis = y\n"
-           "    set Materials = 1, 2, 3\n"
-           "    set Thickness = " +
-           length(2) +
-           "\n  end\n"
-           "end\n"
+    return ddfem::testing::compare_run("units",
+                                       "4, 16, 4",
+                                       length(2) + ", " + length(16) + ", " +
+                                         length(2),
+                                       length(1),
+                                       traction) +
+           ddfem::testing::layers(length(2), "y", palette) +
            "subsection Comparison\n"
            "  set Methods = ddfem, naive\n"
            "  set Levels = 1, 2\n"
