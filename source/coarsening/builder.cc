@@ -314,8 +314,9 @@ namespace ddfem::coarsening
       }
     // Both fits solve the least-squares problem of the same samples.
     const MetamaterialFit problem(element, samples, prior, fitting, ties);
-    const FitResult       fit = problem.fit(fitting.regularization);
-    entry.material            = fit.material;
+    const FitResult       fit =
+      problem.fit(fitting.regularization, fitting.spring_regularization);
+    entry.material = fit.material;
     record_fit(fit, samples, entry);
     entry.child_material = problem.parameters(fitting.child_regularization);
     return entry;

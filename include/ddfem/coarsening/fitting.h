@@ -8,6 +8,7 @@
 #include <ddfem/coarsening/block_sampler.h>
 #include <ddfem/coarsening/metamaterial.h>
 
+#include <optional>
 #include <vector>
 
 namespace ddfem::coarsening
@@ -22,6 +23,9 @@ namespace ddfem::coarsening
   {
     /// Weight lambda of the regularization toward the fine parameters.
     double regularization = 0.01;
+    /// The weight of the springs' C (toward their fine value, 0) in a
+    /// level-1 entry's fit; regularization weighs mu and lambda.
+    double spring_regularization = 0.01;
     /// The weight of each level-1 entry's second fit of the same samples:
     /// the model the second level samples as that block.
     double child_regularization = 1e-4;
@@ -97,14 +101,17 @@ namespace ddfem::coarsening
                     const FitSettings         &settings,
                     const PointTies           &ties = PointTies());
 
-    /// The fitted metamaterial for the weight @p regularization.
+    /// The fitted metamaterial for the weight @p regularization of mu and
+    /// lambda and @p spring_regularization of C (the same if not given).
     Metamaterial
-    parameters(const double regularization) const;
+    parameters(const double                regularization,
+               const std::optional<double> spring_regularization = {}) const;
 
-    /// The fitted metamaterial for the weight @p regularization, with its
+    /// The fitted metamaterial for the weights of parameters(), with its
     /// errors on the held-out samples and the sample counts.
     FitResult
-    fit(const double regularization) const;
+    fit(const double                regularization,
+        const std::optional<double> spring_regularization = {}) const;
 
   private:
     const CoarseElement &element;
