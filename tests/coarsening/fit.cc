@@ -557,15 +557,8 @@ main()
         for (unsigned int i = 0; i < 3; ++i)
           for (unsigned int j = 0; j < 3; ++j)
             H[i][j] = 0.1 * normal(rng);
-        CornerDisplacements u;
-        for (unsigned int v = 0; v < 8; ++v)
-          {
-            Tensor<1, 3> x;
-            for (unsigned int d = 0; d < 3; ++d)
-              x[d] = (v >> d) & 1;
-            u[v] = H * x;
-          }
-        double energy;
+        const CornerDisplacements u = corners_of(H);
+        double                    energy;
         if (element.energy(u, fit.material, energy))
           homogeneous.push_back(u);
       }
