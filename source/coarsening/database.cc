@@ -82,9 +82,9 @@ namespace ddfem::coarsening
     // Named only where it is on, as the seed above.
     if (fitting.laminate_springs)
       s << ", laminate springs";
-    // Named only where it differs from the regularization, likewise.
-    if (fitting.spring_regularization != fitting.regularization)
-      s << ", spring regularization: " << fitting.spring_regularization;
+    // Named only where it is set, likewise.
+    if (fitting.spring_regularization)
+      s << ", spring regularization: " << *fitting.spring_regularization;
     s << " | coarse point offset: " << point_offset
       << " | sampler revision: " << sampler_revision;
     return s.str();

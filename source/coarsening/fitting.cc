@@ -1,3 +1,4 @@
+#include <ddfem/base/parsing.h>
 #include <ddfem/base/statistics.h>
 #include <ddfem/coarsening/fitting.h>
 
@@ -19,17 +20,18 @@ namespace ddfem::coarsening
                       "measured in units of the block's largest fine shear "
                       "modulus, so the weight is dimensionless.");
     prm.declare_entry("Spring regularization",
-                      "0.01",
-                      Patterns::Double(0),
+                      "same",
+                      Patterns::Anything(),
                       "The weight of the springs' C in a level-1 entry's "
-                      "fit, toward their fine value 0 (Regularization then "
-                      "weighs mu and lambda). The paper weighs every "
-                      "parameter alike: 0.01, the default. With 0 the "
-                      "springs are free: without void the median held-out "
-                      "error falls from 7.3 % to 5.1 %, and a laminate's "
-                      "springs reach its stiffness along the layers. The "
-                      "child fits and level 2 keep their own weights. See "
-                      "doc/metamaterial_database.md, 'Free springs'.");
+                      "fit, toward their fine value 0: 'same' (Regularization, "
+                      "as the paper weighs every parameter alike) or a "
+                      "number >= 0, with which Regularization weighs only mu "
+                      "and lambda. With 0 the springs are free: without void "
+                      "the median held-out error falls from 7.3 % to 5.1 %, "
+                      "and a laminate's springs reach its stiffness along the "
+                      "layers. The child fits and level 2 keep their own "
+                      "weights. See doc/metamaterial_database.md, 'Free "
+                      "springs'.");
     prm.declare_entry("Child regularization",
                       "1e-4",
                       Patterns::Double(0),
@@ -94,14 +96,24 @@ namespace ddfem::coarsening
   FitSettings::parse_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Fitting");
-    regularization        = prm.get_double("Regularization");
-    child_regularization  = prm.get_double("Child regularization");
-    spring_regularization = prm.get_double("Spring regularization");
-    stiffness_floor       = prm.get_double("Stiffness floor");
-    point_floor           = prm.get_double("Point floor");
-    held_out_every        = prm.get_integer("Held-out every");
-    laminate_springs      = prm.get_bool("Laminate springs");
+    regularization                = prm.get_double("Regularization");
+    child_regularization          = prm.get_double("Child regularization");
+    const std::string spring_text = prm.get("Spring regularization");
+    stiffness_floor               = prm.get_double("Stiffness floor");
+    point_floor                   = prm.get_double("Point floor");
+    held_out_every                = prm.get_integer("Held-out every");
+    laminate_springs              = prm.get_bool("Laminate springs");
     prm.leave_subsection();
+    spring_regularization.reset();
+    if (spring_text != "same")
+      {
+        spring_regularization =
+          parse_number(spring_text, "Database/Fitting/Spring regularization");
+        AssertThrow(*spring_regularization >= 0,
+                    ExcMessage("Database/Fitting/Spring regularization = " +
+                               spring_text +
+                               ": expected 'same' or a number >= 0."));
+      }
     AssertThrow(held_out_every != 1,
                 ExcMessage("Database/Fitting/Held-out every must be 0 (none "
                            "held out) or at least 2: 1 would hold out every "

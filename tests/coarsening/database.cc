@@ -628,11 +628,10 @@ main()
     sampling.n_magnitudes         = 2;
     sampling.n_stretch_directions = 20;
     FitSettings child_weight;
-    child_weight.regularization        = child_weight.child_regularization;
-    child_weight.spring_regularization = child_weight.child_regularization;
-    const Combination mixed            = {{1, 2, 2, 1, 1, 1, 2, 1}};
-    const Combination canonical        = db.symmetries().canonical(mixed).first;
-    const auto        fit              = [&](const FitSettings &fitting) {
+    child_weight.regularization = child_weight.child_regularization;
+    const Combination mixed     = {{1, 2, 2, 1, 1, 1, 2, 1}};
+    const Combination canonical = db.symmetries().canonical(mixed).first;
+    const auto        fit       = [&](const FitSettings &fitting) {
       return DatabaseBuilder::fit_entry(
         palette(), db, canonical, sampling, fitting, CoarseElement(1), 11);
     };

@@ -139,6 +139,12 @@ main(int argc, char **argv)
     "held_out_every",
     cantilever,
     {"--set", "Method=ddfem", "--set", "Database/Fitting/Held-out every=1"});
+  run_case("spring_regularization",
+           cantilever,
+           {"--set",
+            "Method=ddfem",
+            "--set",
+            "Database/Fitting/Spring regularization=-1"});
   run_case("held_out_beyond_patterns",
            cantilever,
            {"--set",

@@ -24,8 +24,8 @@ namespace ddfem::coarsening
     /// Weight lambda of the regularization toward the fine parameters.
     double regularization = 0.01;
     /// The weight of the springs' C (toward their fine value, 0) in a
-    /// level-1 entry's fit; regularization weighs mu and lambda.
-    double spring_regularization = 0.01;
+    /// level-1 entry's fit, if it is not regularization's ('same').
+    std::optional<double> spring_regularization;
     /// The weight of each level-1 entry's second fit of the same samples:
     /// the model the second level samples as that block.
     double child_regularization = 1e-4;
