@@ -58,8 +58,15 @@ namespace ddfem::coarsening
     prm.declare_entry("Maximum strain",
                       "0.25",
                       Patterns::Double(1e-6, 1),
-                      "Linearized strain of the largest magnitude; the "
-                      "magnitudes in between are spread evenly.");
+                      "Linearized strain of the largest magnitude.");
+    prm.declare_entry("Magnitude spacing",
+                      "even",
+                      Patterns::Selection("even|geometric"),
+                      "How the magnitudes between the smallest and the "
+                      "largest are spread: 'even' (equal steps of strain) or "
+                      "'geometric' (equal ratios, so more samples at small "
+                      "strains, where most of a part's cells are). "
+                      "doc/metamaterial_database.md measures both.");
     prm.declare_entry("Traction gradient",
                       "0.25",
                       Patterns::Double(0, 10),
@@ -95,6 +102,7 @@ namespace ddfem::coarsening
     n_magnitudes         = prm.get_integer("Magnitudes");
     min_strain           = prm.get_double("Minimum strain");
     max_strain           = prm.get_double("Maximum strain");
+    geometric_spacing    = prm.get("Magnitude spacing") == "geometric";
     traction_gradient    = prm.get_double("Traction gradient");
     n_stretch_directions = prm.get_integer("Stretch directions");
     seed                 = prm.get_integer("Seed");
@@ -741,11 +749,14 @@ namespace ddfem::coarsening
     double
     target_strain(const SamplingSettings &settings, const unsigned int j)
     {
-      return settings.n_magnitudes == 1 ?
-               settings.max_strain :
+      if (settings.n_magnitudes == 1)
+        return settings.max_strain;
+      const double t = double(j) / (settings.n_magnitudes - 1);
+      return settings.geometric_spacing ?
+               settings.min_strain *
+                 std::pow(settings.max_strain / settings.min_strain, t) :
                settings.min_strain +
-                 (settings.max_strain - settings.min_strain) * j /
-                   (settings.n_magnitudes - 1);
+                 (settings.max_strain - settings.min_strain) * t;
     }
   } // namespace
 

@@ -74,6 +74,9 @@ namespace ddfem::coarsening
     // setting keep their fingerprint.
     if (sampling.seed != 0)
       s << ", seed: " << sampling.seed;
+    // Named only where it is not the default, likewise.
+    if (sampling.geometric_spacing)
+      s << ", geometric magnitudes";
     s << " | regularization: " << fitting.regularization
       << ", child regularization: " << fitting.child_regularization
       << ", stiffness floor: " << fitting.stiffness_floor

@@ -4,7 +4,10 @@
 // fine energy, so a sample is the block's homogenized energy.
 // 1. A homogeneous block: the fluctuation vanishes and every sample's
 //    energy is the element's energy of the same affine motion; with an
-//    embedded fraction of 1/2, exactly half the samples are embedded.
+//    embedded fraction of 1/2, exactly half the samples are embedded. The
+//    corners of a pattern's samples scale with its magnitudes: equal steps
+//    (1, 3.875, 6.75, 9.625, 12.5 for strains 0.02 to 0.25) or, with
+//    geometric spacing, equal ratios ((0.25 / 0.02)^(1/4) = 1.880).
 // 2. A laminate (soft children at x < 1/2, stiff ones at x > 1/2) in the
 //    small-strain limit: stretching across the layers gives the harmonic
 //    mean of the P-wave moduli lambda + 2 mu, shearing across them the
@@ -22,6 +25,9 @@
 //    not.
 
 #include <ddfem/coarsening/block_sampler.h>
+
+#include <iomanip>
+#include <sstream>
 
 #include "../tests.h"
 
@@ -114,6 +120,31 @@ main()
     testing::check_below("fluctuation under a homogeneous strain",
                          fluctuation,
                          1e-12);
+
+    // The corners of a homogeneous block's embedded samples follow the
+    // magnitude exactly, so their size relative to the pattern's first
+    // sample is the ratio of the magnitudes' linearized strains.
+    for (const bool geometric : {false, true})
+      {
+        SamplingSettings spaced  = sampling;
+        spaced.n_directions      = 1;
+        spaced.geometric_spacing = geometric;
+        const auto pattern       = sampler.sample(spaced, 3, dropped);
+        const auto size          = [](const CornerDisplacements &corners) {
+          double sum = 0;
+          for (const Tensor<1, 3> &c : corners)
+            sum += c.norm_square();
+          return std::sqrt(sum);
+        };
+        std::ostringstream ratios;
+        ratios << std::setprecision(4);
+        for (const Sample &s : pattern)
+          ratios << ' ' << size(s.corners) / size(pattern.front().corners);
+        std::cout << "magnitudes of a pattern, "
+                  << (geometric ? "geometric" : "even")
+                  << " spacing (strains 0.02 to 0.25):" << ratios.str()
+                  << std::endl;
+      }
   }
 
   {

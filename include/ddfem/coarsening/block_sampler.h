@@ -42,6 +42,9 @@ namespace ddfem::coarsening
     double min_strain = 0.02;
     /// See min_strain.
     double max_strain = 0.25;
+    /// Whether the magnitudes between min_strain and max_strain are spread
+    /// with equal ratios (true) or equal steps (false).
+    bool geometric_spacing = false;
     /// Relative size of the linear part of the random surface stress.
     double traction_gradient = 0.25;
     /// Number of stretching directions over the sphere (anisotropy).
@@ -135,9 +138,10 @@ namespace ddfem::coarsening
     /**
      * Energy samples of the block: n_directions random patterns, drawn
      * from a generator seeded with @p seed, each scaled to n_magnitudes
-     * magnitudes whose linearized strain is spread evenly over
-     * [min_strain, max_strain] (so soft and stiff blocks cover the same
-     * strains) and solved with Newton's method. A magnitude whose solve
+     * magnitudes whose linearized strain is spread over [min_strain,
+     * max_strain] in equal steps or, with geometric_spacing, equal ratios
+     * (so soft and stiff blocks cover the same strains) and solved with
+     * Newton's method. A magnitude whose solve
      * fails ends its pattern: it and the larger ones are dropped and
      * counted in @p n_dropped.
      *
