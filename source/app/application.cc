@@ -151,9 +151,11 @@ namespace ddfem::app
         solver_parameters.parse_parameters(prm);
         linear_solver.parse_parameters(prm);
         vtu.parse_parameters(prm);
-        dg_parameters.parse_parameters(prm);
-        // Only coarse models read the database and coarse point settings.
-        if (method != "fine" && method != "dg")
+        // Each method reads only its own settings: DG the DG subsection,
+        // coarse models the database and coarse point settings.
+        if (method == "dg")
+          dg_parameters.parse_parameters(prm);
+        else if (method != "fine")
           database.parse_parameters(prm);
         scene.parse_parameters(prm);
         AssertThrow(method != "dg" || scene.n_edits() == 0,

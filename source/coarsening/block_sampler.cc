@@ -108,10 +108,11 @@ namespace ddfem::coarsening
     seed                 = prm.get_integer("Seed");
     prm.leave_subsection();
     AssertThrow(min_strain <= max_strain,
-                ExcMessage("Sampling/Minimum strain (" +
-                           std::to_string(min_strain) +
-                           ") must not exceed Sampling/Maximum strain (" +
-                           std::to_string(max_strain) + ")."));
+                ExcMessage(
+                  "Database/Sampling/Minimum strain (" +
+                  std::to_string(min_strain) +
+                  ") must not exceed Database/Sampling/Maximum strain (" +
+                  std::to_string(max_strain) + ")."));
   }
 
 

@@ -101,10 +101,7 @@ namespace ddfem::coarsening
     prm.enter_subsection("Discretization");
     coarse_point_offset = prm.get_double("Coarse point offset");
     prm.leave_subsection();
-    AssertThrow(coarse_point_offset > 0 && coarse_point_offset < 1,
-                ExcMessage("Discretization/Coarse point offset must lie "
-                           "strictly between 0 and 1, not " +
-                           Utilities::to_string(coarse_point_offset) + "."));
+    solver::check_point_offset(coarse_point_offset);
     AssertThrow(!database_file.empty(),
                 ExcMessage("Database/File must name a file."));
     AssertThrow(fitting.held_out_every <= sampling.n_directions,

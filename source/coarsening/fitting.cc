@@ -71,7 +71,8 @@ namespace ddfem::coarsening
                       "measure the fit's relative energy error. 0 holds none "
                       "out and measures the error on the fitted samples; 1 "
                       "would leave the fit no samples and is rejected, as is "
-                      "a number above Sampling/Patterns, which would hold "
+                      "a number above Database/Sampling/Patterns, which would "
+                      "hold "
                       "none out.");
     prm.declare_entry("Laminate springs",
                       "false",

@@ -6,16 +6,24 @@
 
 namespace ddfem::solver
 {
+  void
+  check_point_offset(const double point_offset)
+  {
+    AssertThrow(point_offset > 0 && point_offset < 1,
+                ExcMessage("Discretization/Coarse point offset must lie "
+                           "strictly between 0 and 1, not " +
+                           Utilities::to_string(point_offset) + "."));
+  }
+
+
+
   Quadrature<3>
   coarse_quadrature(const unsigned int level, const double point_offset)
   {
     AssertThrow(level == 1 || level == 2,
                 ExcMessage("Coarsening levels must be 1 or 2, not " +
                            std::to_string(level) + "."));
-    AssertThrow(point_offset > 0 && point_offset < 1,
-                ExcMessage("Discretization/Coarse point offset must lie "
-                           "strictly between 0 and 1, not " +
-                           Utilities::to_string(point_offset) + "."));
+    check_point_offset(point_offset);
     // The Gauss points moved toward the centre by the factor (exactly the
     // Gauss rule for the default offset).
     const QGauss<1>       gauss(2);

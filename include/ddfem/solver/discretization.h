@@ -11,7 +11,6 @@
 #include <ddfem/scene/scene.h>
 
 #include <cstdint>
-#include <memory>
 #include <vector>
 
 namespace ddfem::solver
@@ -20,6 +19,13 @@ namespace ddfem::solver
 
   /// The point offset of the 2-point Gauss rule, 1/sqrt(3).
   constexpr double gauss_point_offset = 0.57735026918962576451;
+
+  /**
+   * Throws ExcMessage naming 'Discretization/Coarse point offset' unless
+   * 0 < @p point_offset < 1.
+   */
+  void
+  check_point_offset(const double point_offset);
 
   /**
    * The quadrature rule of a coarse element of coarsening level 1 or 2,
