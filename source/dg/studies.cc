@@ -588,8 +588,16 @@ namespace ddfem::dg
   {
     check_creatable(directory, "Output/Output directory");
     // One thread, as the paper's timings and so that integration and
-    // assembly times are separable.
+    // assembly times are separable; the default limit again afterwards,
+    // also when a solve throws.
     MultithreadInfo::set_thread_limit(1);
+    struct RestoreThreads
+    {
+      ~RestoreThreads()
+      {
+        MultithreadInfo::set_thread_limit();
+      }
+    } restore_threads;
     const std::vector<StudyMethod> dg_methods =
       parse_methods("BZ lin, IP lin, BZ quad, IP quad");
     std::vector<std::pair<StudyMethod, Result>> results;

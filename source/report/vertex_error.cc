@@ -134,10 +134,11 @@ namespace ddfem::report
   grid_fit(const scene::VoxelGrid       &grid,
            const solver::Discretization &fine,
            const Vector<double>         &u_fine,
-           const solver::Discretization &coarse,
-           const double                  tolerance,
-           const unsigned int            max_iterations)
+           const solver::Discretization &coarse)
   {
+    // Stop within 0.2 % of the bound, or after 500 steps.
+    const double       tolerance      = 2e-3;
+    const unsigned int max_iterations = 500;
     // The weights are the same for the three components: the fit solves a
     // scalar problem over the coarse vertices three times.
     DoFHandler<3> vertices(coarse.triangulation);

@@ -156,7 +156,7 @@ namespace ddfem::solver
         TimerOutput::Scope scope(*timer, "linear solve");
         direct.vmult(x, b);
       }
-    catch (std::exception &e)
+    catch (const std::exception &)
       {
         throw Failure("the direct solver failed (singular matrix?)");
       }
@@ -262,7 +262,7 @@ namespace ddfem::solver
       {
         cg.solve(K, x, b, amg);
       }
-    catch (std::exception &e)
+    catch (const std::exception &)
       {
         iterations_after_setup = 0;
         if (requested == "auto" && x.size() <= fallback_limit)

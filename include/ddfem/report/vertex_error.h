@@ -82,17 +82,15 @@ namespace ddfem::report
    * times the first step's mean distance), which never increases the
    * smoothed mean. The weighted residuals of each step, scaled to length at
    * most 1, are a feasible point of the dual problem and give the lower
-   * bound. The steps stop once the field's mean error is within
-   * @p tolerance (relative) of the bound, or after @p max_iterations.
+   * bound. The steps stop once the field's mean error is within 0.2 % of
+   * the bound, or after 500 steps.
    * Both discretizations must have been built from @p grid.
    */
   GridFit
   grid_fit(const scene::VoxelGrid       &grid,
            const solver::Discretization &fine,
            const Vector<double>         &u_fine,
-           const solver::Discretization &coarse,
-           const double                  tolerance      = 2e-3,
-           const unsigned int            max_iterations = 500);
+           const solver::Discretization &coarse);
 } // namespace ddfem::report
 
 #endif

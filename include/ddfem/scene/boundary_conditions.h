@@ -5,7 +5,6 @@
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/point.h>
 
-#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -159,10 +158,12 @@ namespace ddfem::scene
       std::unique_ptr<FunctionParser<3>> value;
       /// Dirichlet conditions: which components they prescribe.
       std::vector<bool> constrained;
-      /// rotation: unit axis, a point on it, angle at t = 1 (radians).
+      /// rotation: the unit axis.
       Tensor<1, 3> axis;
-      Point<3>     center;
-      double       angle = 0;
+      /// rotation: a point on the axis.
+      Point<3> center;
+      /// rotation: the angle at t = 1 (radians).
+      double angle = 0;
     };
 
     /// The conditions in prm order (later ones override earlier ones).

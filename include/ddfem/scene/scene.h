@@ -11,7 +11,6 @@
 #include <ddfem/scene/voxel_grid.h>
 
 #include <array>
-#include <string>
 #include <vector>
 
 namespace ddfem::scene
