@@ -175,11 +175,15 @@ namespace
                                               1,
                                               palette,
                                               1 / std::sqrt(3.));
-        std::cout << "  " << coarsening::to_string(method)
-                  << ": mu / mu of E = 1e2 per point:";
+        // Ten digits: the average's 1250.75 = (6 + 1e4 + 0) / 8 tells
+        // void (0) from soft (1250.875) and from the floor (1252).
+        std::ostringstream ratios;
+        ratios << std::setprecision(10);
         for (const auto &p : coarsener.block_material(grid, 0).points)
-          std::cout << " " << p.mu / palette[1].material_point().mu;
-        std::cout << std::endl;
+          ratios << " " << p.mu / palette[1].material_point().mu;
+        std::cout << "  " << coarsening::to_string(method)
+                  << ": mu / mu of E = 1e2 per point:" << ratios.str()
+                  << std::endl;
       }
   }
 
@@ -241,7 +245,8 @@ namespace
             const Point<3>     expected =
               child_origin +
               0.5 * Tensor<1, 3>(element.point(level2.subpoint_of_point(q)));
-            distance = std::max(distance, level2.point(q).distance(expected));
+            distance =
+              testing::worst(distance, level2.point(q).distance(expected));
           }
         std::cout << "  offset " << a
                   << ": level-2 points are the children's level-1 points: "

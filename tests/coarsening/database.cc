@@ -496,16 +496,17 @@ main()
     double largest_angle = 0;
     for (unsigned int k = 0; k < 8; ++k)
       largest_angle =
-        std::max(largest_angle,
-                 std::acos(std::min(1.,
-                                    std::abs(mapped.points[k].direction *
-                                             direct.points[k].direction))));
+        testing::worst(largest_angle,
+                       std::acos(
+                         std::min(1.,
+                                  std::abs(mapped.points[k].direction *
+                                           direct.points[k].direction))));
     const double noise = difference(direct, reseeded);
     std::cout << "energies of the rotated block's fits on fresh samples: "
                  "mapped within 1.5x the seed-to-seed difference of the "
                  "direct fits: "
-              << (std::max(difference(mapped, direct),
-                           difference(mapped, reseeded)) < 1.5 * noise)
+              << (testing::worst(difference(mapped, direct),
+                                 difference(mapped, reseeded)) < 1.5 * noise)
               << ", unmapped fit beyond 5x: "
               << (difference(fit(c, 1), direct) > 5 * noise)
               << ", spring directions within 2 degrees: "

@@ -9,7 +9,8 @@
 //    point floor of 1/2 no point keeps less than half its fine mu and
 //    lambda;
 // 4. blocks whose children touch only at corners or edges (mechanisms)
-//    sample without failures and without their hinge motion;
+//    sample without failures and without their hinge motion, and fit to
+//    held-out medians below 15 %;
 // 5. a block's symmetries tie its fit: the tied fit of a stiff column in a
 //    soft block is exactly symmetric, recovers a symmetric metamaterial
 //    from its own energies, and fits its samples at least as well as the
@@ -18,10 +19,10 @@
 // 6. a block split in two layers is recognized; its laminate springs put
 //    the plane's axes on the softer half, whichever side it lies on, and
 //    fit with less than 0.6 times the held-out error of the springs its
-//    mirrors keep; the weight 0.01 leaves the laminate below 0.6 times its
-//    homogenized Young's modulus along the layers, free springs (Spring
-//    regularization = 0) within 10 % of it, at less than half the held-out
-//    error; the fit is kept by the block's quarter turns, and its
+//    mirrors keep; the weight 0.01 leaves the laminate between 0.3 and 0.6
+//    times its homogenized Young's modulus along the layers, free springs
+//    (Spring regularization = 0) within 10 % of it, at less than half the
+//    held-out error; the fit is kept by the block's quarter turns, and its
 //    mirror images have other spring lines but the same energy under
 //    homogeneous deformations;
 // 7. the bounded least-squares solver agrees with the enumeration of all
@@ -76,12 +77,13 @@ namespace
     for (unsigned int k = 0; k < a.points.size(); ++k)
       {
         const auto &p = a.points[k], &r = b.points[k];
-        d = std::max({d,
-                      std::abs(p.mu - r.mu) / r.mu,
-                      std::abs(p.lambda - r.lambda) / r.mu,
-                      std::abs(p.anisotropy - r.anisotropy) / r.mu});
+        d = testing::worst(d,
+                           std::abs(p.mu - r.mu) / r.mu,
+                           std::abs(p.lambda - r.lambda) / r.mu,
+                           std::abs(p.anisotropy - r.anisotropy) / r.mu);
         if (r.anisotropy > 0)
-          d = std::max(d, std::abs(std::abs(p.direction * r.direction) - 1));
+          d = testing::worst(d,
+                             std::abs(std::abs(p.direction * r.direction) - 1));
       }
     return d;
   }
@@ -161,10 +163,10 @@ main()
     for (unsigned int q = 0; q < 8; ++q)
       {
         const auto &a = fit.material.points[q], &b = exact.points[q];
-        error = std::max({error,
-                          std::abs(a.mu - b.mu) / b.mu,
-                          std::abs(a.lambda - b.lambda) / b.lambda,
-                          std::abs(a.anisotropy - b.anisotropy) / b.mu});
+        error = testing::worst(error,
+                               std::abs(a.mu - b.mu) / b.mu,
+                               std::abs(a.lambda - b.lambda) / b.lambda,
+                               std::abs(a.anisotropy - b.anisotropy) / b.mu);
       }
     std::cout << "samples: " << fit.n_fit << std::endl;
     testing::check_below("largest relative parameter error", error, 1e-8);
@@ -316,7 +318,7 @@ main()
         testing::check_below(
           "  median held-out relative energy error of the fit",
           fit_metamaterial(element, samples, prior, FitSettings()).median_error,
-          0.25);
+          0.15);
       }
   }
 
@@ -369,9 +371,8 @@ main()
 
     double asymmetry = 0;
     for (const unsigned int g : stabilizer)
-      asymmetry =
-        std::max(asymmetry,
-                 parameter_difference(transform(tied, symmetries, g), tied));
+      asymmetry = testing::worst(
+        asymmetry, parameter_difference(transform(tied, symmetries, g), tied));
     testing::check_below("tied fit against its images under the symmetries",
                          asymmetry,
                          1e-12);
@@ -531,11 +532,13 @@ main()
              }) /
              exact;
     };
-    testing::check_below(
-      "laminate springs, weight 0.01: Young's modulus along the layers "
-      "relative to the homogenized block's",
-      along_layers(fit.material),
-      0.6);
+    const double weak = along_layers(fit.material);
+    std::cout << "laminate springs, weight 0.01: Young's modulus along the "
+                 "layers relative to the homogenized block's between 0.3 "
+                 "and 0.6: "
+              << (weak > 0.3 && weak < 0.6 ? "yes" :
+                                             "FAILED, " + std::to_string(weak))
+              << std::endl;
     testing::check_below(
       "laminate springs, free springs: its relative difference from the "
       "homogenized block's",
@@ -570,7 +573,8 @@ main()
         if (determinant(symmetries.matrix(g)) > 0)
           {
             ++n_turns;
-            turns = std::max(turns, parameter_difference(image, fit.material));
+            turns =
+              testing::worst(turns, parameter_difference(image, fit.material));
             continue;
           }
         ++n_mirrors;
@@ -581,7 +585,8 @@ main()
             double a, b;
             element.energy(u, image, a);
             element.energy(u, fit.material, b);
-            mirror_energies = std::max(mirror_energies, std::abs(a - b) / b);
+            mirror_energies =
+              testing::worst(mirror_energies, std::abs(a - b) / b);
           }
       }
     std::cout << "symmetries of the block: " << n_turns << " turns, "
@@ -663,9 +668,10 @@ main()
                         std::count(exact.begin(), exact.end(), 0.) > 0);
         Vector<double> difference = x;
         difference -= exact;
-        largest_difference = std::max(largest_difference,
-                                      difference.linfty_norm() /
-                                        std::max(exact.linfty_norm(), 1e-300));
+        largest_difference =
+          testing::worst(largest_difference,
+                         difference.linfty_norm() /
+                           std::max(exact.linfty_norm(), 1e-300));
       }
     std::cout << "200 random problems, " << with_bounds
               << " with active bounds: the solver equals the enumeration "

@@ -23,9 +23,13 @@ main(int argc, char **argv)
 {
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
 
-  // The largest ratio ddfem / naive each layer normal may have.
+  // The largest ratio ddfem / naive each layer normal may have: about 15 %
+  // above the measured 3.6, 0.30 and 0.69 (either palette order); without
+  // laminate springs x and z reach 18 and 21, and springs that followed
+  // the palette's order instead of the materials gave z 9.7 with the
+  // palette reversed.
   const std::array<std::pair<std::string, double>, 3> bounds = {
-    {{"x", 5.}, {"y", 0.5}, {"z", 1.}}};
+    {{"x", 4.2}, {"y", 0.36}, {"z", 0.8}}};
   // The palette soft to stiff, and stiff to soft with the ids of the
   // layers reversed: the same part.
   const std::array<std::array<std::string, 4>, 2> palettes = {

@@ -91,8 +91,8 @@ main(int argc, char **argv)
       double change = run->size() == reference.size() ? 0 : 1;
       for (const auto &[model, error] : reference)
         for (unsigned int i = 0; i < 2; ++i)
-          change =
-            std::max(change, std::abs(run->at(model)[i] - error[i]) / error[i]);
+          change = ddfem::testing::worst(
+            change, std::abs(run->at(model)[i] - error[i]) / error[i]);
       ddfem::testing::check_below(
         std::string(label) +
           ": relative change of every coarse model's mean and max vertex "

@@ -9,7 +9,9 @@
 // 4. the small-load limit: the solution divided by the load tends to the
 //    linear elastic one at first order;
 // 5. Newton's iteration budget: a load step that needs N iterations
-//    converges when N are allowed, not when N - 1 are.
+//    converges when N are allowed, not when N - 1 are; with N - 1 and
+//    cuts allowed, the step is halved, the solve goes on, and it reaches
+//    the uncut solve's state.
 
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/lac/sparse_direct.h>
@@ -75,21 +77,21 @@ namespace
         for (unsigned int i = 0; i < n; ++i)
           column(i) = tangent.el(i, j);
         column -= difference;
-        tangent_error =
-          std::max(tangent_error, column.l2_norm() / difference.l2_norm());
+        tangent_error = testing::worst(tangent_error,
+                                       column.l2_norm() / difference.l2_norm());
 
         const double dE =
           (problem.solver->energy(up, 1.) - problem.solver->energy(um, 1.)) /
           (2 * eps);
         residual_error =
-          std::max(residual_error,
-                   std::abs(dE - residual(j)) / residual.linfty_norm());
+          testing::worst(residual_error,
+                         std::abs(dE - residual(j)) / residual.linfty_norm());
       }
     for (unsigned int i = 0; i < n; ++i)
       for (auto entry = tangent.begin(i); entry != tangent.end(i); ++entry)
-        asymmetry =
-          std::max(asymmetry,
-                   std::abs(entry->value() - tangent.el(entry->column(), i)));
+        asymmetry = testing::worst(asymmetry,
+                                   std::abs(entry->value() -
+                                            tangent.el(entry->column(), i)));
     std::cout << "Random heterogeneous block, " << n << " DoFs" << std::endl;
     testing::check_below("  tangent vs finite difference of residual, relative",
                          tangent_error,
@@ -174,8 +176,8 @@ namespace
               << "  analytic lateral stretch " << std::setprecision(10) << s
               << ", axial stress " << P11 << " Pa" << std::endl;
     testing::check_below("  lateral displacement error, relative",
-                         std::max(std::abs(corner[1] - (s - 1)),
-                                  std::abs(corner[2] - (s - 1))) /
+                         testing::worst(std::abs(corner[1] - (s - 1)),
+                                        std::abs(corner[2] - (s - 1))) /
                            std::abs(s - 1),
                          1e-8);
     // Inside the cube, where nothing is prescribed: u = (F - I) X.
@@ -197,7 +199,7 @@ namespace
       problem.solver->cell_fields(problem.solver->solution()).strain;
     double strain_error = 0;
     for (const double e : strain)
-      strain_error = std::max(strain_error, std::abs(e - (stretch - 1)));
+      strain_error = testing::worst(strain_error, std::abs(e - (stretch - 1)));
     testing::check_below("  cell principal strain error", strain_error, 1e-8);
   }
 
@@ -236,8 +238,8 @@ namespace
         const double exact[3] = {0.1 * p[0] + 0.05 * p[1] - 0.02 * p[2],
                                  -0.03 * p[0] + 0.08 * p[1] + 0.04 * p[2],
                                  0.02 * p[0] - 0.06 * p[1] - 0.1 * p[2]};
-        error                 = std::max(error, std::abs(u(i) - exact[i % 3]));
-        largest               = std::max(largest, std::abs(exact[i % 3]));
+        error   = testing::worst(error, std::abs(u(i) - exact[i % 3]));
+        largest = std::max(largest, std::abs(exact[i % 3]));
       }
     std::cout << "Patch test, converged: " << std::boolalpha
               << statistics.converged << ", " << interior
@@ -308,18 +310,27 @@ namespace
       }
   }
 
+  /// A cantilever loaded in one step of at most @p max_iterations Newton
+  /// iterations, cut down to @p minimum_step if it fails.
+  std::string
+  one_step_cantilever(const unsigned int max_iterations,
+                      const double       minimum_step = 1)
+  {
+    return testing::cantilever("2, 6, 2", "0; 0; -2e3") + R"(
+      subsection Nonlinear solver
+        set Load steps                = 1
+        set Minimum load step         = )" +
+           std::to_string(minimum_step) + R"(
+        set Maximum Newton iterations = )" +
+           std::to_string(max_iterations) + "\nend\n";
+  }
+
   /// The Newton iterations of a one-step cantilever solve allowed at most
   /// @p max_iterations of them, and whether it converged.
   solver::StaticSolver::Statistics
   one_step_solve(const unsigned int max_iterations)
   {
-    testing::Problem problem(testing::cantilever("2, 6, 2", "0; 0; -2e3") +
-                             R"(
-      subsection Nonlinear solver
-        set Load steps                = 1
-        set Minimum load step         = 1
-        set Maximum Newton iterations = )" +
-                             std::to_string(max_iterations) + "\nend\n");
+    testing::Problem problem(one_step_cantilever(max_iterations));
     return problem.solve();
   }
 
@@ -339,6 +350,39 @@ namespace
               << "  at most " << needed - 1 << ": "
               << (short_.converged ? "converged (FAILED)" : "not converged")
               << std::endl;
+  }
+
+  /**
+   * Load step cuts: the one-step solve allowed one Newton iteration fewer
+   * than it needs, with cuts down to 1/64 of the step, halves its step
+   * until one converges, goes on, and reaches the state of the uncut solve
+   * (the equilibrium does not depend on the path) up to the Newton
+   * tolerance: 2e-8 of the largest displacement, against about 0.5 for a
+   * solve that stopped at the cut.
+   */
+  void
+  load_cuts()
+  {
+    const unsigned int needed = one_step_solve(30).newton_iterations;
+    testing::Problem   uncut(one_step_cantilever(needed));
+    uncut.solve();
+    testing::Problem    cut(one_step_cantilever(needed - 1, 1. / 64));
+    std::vector<double> factors;
+    const auto          statistics = cut.solver->solve(
+      [&](unsigned int, const double t) { factors.push_back(t); });
+    std::cout << "Load steps cut: at most " << needed - 1
+              << " Newton iterations per step: "
+              << (statistics.converged ? "converged" : "FAILED") << ", "
+              << statistics.step_cuts << " cut(s), load factors";
+    for (const double t : factors)
+      std::cout << " " << t;
+    std::cout << std::endl;
+    Vector<double> difference = cut.solver->solution();
+    difference -= uncut.solver->solution();
+    testing::check_below("  largest difference to the uncut solve, relative",
+                         difference.linfty_norm() /
+                           uncut.solver->solution().linfty_norm(),
+                         1e-6);
   }
 
   /**
@@ -394,5 +438,6 @@ main(int argc, char **argv)
   patch_test();
   small_load_limit();
   newton_budget();
+  load_cuts();
   vertex_jacobians();
 }

@@ -44,8 +44,9 @@ main(int argc, char **argv)
           double error = 0, det_error = 0;
           for (const Tensor<2, 3> &R : system.rotations(u))
             {
-              error     = std::max(error, (R - Q).norm());
-              det_error = std::max(det_error, std::abs(determinant(R) - 1));
+              error = testing::worst(error, (R - Q).norm());
+              det_error =
+                testing::worst(det_error, std::abs(determinant(R) - 1));
             }
           std::cout << "  D = diag(" << diagonal << "): ";
           testing::check_below("|R - Q|", error, 1e-12);

@@ -68,6 +68,6 @@ main(int argc, char **argv)
           previous = d;
         }
       std::cout << "  decreasing: " << (monotone ? "yes" : "NO") << "\n  ";
-      testing::check_below("last difference", previous, 1e-3);
+      testing::check_below("last difference", previous, 1e-5);
     }
 }

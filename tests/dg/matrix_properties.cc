@@ -26,7 +26,7 @@ namespace
     double a = 0;
     for (unsigned int i = 0; i < K.m(); ++i)
       for (auto e = K.begin(i); e != K.end(i); ++e)
-        a = std::max(a, std::abs(e->value() - K.el(e->column(), i)));
+        a = testing::worst(a, std::abs(e->value() - K.el(e->column(), i)));
     return a / K.linfty_norm();
   }
 
@@ -72,7 +72,7 @@ main(int argc, char **argv)
         const std::vector<Tensor<2, 3>> fitted         = system.rotations(u);
         double                          rotation_error = 0;
         for (const auto &cell : system.dof_handler.active_cell_iterators())
-          rotation_error = std::max(
+          rotation_error = testing::worst(
             rotation_error,
             (fitted[cell->active_cell_index()] - cell_rotation(cell)).norm());
         std::cout << "  ";
