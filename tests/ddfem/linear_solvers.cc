@@ -8,7 +8,8 @@
 // 2. cg-cholesky factorizes the first tangent (1 iteration), solves the
 //    next, nearby tangent by a few CG iterations with the old factor to the
 //    requested tolerance, factorizes again when a tangent is too far from
-//    the factored one, and hands an indefinite tangent to UMFPACK.
+//    the factored one, and hands an indefinite tangent to UMFPACK (after
+//    the reuse iterations fail), and the next systems at once.
 
 #include <deal.II/lac/sparse_direct.h>
 
@@ -144,5 +145,7 @@ main(int argc, char **argv)
     for (unsigned int i = 0; i < n; i += 7)
       indefinite.diag_element(i) = -indefinite.diag_element(i);
     solve("indefinite tangent, UMFPACK", indefinite, 1e-10);
+    // The next 10 systems go to UMFPACK at once (1 iteration, no CG).
+    solve("the same again, UMFPACK at once", indefinite, 1e-10);
   }
 }
