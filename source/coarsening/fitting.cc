@@ -72,8 +72,7 @@ namespace ddfem::coarsening
                       "out and measures the error on the fitted samples; 1 "
                       "would leave the fit no samples and is rejected, as is "
                       "a number above Database/Sampling/Patterns, which would "
-                      "hold "
-                      "none out.");
+                      "hold none out.");
     prm.declare_entry("Laminate springs",
                       "false",
                       Patterns::Bool(),

@@ -44,8 +44,7 @@ namespace ddfem::coarsening
       Patterns::Double(0),
       "Weight of the regularization of the 64-point fits toward the "
       "children's records (Database/Fitting/Regularization is the "
-      "level-1 weight). "
-      "A 64-point fit has 192 parameters; with less weight it makes the "
+      "level-1 weight). A 64-point fit has 192 parameters; with less weight it makes the "
       "element too soft in deformations the samples do not cover "
       "(doc/coarsening.md).");
     prm.leave_subsection();

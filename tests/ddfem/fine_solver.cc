@@ -334,7 +334,8 @@ namespace
     return problem.solve();
   }
 
-  void
+  /// Returns the Newton iterations the one-step solve needs.
+  unsigned int
   newton_budget()
   {
     const unsigned int needed = one_step_solve(30).newton_iterations;
@@ -350,21 +351,21 @@ namespace
               << "  at most " << needed - 1 << ": "
               << (short_.converged ? "converged (FAILED)" : "not converged")
               << std::endl;
+    return needed;
   }
 
   /**
    * Load step cuts: the one-step solve allowed one Newton iteration fewer
-   * than it needs, with cuts down to 1/64 of the step, halves its step
-   * until one converges, goes on, and reaches the state of the uncut solve
+   * than the @p needed ones, with cuts down to 1/64 of the step, halves its
+   * step until one converges, goes on, and reaches the state of the uncut solve
    * (the equilibrium does not depend on the path) up to the Newton
    * tolerance: 2e-8 of the largest displacement, against about 0.5 for a
    * solve that stopped at the cut.
    */
   void
-  load_cuts()
+  load_cuts(const unsigned int needed)
   {
-    const unsigned int needed = one_step_solve(30).newton_iterations;
-    testing::Problem   uncut(one_step_cantilever(needed));
+    testing::Problem uncut(one_step_cantilever(needed));
     uncut.solve();
     testing::Problem    cut(one_step_cantilever(needed - 1, 1. / 64));
     std::vector<double> factors;
@@ -437,7 +438,6 @@ main(int argc, char **argv)
   uniaxial_stretch();
   patch_test();
   small_load_limit();
-  newton_budget();
-  load_cuts();
+  load_cuts(newton_budget());
   vertex_jacobians();
 }

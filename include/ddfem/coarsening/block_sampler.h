@@ -141,9 +141,8 @@ namespace ddfem::coarsening
      * magnitudes whose linearized strain is spread over [min_strain,
      * max_strain] in equal steps or, with geometric_spacing, equal ratios
      * (so soft and stiff blocks cover the same strains) and solved with
-     * Newton's method. A magnitude whose solve
-     * fails ends its pattern: it and the larger ones are dropped and
-     * counted in @p n_dropped.
+     * Newton's method. A magnitude whose solve fails ends its pattern: it
+     * and the larger ones are dropped and counted in @p n_dropped.
      *
      * A block with a void child lies on a part's surface and is sampled by
      * force patterns (paper section 4.2): the traction of a random,
