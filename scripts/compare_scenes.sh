@@ -4,8 +4,10 @@
 # Release build, one after the other, and writes
 # output/compare/<scene>/comparison.{csv,json}, error_vs_time.png and VTU.
 # The metamaterials a scene needs are fitted into the database file on its
-# first run (lazy mode); later runs find them there. Not part of the tests:
-# the whole set takes about an hour on a 2-core machine.
+# first run (lazy mode); later runs find them there. At the end it prints the
+# table of doc/coarsening.md and the targets each scene state meets
+# (scripts/compare_table.py), also into output/compare/table.md. Not part of
+# the tests: the whole set takes about an hour on a 2-core machine.
 #
 #   scripts/compare_scenes.sh                  # every scene
 #   scripts/compare_scenes.sh bending twisting # some of them
@@ -21,3 +23,5 @@ for s in "${scenes[@]}"; do
     --set "'Output/Output directory=output/compare/$s'" \
     --set "'Output/Write VTU=last step'" "${EXTRA:-}"
 done
+python3 scripts/compare_table.py output/compare "${scenes[@]}" |
+  tee output/compare/table.md

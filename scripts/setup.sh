@@ -13,7 +13,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 packages="libdeal.ii-dev libsuitesparse-dev numdiff nlohmann-json3-dev libopenblas0-pthread \
-          cmake g++ make perl ccache gnuplot-nox"
+          cmake g++ make perl ccache gnuplot-nox python3"
 missing=""
 for p in $packages; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" \
