@@ -185,9 +185,11 @@ namespace ddfem::app
              << "set xlabel 'wall time (s)'\n"
              << "set ylabel 'mean vertex error / longest side'\n"
              << "set key outside right\nset grid\n"
+             // noenhanced: a scene name's _ or ^ is text, not a sub- or
+             // superscript.
              << "set title "
              << report::gnuplot_string("Error against run time: " + scene_name)
-             << "\n";
+             << " noenhanced\n";
       std::vector<std::string> curves;
       unsigned int             block  = 0;
       double                   lowest = 1e300, highest = 0;

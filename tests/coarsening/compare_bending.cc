@@ -182,6 +182,12 @@ main(int argc, char **argv)
             << std::filesystem::exists(q2_directory + "/error_vs_time.png")
             << ", command run: " << std::filesystem::exists("injected")
             << std::endl;
+  // The plot's title shows the name as it is: quoted, and without gnuplot's
+  // enhanced text, which would turn "_q2" into a subscript.
+  std::ifstream script(q2_directory + "/error_vs_time.gnuplot");
+  for (std::string line; std::getline(script, line);)
+    if (line.rfind("set title", 0) == 0)
+      std::cout << line << std::endl;
 
   // The scene's fine model fails (CG may take one iteration only), the
   // direct one does not: the speedups divide the direct run's time, and
