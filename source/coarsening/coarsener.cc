@@ -192,5 +192,6 @@ namespace ddfem::coarsening
               m.points.end(),
               coarse.material_points.begin() +
                 std::size_t(cell) * coarse.quadrature.size());
+    coarse.update_material_id(grid, cell);
   }
 } // namespace ddfem::coarsening

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
 
 namespace ddfem::scene
 {
@@ -152,6 +153,32 @@ namespace ddfem::scene
 
 
 
+  types::material_id
+  dominant_material(const VoxelGrid   &grid,
+                    const std::size_t  block,
+                    const unsigned int level)
+  {
+    const unsigned int width = 1u << level;
+    const auto         o     = block_origin(grid, block, level);
+    std::map<types::material_id, unsigned int> count;
+    for (unsigned int k = 0; k < width; ++k)
+      for (unsigned int j = 0; j < width; ++j)
+        for (unsigned int i = 0; i < width; ++i)
+          if (const auto id = grid(o[0] + i, o[1] + j, o[2] + k); id != void_id)
+            ++count[id];
+    types::material_id dominant = void_id;
+    unsigned int       most     = 0;
+    for (const auto &[id, n] : count) // ascending ids: ties keep the smaller
+      if (n > most)
+        {
+          dominant = id;
+          most     = n;
+        }
+    return dominant;
+  }
+
+
+
   std::vector<std::size_t>
   make_voxel_mesh(const VoxelGrid   &grid,
                   const unsigned int level,
@@ -211,7 +238,7 @@ namespace ddfem::scene
               }
             cells[c].vertices[v] = index;
           }
-        cells[c].material_id = (level == 0) ? grid[B] : 0;
+        cells[c].material_id = dominant_material(grid, B, level);
       }
 
     tria.clear();

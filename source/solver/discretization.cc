@@ -124,6 +124,21 @@ namespace ddfem::solver
         const unsigned int cell = cell_of_voxel(scene.grid, v);
         Assert(cell != numbers::invalid_unsigned_int, ExcInternalError());
         copy_voxel_material(scene, cell);
+        update_material_id(scene.grid, cell);
       }
+  }
+
+
+
+  void
+  Discretization::update_material_id(const scene::VoxelGrid &grid,
+                                     const unsigned int      cell_index)
+  {
+    // The mesh is not refined: active cell c is cell c of level 0.
+    const typename Triangulation<3>::active_cell_iterator cell(&triangulation,
+                                                               0,
+                                                               cell_index);
+    cell->set_material_id(
+      scene::dominant_material(grid, cell_blocks[cell_index], level));
   }
 } // namespace ddfem::solver

@@ -323,6 +323,21 @@ namespace
 
 
 
+  /// Whether the cells of @p a and @p b (the same mesh) have equal
+  /// material ids.
+  bool
+  same_material_ids(const solver::Discretization &a,
+                    const solver::Discretization &b)
+  {
+    auto cell_b = b.triangulation.begin_active();
+    for (const auto &cell_a : a.triangulation.active_cell_iterators())
+      if (cell_a->material_id() != (cell_b++)->material_id())
+        return false;
+    return true;
+  }
+
+
+
   void
   edit_and_recoarsen()
   {
@@ -370,10 +385,37 @@ namespace
                          a.anisotropy == b.anisotropy &&
                          a.direction == b.direction;
                 }
+              same = same && same_material_ids(fresh, model);
             }
-          std::cout << ", records equal to coarsening from scratch: "
+          std::cout << ", records and material ids equal to coarsening from "
+                       "scratch: "
                     << (same ? "yes" : "NO") << std::endl;
         }
+
+    // The material ids output shows: the fine cells' after an edit, and
+    // the coarse cells' (the block's most frequent solid material). Edit 1
+    // paints material 3, which the base layers do not have.
+    {
+      scene::Scene &scene = edited.scene;
+      scene.grid          = grids[0];
+      solver::Discretization fine(scene, 1, 0);
+      for (unsigned int e = 0; e < scene.n_edits(); ++e)
+        fine.update_voxel_materials(scene, scene.apply_edit(e));
+      const solver::Discretization fresh(scene, 1, 0);
+      std::cout << "  fine: material ids equal to a fresh model's after the "
+                   "edits: "
+                << (same_material_ids(fresh, fine) ? "yes" : "NO")
+                << "; cells of material 3 at levels 0, 1, 2:";
+      for (const unsigned int level : {0u, 1u, 2u})
+        {
+          const solver::Discretization model(scene, 1, level);
+          unsigned int                 n = 0;
+          for (const auto &cell : model.triangulation.active_cell_iterators())
+            n += (cell->material_id() == 3);
+          std::cout << " " << n;
+        }
+      std::cout << std::endl;
+    }
 
     // Whole runs: edited in place vs set up on the edited grid.
     for (const unsigned int level : {0u, 1u})

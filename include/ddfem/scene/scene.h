@@ -101,6 +101,17 @@ namespace ddfem::scene
                const unsigned int level);
 
   /**
+   * The material id a cell of block @p block (as in block_origin()) shows
+   * in output: at level 0 the voxel's id, above it the id most of the
+   * block's solid voxels have (the smallest of those that tie). Coarse
+   * elements carry per-point metamaterials; this only labels them.
+   */
+  types::material_id
+  dominant_material(const VoxelGrid   &grid,
+                    const std::size_t  block,
+                    const unsigned int level);
+
+  /**
    * Builds the hexahedral mesh of a voxel grid coarsened @p level times:
    * cells are the 2^level x 2^level x 2^level blocks of voxels that contain
    * at least one solid voxel (level 0: the solid voxels themselves). Void
@@ -109,7 +120,7 @@ namespace ddfem::scene
    *
    * Returns, for each active cell in the order of active_cell_index(), the
    * lexicographic index of its block in the coarsened grid. The cell's
-   * material id is the block's voxel id at level 0 and 0 otherwise.
+   * material id is dominant_material() of its block.
    */
   std::vector<std::size_t>
   make_voxel_mesh(const VoxelGrid   &grid,

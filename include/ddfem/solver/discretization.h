@@ -97,6 +97,15 @@ namespace ddfem::solver
 
     /// The material record of quadrature point @p q of the cell with
     /// active index @p cell_index.
+    /**
+     * Sets the material id of cell @p cell_index (what output shows) to
+     * scene::dominant_material() of its block in @p grid: after a material
+     * edit, for the cells whose records changed.
+     */
+    void
+    update_material_id(const scene::VoxelGrid &grid,
+                       const unsigned int      cell_index);
+
     const material::MaterialPoint &
     material(const unsigned int cell_index, const unsigned int q) const
     {
