@@ -245,11 +245,17 @@ namespace ddfem::app
         summary["wall_time_s"]    = total.wall_time();
         summary["peak_memory_mb"] = peak_memory_mb();
         write_summary(summary);
+        // The times of summary.json: every solve of a corotated run, not
+        // the last one only.
         if (screen_timings)
-          pcout << "  wall time " << total.wall_time() << " s, integration "
-                << system.integration_time << " s, assembly "
-                << system.assembly_time << " s, solve " << system.solve_time
-                << " s\n  peak memory " << peak_memory_mb() << " MB"
+          pcout << std::setprecision(4) << "  wall time "
+                << summary["wall_time_s"].get<double>() << " s, setup "
+                << summary["time_setup_s"].get<double>() << " s, integration "
+                << summary["time_integration_s"].get<double>()
+                << " s, assembly " << summary["time_assembly_s"].get<double>()
+                << " s, solve " << summary["time_solve_s"].get<double>()
+                << " s\n  peak memory "
+                << summary["peak_memory_mb"].get<double>() << " MB"
                 << std::endl;
         return 0;
       }
