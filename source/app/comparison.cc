@@ -81,9 +81,9 @@ namespace ddfem::app
                   << "max error" << std::setw(12) << "grid fit";
               if (timings)
                 out << std::setw(10) << "wall [s]" << std::setw(12)
-                    << "s/Newton" << std::setw(13) << "coarsen [ms]"
-                    << std::setw(9) << "speedup" << std::setw(15)
-                    << "vs fine-direct";
+                    << "s/Newton" << std::setw(14) << "coarsen [ms]"
+                    << std::setw(9) << "speedup" << std::setw(11)
+                    << "sp.direct";
               out << "\n";
             }
           out << std::left << std::setw(13) << row.label() << std::setw(10)
@@ -101,11 +101,15 @@ namespace ddfem::app
             {
               out << std::fixed << std::setprecision(3) << std::setw(10)
                   << row.result.wall_time << std::setw(12)
-                  << row.result.time_per_iteration() << std::setw(13)
-                  << 1e3 * row.result.coarsening_time << std::setprecision(1);
+                  << row.result.time_per_iteration() << std::setw(14);
+              if (row.level == 0)
+                out << "-";
+              else
+                out << 1e3 * row.result.coarsening_time;
+              out << std::setprecision(1);
               for (const auto &[speedup, width] :
                    {std::pair(row.speedup, 9),
-                    std::pair(row.speedup_direct, 15)})
+                    std::pair(row.speedup_direct, 11)})
                 {
                   out << std::setw(width);
                   if (speedup > 0)
@@ -211,7 +215,7 @@ namespace ddfem::app
             curves.push_back(
               "'error_vs_time.dat' index " + std::to_string(block) +
               " using 1:2 with points pt " +
-              std::to_string(5 + 2 * (block % 4)) + " ps 2 lc " +
+              std::to_string(5 + 2 * (block % 6)) + " ps 2 lc " +
               std::to_string(block + 1) + " title '" + r.label() + "'");
             ++block;
           }
@@ -546,11 +550,13 @@ namespace ddfem::app
 
     print_table(rows, screen_timings, out);
     if (screen_timings)
-      out << "Speedups are against the fastest of the fine runs (fine: the "
+      out << "speedup: against the fastest of the fine runs (fine: the "
              "scene's linear solver; fine-amg: CG with algebraic multigrid, "
-             "where the fine model uses another solver; fine-direct: UMFPACK "
-             "at every Newton iteration); wall times include setup and "
-             "coarsening, not output."
+             "where the fine model uses another solver); sp.direct: against "
+             "fine-direct (UMFPACK at every Newton iteration); grid fit: the "
+             "mean vertex error of the coarse grid's best trilinear fit to "
+             "the fine solution. Wall times include setup and coarsening, "
+             "not output."
           << std::endl;
 
     nlohmann::json json;
