@@ -509,12 +509,12 @@ namespace ddfem::coarsening
 
 
     /**
-     * Reports how many of a scene's level-1 blocks (@p blocks, all-void
-     * ones aside) a plane splits into two one-voxel layers (split_axis()).
-     * Without laminate springs such blocks fit too soft along their layers;
-     * where they make up most of the part, the report says so and names the
-     * setting. A cantilever of one-voxel layers along its axis, all its
-     * blocks split, bends 3.4 to 3.9 times as far as the fine one without
+     * Reports how many of a scene state's level-1 blocks (@p blocks,
+     * all-void ones aside) a plane splits into two one-voxel layers
+     * (split_axis()). Without laminate springs such blocks fit too soft along
+     * their layers; where they make up most of the part, the report says so and
+     * names the setting. A cantilever of one-voxel layers along its axis, all
+     * its blocks split, bends 3.4 to 3.9 times as far as the fine one without
      * them; the shipped scenes, with 2 % to 19 % of their blocks split, are
      * better off without (doc/coarsening.md, "Layers one voxel thick along
      * a part").
@@ -575,8 +575,11 @@ namespace ddfem::coarsening
         << "', level 1: " << database.combinations().size() << " combinations, "
         << database.entries().size() << " entries present, " << todo.size()
         << " orbit representatives to fit" << std::endl;
-    if (scene_grids != nullptr)
-      report_split_blocks(wanted, fitting.laminate_springs, out);
+    // The scene's base state (its edits repaint some of these blocks).
+    if (scene_grids != nullptr && !scene_grids->empty())
+      report_split_blocks(scene_combinations(scene_grids->front()),
+                          fitting.laminate_springs,
+                          out);
     AssertThrow(todo.empty() || database.n_representatives() == 0,
                 ExcMessage("The metamaterial database '" + database_file +
                            "' is compressed and cannot take new entries."));
