@@ -37,7 +37,7 @@ namespace ddfem::scene
       "material is either 'E=<Young's modulus in Pa> nu=<Poisson ratio>' "
       "with E > 0 and -1 < nu < 0.5, or 'mu=<Pa> lambda=<Pa>' with mu > 0 "
       "and lambda > -2/3 mu; mu and |lambda| at most 1e20 Pa. The default "
-      "is the papers' palette.");
+      "is the paper's palette.");
     prm.leave_subsection();
   }
 
