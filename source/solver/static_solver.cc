@@ -830,7 +830,6 @@ namespace ddfem::solver
         else
           {
             step /= 2;
-            ++statistics.step_cuts;
             successes_since_cut = 0;
             if (step < parameters.minimum_step * nominal)
               {
@@ -845,6 +844,7 @@ namespace ddfem::solver
                 pcout << "  Stopped: " << statistics.failure << std::endl;
                 return statistics;
               }
+            ++statistics.step_cuts;
             pcout << "  Cutting the load increment to " << step << std::endl;
           }
       }

@@ -350,7 +350,8 @@ namespace
               << exact.newton_iterations << std::endl
               << "  at most " << needed - 1 << ": "
               << (short_.converged ? "converged (FAILED)" : "not converged")
-              << std::endl;
+              << ", " << short_.step_cuts
+              << " cut(s): the minimum step is the whole load" << std::endl;
     return needed;
   }
 

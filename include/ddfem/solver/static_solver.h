@@ -67,7 +67,8 @@ namespace ddfem::solver
       bool converged = false;
       /// Accepted load increments.
       unsigned int load_steps = 0;
-      /// Load increments that failed and were cut.
+      /// Load increments that failed and were retried with half the step
+      /// (the failure that ends a solve is not a cut).
       unsigned int step_cuts = 0;
       /// Newton iterations over all load increments (failed ones included).
       unsigned int newton_iterations = 0;
