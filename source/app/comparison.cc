@@ -146,8 +146,11 @@ namespace ddfem::app
               << ',' << r.cells << ',' << r.dofs << ','
               << r.result.statistics.newton_iterations << ','
               << r.result.time_per_iteration() << ',' << r.result.wall_time
-              << ',' << r.result.coarsening_time;
-          // Empty fields where a value does not exist.
+              << ',';
+          // Empty fields where a value does not exist: a fine run has no
+          // coarsening and no grid fit.
+          if (r.level > 0)
+            csv << r.result.coarsening_time;
           for (const double speedup : {r.speedup, r.speedup_direct})
             {
               csv << ',';
@@ -159,8 +162,13 @@ namespace ddfem::app
             csv << r.error.mean << ',' << r.error.max;
           else
             csv << ',';
-          csv << ',' << r.grid_fit.mean << ',' << r.grid_fit.max << ','
-              << r.grid_bound << ',' << r.linear_solver << ','
+          csv << ',';
+          if (r.level > 0)
+            csv << r.grid_fit.mean << ',' << r.grid_fit.max << ','
+                << r.grid_bound;
+          else
+            csv << ",,";
+          csv << ',' << r.linear_solver << ','
               << (r.result.statistics.converged ? "true" : "false") << '\n';
         }
       AssertThrow(csv, ExcMessage("Cannot write \"" + file + "\"."));
@@ -603,11 +611,13 @@ namespace ddfem::app
         run["speedup_vs_fine"] = value(r.speedup, r.speedup > 0);
         run["speedup_vs_fine_direct"] =
           value(r.speedup_direct, r.speedup_direct > 0);
-        run["mean_vertex_error"]          = value(r.error.mean, r.has_error());
-        run["max_vertex_error"]           = value(r.error.max, r.has_error());
-        run["grid_fit_mean_vertex_error"] = r.grid_fit.mean;
-        run["grid_fit_max_vertex_error"]  = r.grid_fit.max;
-        run["grid_fit_lower_bound"]       = r.grid_bound;
+        run["mean_vertex_error"] = value(r.error.mean, r.has_error());
+        run["max_vertex_error"]  = value(r.error.max, r.has_error());
+        const bool coarse        = r.level > 0;
+        run["coarsening_time_s"] = value(r.result.coarsening_time, coarse);
+        run["grid_fit_mean_vertex_error"] = value(r.grid_fit.mean, coarse);
+        run["grid_fit_max_vertex_error"]  = value(r.grid_fit.max, coarse);
+        run["grid_fit_lower_bound"]       = value(r.grid_bound, coarse);
         json["runs"].push_back(run);
       }
     const double peak_memory = peak_memory_mb();
