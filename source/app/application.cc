@@ -99,28 +99,20 @@ namespace ddfem::app
     }
 
     /**
-     * Prints the displacements @p u at the probe points @p points (in mm,
-     * 5 digits: parts are centimetres in size) and returns them as
-     * summary.json's "probes" (point and displacement, in m).
+     * Prints the displacements at the @p probes (in mm, 5 digits: parts
+     * are centimetres in size).
      */
-    nlohmann::json
-    report_probes(const std::vector<Point<3>>     &points,
-                  const std::vector<Tensor<1, 3>> &u,
-                  const ConditionalOStream        &pcout)
+    void
+    print_probes(const std::vector<Probe> &probes,
+                 const ConditionalOStream &pcout)
     {
-      nlohmann::json probes = nlohmann::json::array();
-      for (unsigned int p = 0; p < points.size(); ++p)
+      for (const auto &[x, u] : probes)
         {
-          const Point<3>     &x = points[p];
-          const Tensor<1, 3> &d = u[p];
-          probes.push_back({{"point", {x[0], x[1], x[2]}},
-                            {"displacement", {d[0], d[1], d[2]}}});
           std::ostringstream line;
           line << "  probe (" << x << " m): u = (" << std::setprecision(5)
-               << 1e3 * d << ") mm";
+               << 1e3 * u << ") mm";
           pcout << line.str() << std::endl;
         }
-      return probes;
     }
 
     /**
@@ -238,10 +230,11 @@ namespace ddfem::app
         solver.summarize(summary);
         pcout << "Solved with " << solves << " linear solve"
               << (solves == 1 ? "" : "s") << std::endl;
-        std::vector<Tensor<1, 3>> probes;
+        std::vector<Probe> probes;
         for (const Point<3> &p : scene.probes)
-          probes.push_back(solver.point_value(p));
-        summary["probes"]         = report_probes(scene.probes, probes, pcout);
+          probes.push_back({p, solver.point_value(p)});
+        print_probes(probes, pcout);
+        summary["probes"]         = to_json(probes);
         summary["wall_time_s"]    = total.wall_time();
         summary["peak_memory_mb"] = peak_memory_mb();
         write_summary(summary);
@@ -375,8 +368,8 @@ namespace ddfem::app
               pcout << "  new materials in " << result.cells_updated << " of "
                     << model.triangulation.n_active_cells() << " cells"
                     << std::endl;
-            nlohmann::json json = result.to_json();
-            json["probes"] = report_probes(scene.probes, result.probes, pcout);
+            print_probes(result.probes, pcout);
+            const nlohmann::json json = result.to_json();
             if (state == 0)
               summary.update(json);
             else

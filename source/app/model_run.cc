@@ -52,6 +52,18 @@ namespace ddfem::app
 
 
   nlohmann::json
+  to_json(const std::vector<Probe> &probes)
+  {
+    nlohmann::json json = nlohmann::json::array();
+    for (const auto &[x, u] : probes)
+      json.push_back(
+        {{"point", {x[0], x[1], x[2]}}, {"displacement", {u[0], u[1], u[2]}}});
+    return json;
+  }
+
+
+
+  nlohmann::json
   ModelRun::Result::to_json() const
   {
     nlohmann::json json;
@@ -74,9 +86,7 @@ namespace ddfem::app
     json["wall_time_s"]          = wall_time;
     json["time_per_iteration_s"] = time_per_iteration();
     json["phase_wall_time_s"]    = phases;
-    json["probes"]               = nlohmann::json::array();
-    for (const auto &d : probes)
-      json["probes"].push_back({d[0], d[1], d[2]});
+    json["probes"]               = app::to_json(probes);
     return json;
   }
 
@@ -190,7 +200,7 @@ namespace ddfem::app
     result.strain_quantiles = quantiles(final_fields->strain);
     result.max_displacement = max_node_displacement(*model, u);
     for (const Point<3> &p : scene.probes)
-      result.probes.push_back(solver->point_value(u, p));
+      result.probes.push_back({p, solver->point_value(u, p)});
     return result;
   }
 

@@ -98,6 +98,14 @@ main(int argc, char **argv)
   for (const std::string &column : missing)
     std::cout << ' ' << column;
   std::cout << (missing.empty() ? " none" : "") << std::endl;
+  // Probes as in summary.json: the point and the displacement there.
+  std::cout << "probes of the "
+            << json.at("runs")[3].at("method").get<std::string>() << " run:";
+  for (const auto &probe : json.at("runs")[3].at("probes"))
+    std::cout << " point " << probe.at("point").dump() << ", displacement "
+              << (probe.at("displacement").size() == 3 ? "3 components" :
+                                                         "WRONG");
+  std::cout << std::endl;
 
   // Each speedup is the fastest fine run's wall time of its state (and the
   // direct solver's) over the run's own, and the CSV's numbers are the

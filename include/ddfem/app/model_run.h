@@ -24,6 +24,22 @@ namespace ddfem::app
 {
   using namespace dealii;
 
+  /// A probe point and the displacement there (m).
+  struct Probe
+  {
+    /// Where the displacement was evaluated.
+    Point<3> point;
+    /// The displacement.
+    Tensor<1, 3> displacement;
+  };
+
+  /**
+   * The JSON of @p probes: an array of {"point": [x, y, z], "displacement":
+   * [u, v, w]}, in m, as summary.json and comparison.json write them.
+   */
+  nlohmann::json
+  to_json(const std::vector<Probe> &probes);
+
   /**
    * One continuous model of a scene and its solves: the fine model
    * (level 0) or a coarse one (a Coarsener fills its material records),
@@ -56,8 +72,8 @@ namespace ddfem::app
       std::array<double, 3> strain_quantiles = {{0, 0, 0}};
       /// Largest displacement at any node (m).
       double max_displacement = 0;
-      /// Displacement at each probe point (m).
-      std::vector<Tensor<1, 3>> probes;
+      /// Each probe point and the displacement there (m).
+      std::vector<Probe> probes;
 
       /// Wall time per Newton iteration (s; the whole wall time if none).
       double
