@@ -224,9 +224,8 @@ namespace ddfem::app
             highest = std::max(highest, r.error.mean);
             curves.push_back(
               "'error_vs_time.dat' index " + std::to_string(block) +
-              " using 1:2 with points pt " +
-              std::to_string(5 + 2 * (block % 6)) + " ps 2 lc " +
-              std::to_string(block + 1) + " title '" + r.label() + "'");
+              " using 1:2 with points ps 2 " + report::gnuplot_style(block) +
+              " title '" + r.label() + "'");
             ++block;
           }
       std::map<unsigned int, double> grid_fits;

@@ -525,23 +525,30 @@ namespace ddfem::dg
         for (const auto &[ylabel, columns] : panels)
           {
             script << "set ylabel '" << ylabel << "'\nplot ";
-            bool first = true;
+            // A method has the same marker and colour in every panel and
+            // figure: its place in the study's list of methods.
+            unsigned int series = 0;
+            bool         first  = true;
             for (unsigned int b = 0; b < blocks.size(); ++b)
               if (blocks[b].problem == problem)
-                for (const char column : columns)
-                  if (column != '5' || blocks[b].has_condition)
-                    {
-                      script << (first ? "" : ", \\\n     ")
-                             << "'dg_convergence.dat' index " << b
-                             << " using 1:" << column << " with linespoints"
-                             << (column == '4' ? " dashtype 2" : "") << " lc "
-                             << b + 1 << " title '" << blocks[b].method
-                             << (column == '3' ? " L2" :
-                                 column == '4' ? " H1" :
-                                                 "")
-                             << "'";
-                      first = false;
-                    }
+                {
+                  for (const char column : columns)
+                    if (column != '5' || blocks[b].has_condition)
+                      {
+                        script << (first ? "" : ", \\\n     ")
+                               << "'dg_convergence.dat' index " << b
+                               << " using 1:" << column << " with linespoints "
+                               << report::gnuplot_style(series)
+                               << (column == '4' ? " dashtype 2" : "")
+                               << " title '" << blocks[b].method
+                               << (column == '3' ? " L2" :
+                                   column == '4' ? " H1" :
+                                                   "")
+                               << "'";
+                        first = false;
+                      }
+                  ++series;
+                }
             script << "\n";
           }
         script << "unset multiplot\n";

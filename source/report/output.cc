@@ -8,6 +8,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <array>
 #include <cctype>
 #include <cerrno>
 #include <fstream>
@@ -95,6 +96,25 @@ namespace ddfem::report
                              std::string(" ") : // a newline would end the line
                              std::string(1, c);
     return quoted + "'";
+  }
+
+
+
+  std::string
+  gnuplot_style(const unsigned int series)
+  {
+    static const std::array<unsigned int, 8> point_types = {
+      {5, 7, 9, 11, 13, 15, 1, 2}};
+    static const std::array<const char *, 8> colours = {{"#0072B2",
+                                                         "#D55E00",
+                                                         "#009E73",
+                                                         "#CC79A7",
+                                                         "#E69F00",
+                                                         "#56B4E9",
+                                                         "#000000",
+                                                         "#999999"}};
+    return "pt " + std::to_string(point_types[series % 8]) + " lc rgb '" +
+           colours[series % 8] + "'";
   }
 
 

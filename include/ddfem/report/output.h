@@ -42,6 +42,17 @@ namespace ddfem::report
   gnuplot_string(const std::string &text);
 
   /**
+   * The gnuplot point type and colour ("pt 7 lc rgb '#D55E00'") of the
+   * @p series-th series of a plot: eight filled or distinct markers in
+   * colours that stay apart for colour-blind readers (Okabe and Ito's
+   * palette without its yellow, which is unreadable on white), repeated
+   * after eight. Each plot gives the same series (the same method) the
+   * same style.
+   */
+  std::string
+  gnuplot_style(unsigned int series);
+
+  /**
    * Attaches @p dof_handler to @p data_out with the displacement @p u
    * (three components, one vector field) and the cells' material ids,
    * which it writes into @p material_id: that vector must live until the
