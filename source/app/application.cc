@@ -238,15 +238,18 @@ namespace ddfem::app
         summary["wall_time_s"]    = total.wall_time();
         summary["peak_memory_mb"] = peak_memory_mb();
         write_summary(summary);
-        // The times of summary.json: every solve of a corotated run, not
-        // the last one only.
+        // The times of summary.json: the solve time covers every solve of a
+        // corotated run (and its assemblies); the integration and assembly
+        // times are those of the last assembly.
         if (screen_timings)
           pcout << std::setprecision(4) << "  wall time "
                 << summary["wall_time_s"].get<double>() << " s, setup "
-                << summary["time_setup_s"].get<double>() << " s, integration "
+                << summary["time_setup_s"].get<double>() << " s, solve "
+                << summary["time_solve_s"].get<double>()
+                << " s; last assembly: integration "
                 << summary["time_integration_s"].get<double>()
-                << " s, assembly " << summary["time_assembly_s"].get<double>()
-                << " s, solve " << summary["time_solve_s"].get<double>()
+                << " s, adding into K and F "
+                << summary["time_assembly_s"].get<double>()
                 << " s\n  peak memory "
                 << summary["peak_memory_mb"].get<double>() << " MB"
                 << std::endl;
