@@ -44,10 +44,10 @@ namespace ddfem::report
   /**
    * The gnuplot point type and colour ("pt 7 lc rgb '#D55E00'") of the
    * @p series-th series of a plot: eight filled or distinct markers in
-   * colours that stay apart for colour-blind readers (Okabe and Ito's
-   * palette without its yellow, which is unreadable on white), repeated
-   * after eight. Each plot gives the same series (the same method) the
-   * same style.
+   * colours that stay apart for colour-blind readers (the seven of Okabe
+   * and Ito's palette other than its yellow, which is unreadable on white,
+   * and grey), repeated after eight. Each plot gives the same series (the same
+   * method) the same style.
    */
   std::string
   gnuplot_style(unsigned int series);

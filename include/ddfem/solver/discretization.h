@@ -95,8 +95,6 @@ namespace ddfem::solver
     update_voxel_materials(const scene::Scene             &scene,
                            const std::vector<std::size_t> &changed);
 
-    /// The material record of quadrature point @p q of the cell with
-    /// active index @p cell_index.
     /**
      * Sets the material id of cell @p cell_index (what output shows) to
      * scene::dominant_material() of its block in @p grid: after a material
@@ -106,6 +104,8 @@ namespace ddfem::solver
     update_material_id(const scene::VoxelGrid &grid,
                        const unsigned int      cell_index);
 
+    /// The material record of quadrature point @p q of the cell with
+    /// active index @p cell_index.
     const material::MaterialPoint &
     material(const unsigned int cell_index, const unsigned int q) const
     {
