@@ -533,9 +533,9 @@ namespace ddfem::coarsening
           }
       if (n_split == 0)
         return;
-      out << "  " << n_split << " of the scene's " << n_solid
-          << " blocks are split into two one-voxel layers (Database/Fitting/"
-             "Laminate springs = "
+      out << "  " << n_split << " of the " << n_solid
+          << " blocks of the scene's base state are split into two one-voxel "
+             "layers (Database/Fitting/Laminate springs = "
           << (laminate_springs ? "true" : "false") << ")" << std::endl;
       if (!laminate_springs && 2 * n_split > n_solid)
         out << "  Note: most blocks are split into two layers. Without "
@@ -560,12 +560,18 @@ namespace ddfem::coarsening
   {
     Timer                    timer;
     std::vector<Combination> wanted;
+    // The blocks of the scene's base state (its edits repaint some of them).
+    std::vector<Combination> base_blocks;
     if (scene_grids == nullptr)
       wanted = all_combinations(database);
     else
       for (const scene::VoxelGrid &grid : *scene_grids)
-        for (const Combination &c : scene_combinations(grid))
-          wanted.push_back(c);
+        {
+          std::vector<Combination> blocks = scene_combinations(grid);
+          wanted.insert(wanted.end(), blocks.begin(), blocks.end());
+          if (base_blocks.empty())
+            base_blocks = std::move(blocks);
+        }
     const std::vector<Combination> todo = database.missing(wanted);
     // The entries open() recovered from the journal of a build killed
     // before its save are in @p database but perhaps not in the file: a
@@ -575,11 +581,7 @@ namespace ddfem::coarsening
         << "', level 1: " << database.combinations().size() << " combinations, "
         << database.entries().size() << " entries present, " << todo.size()
         << " orbit representatives to fit" << std::endl;
-    // The scene's base state (its edits repaint some of these blocks).
-    if (scene_grids != nullptr && !scene_grids->empty())
-      report_split_blocks(scene_combinations(scene_grids->front()),
-                          fitting.laminate_springs,
-                          out);
+    report_split_blocks(base_blocks, fitting.laminate_springs, out);
     AssertThrow(todo.empty() || database.n_representatives() == 0,
                 ExcMessage("The metamaterial database '" + database_file +
                            "' is compressed and cannot take new entries."));

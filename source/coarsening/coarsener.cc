@@ -174,8 +174,13 @@ namespace ddfem::coarsening
                                "material of solid voxels."));
         cells.insert(cell);
       }
+    // The mesh set the material ids of the layout it was made from; an edit
+    // may change which material a block has most of.
     for (const unsigned int cell : cells)
-      assign_cell(grid, cell, coarse);
+      {
+        assign_cell(grid, cell, coarse);
+        coarse.update_material_id(grid, cell);
+      }
     return cells.size();
   }
 
@@ -192,6 +197,5 @@ namespace ddfem::coarsening
               m.points.end(),
               coarse.material_points.begin() +
                 std::size_t(cell) * coarse.quadrature.size());
-    coarse.update_material_id(grid, cell);
   }
 } // namespace ddfem::coarsening

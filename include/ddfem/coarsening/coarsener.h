@@ -97,7 +97,8 @@ namespace ddfem::coarsening
     /**
      * After material edits of the voxels @p changed (linear voxel indices)
      * that left the solid unchanged: refills only the cells whose block
-     * holds a changed voxel. Returns their number.
+     * holds a changed voxel, and sets their material ids (what output
+     * shows) anew. Returns their number.
      */
     unsigned int
     recoarsen(const scene::VoxelGrid         &grid,
