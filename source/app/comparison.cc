@@ -37,12 +37,20 @@ namespace ddfem::app
       /// one; 0 where there is none or this run did not converge.
       double speedup = 0, speedup_direct = 0;
 
-      /// Whether the row has vertex errors: a coarse model measured against
-      /// a fine solution that reached the full load.
+      /// Whether the row has vertex errors: a model that reached the full
+      /// load, measured against a fine solution that reached it too.
       bool
       has_error() const
       {
         return error.n_vertices > 0;
+      }
+
+      /// Whether the row has a grid fit: a coarse model, with a fine
+      /// solution at the full load to fit.
+      bool
+      has_grid_fit() const
+      {
+        return grid_fit.n_vertices > 0;
       }
 
       /// "fine", "fine-amg", "fine-direct" or "<method> L<level>".
@@ -92,13 +100,18 @@ namespace ddfem::app
               << row.grid << std::right << std::setw(7) << row.cells
               << std::setw(8) << row.dofs << std::setw(8)
               << row.result.statistics.newton_iterations;
-          if (row.level == 0 || !row.has_error())
-            out << std::setw(12) << "-" << std::setw(12) << "-" << std::setw(12)
-                << "-";
+          out << std::scientific << std::setprecision(3);
+          if (row.level > 0 && row.has_error())
+            out << std::setw(12) << row.error.mean << std::setw(12)
+                << row.error.max;
           else
-            out << std::scientific << std::setprecision(3) << std::setw(12)
-                << row.error.mean << std::setw(12) << row.error.max
-                << std::setw(12) << row.grid_fit.mean << std::defaultfloat;
+            out << std::setw(12) << "-" << std::setw(12) << "-";
+          out << std::setw(12);
+          if (row.has_grid_fit())
+            out << row.grid_fit.mean;
+          else
+            out << "-";
+          out << std::defaultfloat;
           if (timings)
             {
               out << std::fixed << std::setprecision(3) << std::setw(10)
@@ -148,7 +161,8 @@ namespace ddfem::app
               << r.result.time_per_iteration() << ',' << r.result.wall_time
               << ',';
           // Empty fields where a value does not exist: a fine run has no
-          // coarsening and no grid fit.
+          // coarsening, and a run without a converged fine reference no
+          // grid fit.
           if (r.level > 0)
             csv << r.result.coarsening_time;
           for (const double speedup : {r.speedup, r.speedup_direct})
@@ -163,7 +177,7 @@ namespace ddfem::app
           else
             csv << ',';
           csv << ',';
-          if (r.level > 0)
+          if (r.has_grid_fit())
             csv << r.grid_fit.mean << ',' << r.grid_fit.max << ','
                 << r.grid_bound;
           else
@@ -230,7 +244,7 @@ namespace ddfem::app
           }
       std::map<unsigned int, double> grid_fits;
       for (const Row &r : rows)
-        if (r.state == rows.front().state && r.level > 0 && r.grid_fit.mean > 0)
+        if (r.state == rows.front().state && r.has_grid_fit())
           grid_fits[r.level] = r.grid_fit.mean;
       for (const auto &[level, error] : grid_fits)
         {
@@ -513,7 +527,7 @@ namespace ddfem::app
             const Row &reference =
               rows.size() > first_row ? rows[first_row] : row;
             const bool have_reference = reference.result.statistics.converged;
-            if (have_reference)
+            if (have_reference && row.result.statistics.converged)
               row.error = report::vertex_error(scene.grid,
                                                models[0]->discretization(),
                                                models[0]->solution(),
@@ -610,13 +624,12 @@ namespace ddfem::app
         run["speedup_vs_fine"] = value(r.speedup, r.speedup > 0);
         run["speedup_vs_fine_direct"] =
           value(r.speedup_direct, r.speedup_direct > 0);
-        run["mean_vertex_error"] = value(r.error.mean, r.has_error());
-        run["max_vertex_error"]  = value(r.error.max, r.has_error());
-        const bool coarse        = r.level > 0;
-        run["coarsening_time_s"] = value(r.result.coarsening_time, coarse);
-        run["grid_fit_mean_vertex_error"] = value(r.grid_fit.mean, coarse);
-        run["grid_fit_max_vertex_error"]  = value(r.grid_fit.max, coarse);
-        run["grid_fit_lower_bound"]       = value(r.grid_bound, coarse);
+        run["mean_vertex_error"]          = value(r.error.mean, r.has_error());
+        run["max_vertex_error"]           = value(r.error.max, r.has_error());
+        const bool fit                    = r.has_grid_fit();
+        run["grid_fit_mean_vertex_error"] = value(r.grid_fit.mean, fit);
+        run["grid_fit_max_vertex_error"]  = value(r.grid_fit.max, fit);
+        run["grid_fit_lower_bound"]       = value(r.grid_bound, fit);
         json["runs"].push_back(run);
       }
     const double peak_memory = peak_memory_mb();

@@ -75,13 +75,14 @@ namespace ddfem::app
     json["regularized_iterations"] = statistics.regularized_iterations;
     if (!statistics.converged)
       json["failure"] = statistics.failure;
-    json["min_J"]                = min_J;
-    json["min_vertex_J"]         = statistics.min_vertex_J;
-    json["principal_strain"]     = {{"median", strain_quantiles[0]},
-                                    {"p99", strain_quantiles[1]},
-                                    {"max", strain_quantiles[2]}};
-    json["max_displacement"]     = max_displacement;
-    json["coarsening_time_s"]    = coarsening_time;
+    json["min_J"]            = min_J;
+    json["min_vertex_J"]     = statistics.min_vertex_J;
+    json["principal_strain"] = {{"median", strain_quantiles[0]},
+                                {"p99", strain_quantiles[1]},
+                                {"max", strain_quantiles[2]}};
+    json["max_displacement"] = max_displacement;
+    json["coarsening_time_s"] =
+      coarse ? nlohmann::json(coarsening_time) : nlohmann::json();
     json["cells_updated"]        = cells_updated;
     json["wall_time_s"]          = wall_time;
     json["time_per_iteration_s"] = time_per_iteration();
@@ -184,6 +185,7 @@ namespace ddfem::app
           }
       });
     result.wall_time       = pending_time + total.wall_time() - output_time;
+    result.coarse          = coarsener != nullptr;
     result.coarsening_time = pending_coarsening;
     result.cells_updated   = pending_cells;
     pending_time = pending_coarsening = 0;

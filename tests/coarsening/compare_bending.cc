@@ -213,7 +213,7 @@ main(int argc, char **argv)
 
   // The scene's fine model fails (CG may take one iteration only), the
   // direct one does not: the speedups divide the direct run's time, and
-  // there are no vertex errors (empty CSV fields).
+  // there are no vertex errors and no grid fits (empty CSV fields).
   std::filesystem::remove_all("compare_failed");
   std::ofstream failed("compare_failed.prm");
   failed << ddfem::testing::compare_run("failed", "2, 8, 2", "0.02, 0.16, 0.02")
@@ -241,7 +241,9 @@ main(int argc, char **argv)
                 << ", speedup_vs_fine '"
                 << (fields[1] == "fine-direct" ? fields[10] : "...") << "' ("
                 << (fields[10].empty() ? "empty" : "a number")
-                << "), mean_vertex_error '" << fields[12] << "'" << std::endl;
+                << "), mean_vertex_error '" << fields[12]
+                << "', grid_fit_lower_bound '" << fields[16] << "'"
+                << std::endl;
     }
   // The JSON has null where the CSV has empty fields, and the converged
   // runs' speedups divide the direct run's wall time by their own.
@@ -257,6 +259,9 @@ main(int argc, char **argv)
       std::cout << "  JSON " << run.at("method").get<std::string>()
                 << ": mean_vertex_error "
                 << (run.at("mean_vertex_error").is_null() ? "null" : "a number")
+                << ", grid_fit_lower_bound "
+                << (run.at("grid_fit_lower_bound").is_null() ? "null" :
+                                                               "a number")
                 << ", speedup_vs_fine ";
       if (speedup.is_null())
         std::cout << "null";

@@ -55,6 +55,8 @@ namespace ddfem::app
     {
       /// Newton solver statistics.
       solver::StaticSolver::Statistics statistics;
+      /// Whether the model is coarse (has a coarsening time).
+      bool coarse = false;
       /// Wall time of coarsening (lookups) or, after an edit,
       /// re-coarsening (s); 0 for the fine model.
       double coarsening_time = 0;
@@ -82,7 +84,8 @@ namespace ddfem::app
         return wall_time / std::max(1u, statistics.newton_iterations);
       }
 
-      /// The result as JSON (times in seconds, lengths in meters).
+      /// The result as JSON (times in seconds, lengths in meters); the
+      /// fine model's coarsening time is null.
       nlohmann::json
       to_json() const;
     };
