@@ -416,7 +416,9 @@ namespace ddfem::app
   {
     /**
      * Run type "database": fits the metamaterials of the scene's palette
-     * (all combinations, or only the scene's) into the database file.
+     * (all combinations, or only those of the scene's blocks in every state,
+     * its material edits included, as a simulation of the scene needs them)
+     * into the database file.
      */
     int
     build_database(ParameterHandler &prm, std::ostream &out)
@@ -429,7 +431,7 @@ namespace ddfem::app
 
       const auto           held     = builder.lock(scene.palette, out);
       coarsening::Database database = builder.open(scene.palette, out);
-      const std::vector<scene::VoxelGrid> grids = {scene.grid};
+      const std::vector<scene::VoxelGrid> grids = scene.states();
       builder.build(scene.palette,
                     database,
                     builder.scope() == coarsening::DatabaseBuilder::Scope::all ?

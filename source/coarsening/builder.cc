@@ -39,8 +39,9 @@ namespace ddfem::coarsening
                       Patterns::Selection("all|scene"),
                       "'all' fits every combination of the palette (one fit "
                       "per symmetry orbit). 'scene' fits only the "
-                      "combinations of this scene's 2x2x2 blocks that the "
-                      "file lacks and appends them (lazy mode).");
+                      "combinations of this scene's 2x2x2 blocks (before and "
+                      "after each of its material edits) that the file lacks "
+                      "and appends them (lazy mode).");
     prm.declare_entry("Representatives",
                       "0",
                       Patterns::Integer(0),

@@ -1,0 +1,72 @@
+// Run type = database with Database/Scope = scene fits the blocks of every
+// state of the scene, its material edits included, so that a simulation
+// of the scene afterwards finds every entry it needs and fits nothing.
+
+#include <ddfem/app/application.h>
+#include <ddfem/coarsening/database.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include "../tests.h"
+
+namespace
+{
+  /// Runs @p run_type on a 2x4x2-voxel cantilever of material 1 whose one
+  /// edit paints voxel (0, 2, 0) with material 2: its base state has one
+  /// kind of 2x2x2 block, the edited state a second one. Prints the exit
+  /// status, the database report's "to fit" line and the entries in the
+  /// file afterwards.
+  void
+  run(const std::string &name, const std::string &run_type)
+  {
+    std::ofstream(name + ".prm")
+      << "set Run type = " << run_type << "\n"
+      << ddfem::testing::cantilever("2, 4, 2", "0; 0; -1000")
+      << "set Method = ddfem\n"
+         "subsection Geometry\n"
+         "  set Voxel size = 1\n"
+         "end\n"
+         "subsection Layout\n"
+         "  set Material = 1\n"
+         "  set Edits = box 0 2 0 1 3 1 : 2\n"
+         "end\n"
+         "subsection Database\n"
+         "  set File = db.h5\n"
+         "  set Scope = scene\n"
+         "  subsection Sampling\n"
+         "    set Patterns = 10\n"
+         "    set Magnitudes = 2\n"
+         "    set Stretch directions = 10\n"
+         "  end\n"
+         "end\n"
+         "subsection Output\n"
+         "  set Output directory = "
+      << name
+      << "\n"
+         "  set Screen timings = false\n"
+         "  set Write VTU = none\n"
+         "end\n";
+    std::ostringstream log;
+    const int          status = ddfem::app::run({name + ".prm"}, log, log);
+    std::cout << run_type << ": exit status " << status << std::endl;
+    std::istringstream lines(log.str());
+    for (std::string line; std::getline(lines, line);)
+      if (line.find("to fit") != std::string::npos)
+        std::cout << "  " << line << std::endl;
+    std::cout << "  entries in db.h5: "
+              << ddfem::coarsening::Database::load("db.h5").entries().size()
+              << std::endl;
+  }
+} // namespace
+
+int
+main(int argc, char **argv)
+{
+  dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  std::filesystem::remove("db.h5");
+  run("database", "database");
+  run("simulation", "simulation");
+}
