@@ -144,22 +144,52 @@ namespace ddfem::testing
   }
 
   /**
+   * Parameter text of output into @p directory without screen timings
+   * (whose numbers change from run to run) and without VTU files.
+   */
+  inline std::string
+  quiet_output(const std::string &directory)
+  {
+    return "subsection Output\n"
+           "  set Output directory = " +
+           directory +
+           "\n"
+           "  set Screen timings = false\n"
+           "  set Write VTU = none\n"
+           "end\n";
+  }
+
+  /**
+   * Parameter text of the metamaterial database @p file, filled lazily
+   * (Scope = scene) with cheap sampling: 10 force patterns of 2
+   * magnitudes and 10 stretch directions per block.
+   */
+  inline std::string
+  cheap_lazy_database(const std::string &file)
+  {
+    return "subsection Database\n"
+           "  set File = " +
+           file +
+           "\n"
+           "  set Scope = scene\n"
+           "  subsection Sampling\n"
+           "    set Patterns = 10\n"
+           "    set Magnitudes = 2\n"
+           "    set Stretch directions = 10\n"
+           "  end\n"
+           "end\n";
+  }
+
+  /**
    * Runs ddfem on the parameter text @p prm_text, written to NAME.prm with
-   * 'Output/Output directory = NAME' appended (no screen timings, no VTU),
-   * and returns its exit status and the comparison.json it wrote (null if
-   * none). The screen output is dropped. For 'Run type = compare'.
+   * quiet_output(NAME) appended, and returns its exit status and the
+   * comparison.json it wrote (null if none). The screen output is dropped.
+   * For 'Run type = compare'.
    */
   inline std::pair<int, nlohmann::json>
   run_comparison(const std::string &prm_text, const std::string &name)
   {
-    {
-      std::ofstream prm(name + ".prm");
-      prm << prm_text << "subsection Output\n"
-          << "  set Output directory = " << name << "\n"
-          << "  set Screen timings = false\n"
-          << "  set Write VTU = none\n"
-          << "end\n";
-    }
+    std::ofstream(name + ".prm") << prm_text << quiet_output(name);
     std::ostringstream screen;
     const int          status = app::run({name + ".prm"}, screen, screen);
     std::ifstream      file(name + "/comparison.json");

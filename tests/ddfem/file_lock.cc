@@ -134,22 +134,8 @@ namespace
     return [name, settings](std::ostream &out) {
       std::ofstream(name + ".prm")
         << ddfem::testing::cantilever("2, 2, 2", "0; 0; -1000") << settings
-        << "subsection Database\n"
-           "  set File = db.h5\n"
-           "  set Scope = scene\n"
-           "  subsection Sampling\n"
-           "    set Patterns = 10\n"
-           "    set Magnitudes = 2\n"
-           "    set Stretch directions = 10\n"
-           "  end\n"
-           "end\n"
-           "subsection Output\n"
-           "  set Output directory = "
-        << name
-        << "\n"
-           "  set Screen timings = false\n"
-           "  set Write VTU = none\n"
-           "end\n";
+        << ddfem::testing::cheap_lazy_database("db.h5")
+        << ddfem::testing::quiet_output(name);
       const int status = ddfem::app::run({name + ".prm"}, out, out);
       out << "exit status " << status << ", entries in db.h5: "
           << ddfem::coarsening::Database::load("db.h5").entries().size()

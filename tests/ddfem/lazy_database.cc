@@ -33,22 +33,8 @@ namespace
          "  set Material = 1\n"
          "  set Edits = box 0 2 0 1 3 1 : 2\n"
          "end\n"
-         "subsection Database\n"
-         "  set File = db.h5\n"
-         "  set Scope = scene\n"
-         "  subsection Sampling\n"
-         "    set Patterns = 10\n"
-         "    set Magnitudes = 2\n"
-         "    set Stretch directions = 10\n"
-         "  end\n"
-         "end\n"
-         "subsection Output\n"
-         "  set Output directory = "
-      << name
-      << "\n"
-         "  set Screen timings = false\n"
-         "  set Write VTU = none\n"
-         "end\n";
+      << ddfem::testing::cheap_lazy_database("db.h5")
+      << ddfem::testing::quiet_output(name);
     std::ostringstream log;
     const int          status = ddfem::app::run({name + ".prm"}, log, log);
     std::cout << run_type << ": exit status " << status << std::endl;
