@@ -431,12 +431,13 @@ namespace ddfem::app
 
       const auto           held     = builder.lock(scene.palette, out);
       coarsening::Database database = builder.open(scene.palette, out);
-      const std::vector<scene::VoxelGrid> grids = scene.states();
+      const bool           all =
+        builder.scope() == coarsening::DatabaseBuilder::Scope::all;
+      const std::vector<scene::VoxelGrid> grids =
+        all ? std::vector<scene::VoxelGrid>() : scene.states();
       builder.build(scene.palette,
                     database,
-                    builder.scope() == coarsening::DatabaseBuilder::Scope::all ?
-                      nullptr :
-                      &grids,
+                    all ? nullptr : &grids,
                     out,
                     output.screen_timings);
       return 0;

@@ -117,10 +117,10 @@ namespace ddfem::app
               out << std::fixed << std::setprecision(3) << std::setw(10)
                   << row.result.wall_time << std::setw(12)
                   << row.result.time_per_iteration() << std::setw(14);
-              if (row.level == 0)
-                out << "-";
-              else
+              if (row.result.coarse)
                 out << 1e3 * row.result.coarsening_time;
+              else
+                out << "-";
               out << std::setprecision(1);
               for (const auto &[speedup, width] :
                    {std::pair(row.speedup, 9),
@@ -163,7 +163,7 @@ namespace ddfem::app
           // Empty fields where a value does not exist: a fine run has no
           // coarsening, and a run without a converged fine reference no
           // grid fit.
-          if (r.level > 0)
+          if (r.result.coarse)
             csv << r.result.coarsening_time;
           for (const double speedup : {r.speedup, r.speedup_direct})
             {
@@ -594,14 +594,15 @@ namespace ddfem::app
 
     print_table(rows, screen_timings, out);
     if (screen_timings)
-      out << "speedup: against the fastest of the fine runs (fine: the "
-             "scene's linear solver; fine-amg: CG with algebraic multigrid, "
-             "where the fine model uses another solver); sp.direct: against "
-             "fine-direct (UMFPACK at every Newton iteration); grid fit: the "
-             "mean vertex error of the coarse grid's best trilinear fit to "
-             "the fine solution. Wall times include setup and coarsening, "
-             "not output."
-          << std::endl;
+      out
+        << "speedup: against the fastest fine run that converged (fine: "
+           "the scene's linear solver; fine-amg: CG with algebraic "
+           "multigrid, where the fine model uses another solver; "
+           "fine-direct); sp.direct: against fine-direct (UMFPACK at every Newton iteration); grid fit: the "
+           "mean vertex error of the coarse grid's best trilinear fit to "
+           "the fine solution. Wall times include setup and coarsening, "
+           "not output."
+        << std::endl;
 
     nlohmann::json json;
     json["scene"] = scene_name;

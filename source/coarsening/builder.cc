@@ -570,7 +570,7 @@ namespace ddfem::coarsening
         {
           std::vector<Combination> blocks = scene_combinations(grid);
           wanted.insert(wanted.end(), blocks.begin(), blocks.end());
-          if (base_blocks.empty())
+          if (&grid == &scene_grids->front())
             base_blocks = std::move(blocks);
         }
     const std::vector<Combination> todo = database.missing(wanted);

@@ -1,6 +1,7 @@
 // Run type = database with Database/Scope = scene fits the blocks of every
 // state of the scene, its material edits included, so that a simulation
-// of the scene afterwards finds every entry it needs and fits nothing.
+// of the scene afterwards finds every entry it needs and fits nothing (and
+// writes its coarsening time into summary.json).
 
 #include <ddfem/app/application.h>
 #include <ddfem/coarsening/database.h>
@@ -45,6 +46,17 @@ namespace
     std::cout << "  entries in db.h5: "
               << ddfem::coarsening::Database::load("db.h5").entries().size()
               << std::endl;
+    // A coarse simulation's summary.json has the coarsening (lookup) time.
+    if (run_type == "simulation")
+      {
+        std::ifstream        file(name + "/summary.json");
+        const nlohmann::json summary = nlohmann::json::parse(file);
+        std::cout << "  summary.json: coarsening_time_s is "
+                  << (summary.at("coarsening_time_s").is_number() ?
+                        "a number" :
+                        "not a number")
+                  << std::endl;
+      }
   }
 } // namespace
 

@@ -50,5 +50,7 @@ main(int argc, char **argv)
   std::cout << "summary.json: converged " << summary.at("converged")
             << ", load steps kept " << summary.at("load_steps")
             << ", min_vertex_J of the last kept state "
-            << summary.at("min_vertex_J").get<double>() << std::endl;
+            << summary.at("min_vertex_J").get<double>()
+            << ", coarsening_time_s of the fine model "
+            << summary.at("coarsening_time_s") << std::endl;
 }

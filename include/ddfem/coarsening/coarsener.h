@@ -89,7 +89,8 @@ namespace ddfem::coarsening
 
     /**
      * Fills the material record of every quadrature point of @p coarse
-     * (built from @p grid at level()).
+     * (built from @p grid at level(); the cells' material ids are the ones
+     * the mesh was made with).
      */
     void
     coarsen(const scene::VoxelGrid &grid, solver::Discretization &coarse) const;
