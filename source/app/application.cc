@@ -163,13 +163,40 @@ namespace ddfem::app
       }
 
     private:
-      /// Creates the output directory and writes parameters.prm into it,
-      /// once summary.json is known to be writable there too.
+      /**
+       * Throws before anything is solved or written if a result could not
+       * be written: the output directory cannot be created, or something
+       * other than a regular file is in the way of summary.json,
+       * parameters.prm or the files @p files (names in the output
+       * directory).
+       */
+      void
+      check_output(const std::vector<std::string> &files) const
+      {
+        check_creatable(directory, "Output/Output directory");
+        check_writable(directory + "/summary.json", "Output/Output directory");
+        check_writable(directory + "/parameters.prm",
+                       "Output/Output directory");
+        for (const std::string &file : files)
+          check_writable(directory + "/" + file, "Output/Output directory");
+      }
+
+      /// check_output() for a simulation of the continuous models, whose
+      /// VTU files of every scene state are checked too.
+      void
+      check_simulation_output() const
+      {
+        check_output({});
+        for (unsigned int state = 0; state <= scene.n_edits(); ++state)
+          vtu.check_writable(directory, state);
+      }
+
+      /// Creates the output directory and writes parameters.prm into it
+      /// (after check_output()).
       void
       prepare_output(const ParameterHandler &prm) const
       {
         create_directories(directory, "Output/Output directory");
-        check_writable(directory + "/summary.json", "Output/Output directory");
         std::ofstream used = open_for_writing(directory + "/parameters.prm",
                                               "Output/Output directory");
         prm.print_parameters(used, ParameterHandler::ShortPRM);
@@ -216,7 +243,8 @@ namespace ddfem::app
 
         // All input is valid. One solve, then the results are written (a
         // corotated iteration that does not converge writes nothing).
-        check_creatable(directory, "Output/Output directory");
+        check_output(vtu.enabled() ? std::vector<std::string>{"solution.vtu"} :
+                                     std::vector<std::string>());
         const unsigned int solves = solver.solve();
         prepare_output(prm);
         if (vtu.enabled())
@@ -284,7 +312,7 @@ namespace ddfem::app
                                    database.point_offset(),
                                    solver_parameters,
                                    linear_solver);
-                check_creatable(directory, "Output/Output directory");
+                check_simulation_output();
                 Timer preparation;
                 level1.emplace(database.prepare(scene.palette,
                                                 scene.states(),
@@ -324,6 +352,7 @@ namespace ddfem::app
               << linear_solver.method() << std::endl;
 
         // All input is valid: from here on, results are written.
+        check_simulation_output();
         prepare_output(prm);
         nlohmann::json summary;
         summary["scene"]           = scene_name;
@@ -349,9 +378,7 @@ namespace ddfem::app
                 pcout << "Edit " << state << ": " << changed.size()
                       << " voxels change material" << std::endl;
               }
-            vtu.initialize(directory,
-                           state == 0 ? "solution" :
-                                        "edit-" + std::to_string(state));
+            vtu.initialize(directory, state);
             const ModelRun::Result result = run.solve(&vtu);
             converged              = converged && result.statistics.converged;
             const auto &statistics = result.statistics;

@@ -61,6 +61,17 @@ namespace ddfem::app
       }
     };
 
+    /// The directory of the VTU files of model @p name at @p level:
+    /// NAME, or NAME-L<level> for a coarse one, in @p directory.
+    std::string
+    model_directory(const std::string &directory,
+                    const std::string &name,
+                    const unsigned int level)
+    {
+      return directory + "/" + name +
+             (level > 0 ? "-L" + std::to_string(level) : "");
+    }
+
     /// "nx x ny x nz" of @p grid coarsened @p level times.
     std::string
     grid_text(const scene::VoxelGrid &grid, const unsigned int level)
@@ -435,6 +446,24 @@ namespace ddfem::app
       if (configurations[c].name != "ddfem")
         set_up(c);
 
+    // The results are written once every model has run: gnuplot must start
+    // and their files (each model's VTU files of every state too) must be
+    // writable before the database is prepared and anything runs.
+    report::check_gnuplot();
+    for (const std::string file : {"comparison.json",
+                                   "comparison.csv",
+                                   "error_vs_time.dat",
+                                   "error_vs_time.gnuplot",
+                                   "error_vs_time.png"})
+      check_writable(directory + "/" + file, "Output/Output directory");
+    for (unsigned int c = 0; c < configurations.size(); ++c)
+      if (models[c] || configurations[c].name == "ddfem")
+        for (unsigned int state = 0; state <= scene.n_edits(); ++state)
+          vtu.check_writable(model_directory(directory,
+                                             configurations[c].name,
+                                             configurations[c].level),
+                             state);
+
     // The database, completed lazily for this scene's blocks in every
     // state. A ddfem level without a baseline model on the same mesh is
     // checked with naive materials first.
@@ -472,15 +501,6 @@ namespace ddfem::app
 
     std::vector<Row> rows;
     bool             all_converged = true;
-    // The results are written once every model has run: gnuplot must start
-    // and their files must be writable before anything runs.
-    report::check_gnuplot();
-    for (const std::string file : {"comparison.json",
-                                   "comparison.csv",
-                                   "error_vs_time.dat",
-                                   "error_vs_time.gnuplot",
-                                   "error_vs_time.png"})
-      check_writable(directory + "/" + file, "Output/Output directory");
     create_directories(directory, "Output/Output directory");
     for (unsigned int state = 0; state <= scene.n_edits(); ++state)
       {
@@ -511,13 +531,10 @@ namespace ddfem::app
             row.grid   = grid_text(scene.grid, config.level);
             row.cells  = model.discretization().triangulation.n_active_cells();
             row.dofs   = model.discretization().dof_handler.n_dofs();
-            std::string run_directory = directory + "/" + config.name;
-            if (config.level > 0)
-              run_directory += "-L" + std::to_string(config.level);
+            const std::string run_directory =
+              model_directory(directory, config.name, config.level);
             report::VtuWriter writer = vtu;
-            writer.initialize(run_directory,
-                              state == 0 ? "solution" :
-                                           "edit-" + std::to_string(state));
+            writer.initialize(run_directory, state);
             if (writer.enabled())
               create_directories(run_directory, "Output/Output directory");
             row.result        = model.solve(&writer);

@@ -8,9 +8,11 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cctype>
 #include <cerrno>
+#include <filesystem>
 #include <fstream>
 
 namespace ddfem::report
@@ -143,12 +145,53 @@ namespace ddfem::report
 
 
 
+  std::string
+  VtuWriter::state_name(const unsigned int state)
+  {
+    return state == 0 ? "solution" : "edit-" + std::to_string(state);
+  }
+
+
+
   void
-  VtuWriter::initialize(const std::string &dir, const std::string &name)
+  VtuWriter::initialize(const std::string &dir, const unsigned int state)
   {
     directory = dir;
-    basename  = name;
+    basename  = state_name(state);
     records.clear();
+  }
+
+
+
+  void
+  VtuWriter::check_writable(const std::string &dir,
+                            const unsigned int state) const
+  {
+    if (!enabled())
+      return;
+    const std::string name  = state_name(state);
+    const std::string where = "Output/Output directory";
+    ddfem::check_writable(dir + "/" + name + ".pvd", where);
+    // The steps' files: NAME-<digits>.vtu, whatever the number of steps
+    // (cut increments add steps).
+    const std::string prefix = name + "-", suffix = ".vtu";
+    std::error_code   error;
+    for (const auto &entry : std::filesystem::directory_iterator(dir, error))
+      {
+        const std::string file = entry.path().filename().string();
+        if (file.size() <= prefix.size() + suffix.size() ||
+            file.compare(0, prefix.size(), prefix) != 0 ||
+            file.compare(file.size() - suffix.size(), suffix.size(), suffix) !=
+              0)
+          continue;
+        const std::string step =
+          file.substr(prefix.size(),
+                      file.size() - prefix.size() - suffix.size());
+        if (std::all_of(step.begin(), step.end(), [](const char c) {
+              return std::isdigit(static_cast<unsigned char>(c));
+            }))
+          ddfem::check_writable(entry.path().string(), where);
+      }
   }
 
 

@@ -109,13 +109,16 @@ namespace ddfem
                                        error))
       return;
     const bool existed = std::filesystem::exists(path, error);
-    bool       ok = !existed || std::filesystem::is_regular_file(path, error);
-    if (ok)
-      {
-        ok = static_cast<bool>(std::ofstream(file, std::ios::app));
-        if (!existed)
-          std::filesystem::remove(path, error);
-      }
+    AssertThrow(!existed || std::filesystem::is_regular_file(path, error),
+                dealii::ExcMessage("Cannot write \"" + file + "\" (" + where +
+                                   "): a " +
+                                   (std::filesystem::is_directory(path, error) ?
+                                      "directory" :
+                                      "file that is not a regular file") +
+                                   " of that name is in the way."));
+    const bool ok = static_cast<bool>(std::ofstream(file, std::ios::app));
+    if (!existed)
+      std::filesystem::remove(path, error);
     AssertThrow(ok,
                 dealii::ExcMessage("Cannot write \"" + file + "\" (" + where +
                                    ")."));

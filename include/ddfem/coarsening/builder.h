@@ -134,7 +134,9 @@ namespace ddfem::coarsening
      * do not know a combination the build covers (built before lazy builds
      * extended level 1) or were not built with @p scene_grids' 4x4x4 blocks
      * required; the new tables require those and the earlier ones, and
-     * keep the fits of compositions they still represent.
+     * keep the fits of compositions they still represent. With Levels = 2,
+     * a grid of @p scene_grids whose size is not a multiple of 4 is an
+     * error before anything is fitted.
      */
     void
     build(const scene::Palette                &palette,

@@ -83,11 +83,24 @@ namespace ddfem::report
     parse_parameters(ParameterHandler &prm);
 
     /**
-     * Prepares to write files named @p basename-<step>.vtu and
-     * @p basename.pvd into @p directory.
+     * Prepares to write the files of scene state @p state (0: before any
+     * material edit, k: after edit k) into @p directory: NAME-<step>.vtu
+     * and NAME.pvd, where NAME is "solution" for state 0 and "edit-k"
+     * after edit k.
      */
     void
-    initialize(const std::string &directory, const std::string &basename);
+    initialize(const std::string &directory, const unsigned int state);
+
+    /**
+     * Throws ExcMessage naming Output/Output directory if write() could not
+     * write the files of scene state @p state into @p directory (if it
+     * exists): something other than a regular file is in the way of
+     * NAME.pvd or of a NAME-<step>.vtu of any step. Checks nothing if no
+     * file is written. For the checks before a solve.
+     */
+    void
+    check_writable(const std::string &directory,
+                   const unsigned int state) const;
 
     /**
      * Writes the state @p u with @p fields at load step @p step and load
@@ -120,6 +133,10 @@ namespace ddfem::report
   private:
     /// 'Write VTU': every step, last step or none.
     std::string when;
+    /// "solution" for scene state 0, "edit-k" after material edit k.
+    static std::string
+    state_name(const unsigned int state);
+
     /// Where and under which name files are written.
     std::string directory, basename;
     /// (load factor, file name) of every file written, for the .pvd record.
