@@ -83,11 +83,31 @@ namespace ddfem::app
       const auto value = Utilities::trim(text.substr(equal + 1));
       AssertThrow(!path.empty(),
                   ExcMessage("--set \"" + text + "\": no parameter name."));
+      // A misspelt subsection or parameter is named as such (deal.II would
+      // create the misspelt subsection and then report a missing entry).
+      const std::string name     = text.substr(0, equal);
+      const std::string sections = name.substr(0, name.rfind('/'));
+      AssertThrow(path.size() == 1 ||
+                    prm.subsection_path_exists({path.begin(), path.end() - 1}),
+                  ExcMessage("--set \"" + text +
+                             "\": there is no subsection \"" + sections +
+                             "\" (a run's parameters.prm lists them all)."));
       for (unsigned int i = 0; i + 1 < path.size(); ++i)
         prm.enter_subsection(path[i]);
       try
         {
           prm.set(path.back(), value);
+        }
+      catch (const ParameterHandler::ExcEntryUndeclared &)
+        {
+          AssertThrow(false,
+                      ExcMessage("--set \"" + text +
+                                 "\": there is no parameter \"" + path.back() +
+                                 "\"" +
+                                 (path.size() == 1 ?
+                                    std::string(" outside the subsections") :
+                                    " in subsection \"" + sections + "\"") +
+                                 " (a run's parameters.prm lists them all)."));
         }
       catch (ExceptionBase &e)
         {

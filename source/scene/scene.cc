@@ -54,9 +54,10 @@ namespace ddfem::scene
                       "16, 16, 16",
                       Patterns::List(Patterns::Integer(1), 3, 3),
                       "Number of voxels nx, ny, nz along x, y, z.");
+    // Any number: parse_parameters() checks the range and names it.
     prm.declare_entry("Voxel size",
                       "0.01",
-                      Patterns::Double(0),
+                      Patterns::Double(),
                       "Edge length of a voxel (m), from 1e-6 to 1e3.");
     prm.declare_entry(
       "Probe points",

@@ -131,6 +131,10 @@ main(int argc, char **argv)
            cantilever,
            {"--set", "Nonlinear solver/Load steps=-3"});
   run_case("unknown_override", cantilever, {"--set", "Solver/Load steps=3"});
+  run_case("unknown_override_entry",
+           cantilever,
+           {"--set", "Nonlinear solver/Load stepz=3"});
+  run_case("unknown_override_top_level", cantilever, {"--set", "Methd=fine"});
   run_case(
     "coarse_point_offset",
     cantilever,
@@ -191,6 +195,8 @@ main(int argc, char **argv)
   run_case("tiny_voxel",
            cantilever +
              "subsection Geometry\n  set Voxel size = 1e-100\nend\n");
+  run_case("negative_voxel",
+           cantilever + "subsection Geometry\n  set Voxel size = -0.02\nend\n");
   run_case("denormal_rotation_axis",
            cantilever +
              "subsection Boundary conditions\n  subsection Condition 2\n"
