@@ -208,8 +208,8 @@ namespace ddfem::coarsening
         AssertThrow(database.fingerprint() == settings.fingerprint(),
                     ExcMessage("The metamaterial database '" + database_file +
                                "' was built with other settings (" +
-                               database.fingerprint() + ") than these (" +
-                               settings.fingerprint() +
+                               settings_difference(database.fingerprint(),
+                                                   settings.fingerprint()) +
                                "). Use another Database/File or its "
                                "settings."));
       }

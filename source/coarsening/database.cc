@@ -95,6 +95,54 @@ namespace ddfem::coarsening
 
 
 
+  std::string
+  settings_difference(const std::string &stored, const std::string &current)
+  {
+    // A fingerprint's items, "name: value" or a flag's name, are separated
+    // by '|' and ','; the palette's materials are separated by ';'.
+    const auto items = [](const std::string &fingerprint) {
+      std::vector<std::pair<std::string, std::string>> result;
+      for (const std::string &group :
+           Utilities::split_string_list(fingerprint, '|'))
+        for (const std::string &item : Utilities::split_string_list(group, ','))
+          {
+            const auto colon = item.find(": ");
+            if (colon == std::string::npos)
+              result.emplace_back(item, "on");
+            else
+              result.emplace_back(item.substr(0, colon),
+                                  item.substr(colon + 2));
+          }
+      return result;
+    };
+    const auto in_file = items(stored), here = items(current);
+    const auto value = [](const auto        &list,
+                          const std::string &name,
+                          const std::string &other) -> std::string {
+      for (const auto &[n, v] : list)
+        if (n == name)
+          return v;
+      return other == "on" ? "off" : "default";
+    };
+    std::vector<std::string> names;
+    for (const auto &list : {in_file, here})
+      for (const auto &item : list)
+        if (std::find(names.begin(), names.end(), item.first) == names.end())
+          names.push_back(item.first);
+    std::string result;
+    for (const std::string &name : names)
+      {
+        const std::string a = value(in_file, name, value(here, name, "")),
+                          b = value(here, name, a);
+        if (a != b)
+          result += (result.empty() ? "" : "; ") + name + ": " + a +
+                    " in the file / " + b + " here";
+      }
+    return result;
+  }
+
+
+
   namespace
   {
 
@@ -820,7 +868,7 @@ namespace ddfem::coarsening
           AssertThrow(false,
                       ExcMessage("The build journal " + name +
                                  " belongs to a build with other settings (" +
-                                 stored +
+                                 settings_difference(stored, fingerprint) +
                                  "). Delete it or restore those "
                                  "settings."));
         }

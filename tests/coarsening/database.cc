@@ -1186,6 +1186,23 @@ main()
     });
     expect_error("other settings",
                  [&log] { builder("small.h5", true).open(palette(), log); });
+    // The difference names a changed value, a flag and a setting that one
+    // fingerprint leaves at its default.
+    {
+      DatabaseSettings stored, current;
+      stored.palette                       = "E=1e5 nu=0.45";
+      current                              = stored;
+      current.sampling.n_directions        = stored.sampling.n_directions + 2;
+      current.fitting.laminate_springs     = true;
+      stored.fitting.spring_regularization = 0.;
+      std::cout << "settings difference: "
+                << settings_difference(stored.fingerprint(),
+                                       current.fingerprint())
+                << "\n  of equal settings: '"
+                << settings_difference(stored.fingerprint(),
+                                       stored.fingerprint())
+                << "'" << std::endl;
+    }
     expect_error("missing combination", [] {
       Database::load("lazy.h5").lookup({{1, 2, 2, 1, 2, 1, 1, 2}});
     });

@@ -90,6 +90,16 @@ namespace ddfem::coarsening
   };
 
   /**
+   * The settings in which two fingerprints (DatabaseSettings::fingerprint())
+   * differ: "name: value in @p stored (in the file) / in @p current (here)"
+   * for each, separated by "; ". A setting a fingerprint leaves out (one at
+   * its default) is "default", a flag that is off "off". What errors about
+   * a file or journal of other settings name.
+   */
+  std::string
+  settings_difference(const std::string &stored, const std::string &current);
+
+  /**
    * The first-level metamaterial database (paper sections 4 and 5): for a
    * palette, the fitted metamaterial of each symmetry orbit of 2x2x2
    * combinations, and a lookup table from every combination to an entry
