@@ -312,6 +312,9 @@ namespace ddfem::app
       run_continuous(const ParameterHandler &prm)
       {
         Timer total;
+        // Files that could not be written are found before a database
+        // preparation or a solve.
+        check_simulation_output();
         // The coarse material source: the database (completed lazily for
         // this scene's blocks, in every edited state) or a baseline.
         std::optional<coarsening::Database>    level1;
@@ -332,7 +335,6 @@ namespace ddfem::app
                                    database.point_offset(),
                                    solver_parameters,
                                    linear_solver);
-                check_simulation_output();
                 Timer preparation;
                 level1.emplace(database.prepare(scene.palette,
                                                 scene.states(),
@@ -372,7 +374,6 @@ namespace ddfem::app
               << linear_solver.method() << std::endl;
 
         // All input is valid: from here on, results are written.
-        check_simulation_output();
         prepare_output(prm);
         nlohmann::json summary;
         summary["scene"]           = scene_name;

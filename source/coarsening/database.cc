@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <iomanip>
 #include <limits>
+#include <optional>
 #include <random>
 #include <sstream>
 
@@ -116,13 +117,12 @@ namespace ddfem::coarsening
       return result;
     };
     const auto in_file = items(stored), here = items(current);
-    const auto value = [](const auto        &list,
-                          const std::string &name,
-                          const std::string &other) -> std::string {
-      for (const auto &[n, v] : list)
-        if (n == name)
-          return v;
-      return other == "on" ? "off" : "default";
+    const auto find = [](const auto &list, const std::string &name) {
+      const auto item =
+        std::find_if(list.begin(), list.end(), [&name](const auto &i) {
+          return i.first == name;
+        });
+      return item == list.end() ? std::optional<std::string>() : item->second;
     };
     std::vector<std::string> names;
     for (const auto &list : {in_file, here})
@@ -132,11 +132,14 @@ namespace ddfem::coarsening
     std::string result;
     for (const std::string &name : names)
       {
-        const std::string a = value(in_file, name, value(here, name, "")),
-                          b = value(here, name, a);
+        // A setting one fingerprint leaves out: a flag that is off, or a
+        // value at its default.
+        const auto a = find(in_file, name), b = find(here, name);
+        const auto absent = (a ? *a : *b) == "on" ? "off" : "default";
         if (a != b)
-          result += (result.empty() ? "" : "; ") + name + ": " + a +
-                    " in the file / " + b + " here";
+          result += (result.empty() ? "" : "; ") + name + ": " +
+                    a.value_or(absent) + " in the file / " +
+                    b.value_or(absent) + " here";
       }
     return result;
   }
