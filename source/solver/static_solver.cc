@@ -501,12 +501,20 @@ namespace ddfem::solver
     bool   admissible     = true;
     min_J                 = std::numeric_limits<double>::max();
     const std::size_t n_q = discretization.quadrature.size();
+    // Every cell of the grid is a translate of the first one, so the first
+    // cell's shape gradients and JxW values serve them all. FEValues
+    // reinitialized on each cell would keep the values of the cell its
+    // thread saw first (CellSimilarity::translation), which differ from
+    // cell to cell in round-off: results would depend on the number of
+    // threads.
+    const auto reference = discretization.dof_handler.begin_active();
 
     const auto worker =
       [&](const typename DoFHandler<3>::active_cell_iterator &cell,
           ScratchData                                        &scratch,
           CopyData                                           &copy) {
-        scratch.fe_values.reinit(cell);
+        Assert(cell->is_translation_of(reference), ExcInternalError());
+        scratch.fe_values.reinit(reference);
         cell->get_dof_values(u, scratch.local_u);
         copy.dofs.resize(scratch.local_u.size());
         cell->get_dof_indices(copy.dofs);

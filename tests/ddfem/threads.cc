@@ -1,0 +1,79 @@
+// Results and the number of threads (doc/fine_solver.md, "Parallelism and
+// determinism"). A heterogeneous cantilever solved with one thread and with
+// two:
+// - 7623 DoFs: the assembly (WorkStream) runs threaded, the vector
+//   operations of CG do not (deal.II threads them from 16384 entries on);
+//   the solutions must be the same bit for bit, with the
+//   Cholesky-preconditioned and the multigrid CG;
+// - 19575 DoFs: deal.II's vector reductions split their sums into chunks
+//   by the number of threads, so the solutions differ in round-off only,
+//   and two runs with two threads must give the same solution bit for bit.
+// The harness starts the test with one thread.
+
+#include <deal.II/base/multithread_info.h>
+
+#include "../tests.h"
+
+using namespace dealii;
+using namespace ddfem;
+
+namespace
+{
+  /// The solution of the cantilever of @p grid voxels with the linear
+  /// solver @p type and @p threads threads.
+  Vector<double>
+  solve(const std::string &grid,
+        const std::string &type,
+        const unsigned int threads)
+  {
+    MultithreadInfo::set_thread_limit(threads);
+    testing::Problem problem(
+      testing::cantilever(grid, "0; 0; -5000") + testing::layers("0.01", "z") +
+      "subsection Geometry\n  set Voxel size = 0.005\nend\n"
+      "subsection Nonlinear solver\n  set Load steps = 2\nend\n"
+      "subsection Linear solver\n  set Type = " +
+      type + "\nend\n");
+    const auto statistics = problem.solve();
+    std::cout << "  " << problem.discretization->dof_handler.n_dofs()
+              << " DoFs, " << type << ", " << threads << " thread(s): "
+              << (statistics.converged ? "converged" : "FAILED") << " in "
+              << statistics.newton_iterations << " Newton iterations"
+              << std::endl;
+    return problem.solver->solution();
+  }
+
+  /// max |a - b| / max |a|.
+  double
+  difference(const Vector<double> &a, Vector<double> b)
+  {
+    b -= a;
+    return b.linfty_norm() / a.linfty_norm();
+  }
+} // namespace
+
+int
+main(int argc, char **argv)
+{
+  Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  std::cout << "Threaded assembly:" << std::endl;
+  for (const std::string type : {"cg-cholesky", "cg-amg"})
+    {
+      const Vector<double> one = solve("10, 20, 10", type, 1);
+      const Vector<double> two = solve("10, 20, 10", type, 2);
+      std::cout << "  one and two threads: "
+                << (difference(one, two) == 0 ? "identical" : "DIFFERENT")
+                << std::endl;
+    }
+
+  std::cout << "Threaded assembly and vector operations:" << std::endl;
+  const Vector<double> one       = solve("14, 28, 14", "cg-amg", 1);
+  const Vector<double> two       = solve("14, 28, 14", "cg-amg", 2);
+  const Vector<double> two_again = solve("14, 28, 14", "cg-amg", 2);
+  std::cout << "  two runs with two threads: "
+            << (difference(two, two_again) == 0 ? "identical" : "DIFFERENT")
+            << std::endl
+            << "  one and two threads, ";
+  testing::check_below("max |difference| / max |u|",
+                       difference(one, two),
+                       1e-12);
+}
