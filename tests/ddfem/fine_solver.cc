@@ -338,13 +338,16 @@ namespace
   unsigned int
   newton_budget()
   {
-    const unsigned int needed = one_step_solve(30).newton_iterations;
+    const auto         free   = one_step_solve(30);
+    const unsigned int needed = free.newton_iterations;
     const auto         exact  = one_step_solve(needed);
     const auto         short_ = one_step_solve(needed - 1);
     std::cout << "Newton iterations allowed: the state after the last one "
                  "counts:"
               << std::endl
-              << "  " << needed << " of 30: converged" << std::endl
+              << "  " << needed
+              << " of 30: " << (free.converged ? "converged" : "FAILED")
+              << std::endl
               << "  at most " << needed << ": "
               << (exact.converged ? "converged" : "FAILED") << " in "
               << exact.newton_iterations << std::endl
