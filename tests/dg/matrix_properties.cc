@@ -5,9 +5,12 @@
 // interior penalty matrix is not for a too small penalty, and the
 // automatic penalty (start at 1, double) ends positive definite; with BZ it
 // is rejected (it would always stop at eta = 1). A cube clamped weakly on
-// its x- face, with hanging faces.
+// its x- face, with hanging faces. Every definiteness verdict of
+// System::check_definiteness() (banded Cholesky) is compared with the sign
+// of the smallest eigenvalue of the dense matrix (LAPACK dsyevx).
 
 #include <deal.II/base/function.h>
+#include <deal.II/lac/lapack_full_matrix.h>
 
 #include <iostream>
 
@@ -28,6 +31,30 @@ namespace
       for (auto e = K.begin(i); e != K.end(i); ++e)
         a = testing::worst(a, std::abs(e->value() - K.el(e->column(), i)));
     return a / K.linfty_norm();
+  }
+
+  /// System::check_definiteness() of @p system, and whether the smallest
+  /// eigenvalue of the dense matrix has the sign that verdict implies.
+  std::string
+  definiteness(const dg::System<3> &system)
+  {
+    const SparseMatrix<double> &K = system.matrix;
+    LAPACKFullMatrix<double>    dense(K.m());
+    dense = K;
+    dense.set_property(LAPACKSupport::symmetric);
+    // Every eigenvalue lies in [-|K|_inf, |K|_inf] (Gershgorin).
+    const double       bound = 2 * K.linfty_norm();
+    Vector<double>     eigenvalues;
+    FullMatrix<double> eigenvectors;
+    dense.compute_eigenvalues_symmetric(
+      -bound, bound, 0., eigenvalues, eigenvectors);
+    const dg::Definiteness verdict  = system.check_definiteness();
+    const bool             positive = eigenvalues(0) > 0;
+    const bool             agrees =
+      positive == (verdict == dg::Definiteness::positive_definite);
+    return dg::to_string(verdict) + (agrees ?
+                                       " (the smallest eigenvalue agrees)" :
+                                       " (the smallest eigenvalue DISAGREES)");
   }
 
   /// A rotation per cell, pseudo-random: axis and angle from its index.
@@ -83,8 +110,7 @@ main(int argc, char **argv)
         for (const double eta : {1e-3, 0.1, 10.})
           {
             system.assemble(eta, 1);
-            std::cout << "  eta = " << eta << ": K "
-                      << dg::to_string(system.check_definiteness())
+            std::cout << "  eta = " << eta << ": K " << definiteness(system)
                       << std::endl;
           }
         if (flux == dg::Parameters::Flux::babuska_zlamal)
@@ -103,9 +129,8 @@ main(int argc, char **argv)
         system.settle_penalty(1);
         std::cout << "  automatic: eta = " << system.penalty() << " after "
                   << system.penalty_doublings << " doublings, K "
-                  << dg::to_string(system.check_definiteness()) << std::endl;
+                  << definiteness(system) << std::endl;
         system.assemble(system.penalty() / 2, 1);
-        std::cout << "  half of it: K "
-                  << dg::to_string(system.check_definiteness()) << std::endl;
+        std::cout << "  half of it: K " << definiteness(system) << std::endl;
       }
 }
