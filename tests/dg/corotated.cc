@@ -1,6 +1,6 @@
-// Corotated DG (stiffness warping, paper section 7), interior penalty,
-// FE_DGQ and FE_DGP, k = 1, 2, on a cube with hanging faces, mu = 1,
-// lambda = 1.5, no loads. With R the element rotations fitted to u, the
+// Corotated DG (stiffness warping, paper section 7), interior penalty and
+// Babuska-Zlamal, FE_DGQ and FE_DGP, k = 1, 2, on a cube with hanging faces, mu
+// = 1, lambda = 1.5, no loads. With R the element rotations fitted to u, the
 // internal force is f(u) = K(R) u - F(R).
 // - A rigid rotation Q by 70 degrees about (1, 2, 2)/3: the fitted
 //   rotations are Q, and f = 0; the linear formulation gives a spurious
@@ -10,7 +10,9 @@
 //   u_z = 0 prescribed, which the rotation satisfies): f = 0. Unwarped
 //   Nitsche terms give the normal stress 2 lambda (cos 70 - 1) here.
 // - Objectivity: for a non-uniform u with jumps between the cells (a twist
-//   and a stretch, projected cellwise), f(Q (x + u) - x) = Q f(u).
+//   and a stretch, projected cellwise), f(Q (x + u) - x) = Q f(u). Not for
+//   BZ, whose penalty is not warped (doc/dg.md): it is objective only where
+//   the jumps vanish, as in the rigid motions above.
 
 #include <deal.II/base/function.h>
 
@@ -73,8 +75,16 @@ main(int argc, char **argv)
       return c == 2 && x[2] < 1e-12;
     };
 
+  std::vector<dg::Parameters> variants =
+    testing::interior_penalty_variants(dg::Parameters::Formulation::corotated);
   for (dg::Parameters p : testing::interior_penalty_variants(
          dg::Parameters::Formulation::corotated))
+    {
+      p.flux = dg::Parameters::Flux::babuska_zlamal;
+      variants.push_back(p);
+    }
+
+  for (const dg::Parameters &p : variants)
     {
       const auto fe = p.make_element<3>();
       std::cout << testing::describe(p) << ":\n";
@@ -122,34 +132,36 @@ main(int argc, char **argv)
       }
 
       // Objectivity.
-      {
-        dg::System<3>  system(tria, *fe, 3, p, free);
-        Vector<double> u, x, force(system.dof_handler.n_dofs()),
-          rotated_force(force.size());
-        system.project_locally(Twisted(), u);
-        system.project_locally(Functions::IdentityFunction<3>(), x);
-        Vector<double> u_rotated = x;
-        u_rotated += u;
-        u_rotated = testing::transform_blocks(system,
-                                              u_rotated,
-                                              [&](const auto &) { return Q; });
-        u_rotated -= x;
-        system.assemble(10, 1, &u);
-        system.matrix.vmult(force, u);
-        force -= system.rhs;
-        system.assemble(10, 1, &u_rotated);
-        system.matrix.vmult(rotated_force, u_rotated);
-        rotated_force -= system.rhs;
-        rotated_force -=
-          testing::transform_blocks(system, force, [&](const auto &) {
-            return Q;
-          });
-        std::cout << "  objectivity, |[u]| / |u| > 1e-6: "
-                  << (system.jump_norm(u) > 1e-6 * u.l2_norm() ? "yes" : "NO")
-                  << "\n    ";
-        testing::check_below("|f(Q (x + u) - x) - Q f(u)| / |f(u)|",
-                             rotated_force.l2_norm() / force.l2_norm(),
-                             1e-12);
-      }
+      if (p.flux == dg::Parameters::Flux::interior_penalty)
+        {
+          dg::System<3>  system(tria, *fe, 3, p, free);
+          Vector<double> u, x, force(system.dof_handler.n_dofs()),
+            rotated_force(force.size());
+          system.project_locally(Twisted(), u);
+          system.project_locally(Functions::IdentityFunction<3>(), x);
+          Vector<double> u_rotated = x;
+          u_rotated += u;
+          u_rotated =
+            testing::transform_blocks(system, u_rotated, [&](const auto &) {
+              return Q;
+            });
+          u_rotated -= x;
+          system.assemble(10, 1, &u);
+          system.matrix.vmult(force, u);
+          force -= system.rhs;
+          system.assemble(10, 1, &u_rotated);
+          system.matrix.vmult(rotated_force, u_rotated);
+          rotated_force -= system.rhs;
+          rotated_force -=
+            testing::transform_blocks(system, force, [&](const auto &) {
+              return Q;
+            });
+          std::cout << "  objectivity, |[u]| / |u| > 1e-6: "
+                    << (system.jump_norm(u) > 1e-6 * u.l2_norm() ? "yes" : "NO")
+                    << "\n    ";
+          testing::check_below("|f(Q (x + u) - x) - Q f(u)| / |f(u)|",
+                               rotated_force.l2_norm() / force.l2_norm(),
+                               1e-12);
+        }
     }
 }
