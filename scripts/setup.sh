@@ -35,10 +35,11 @@ if [ "${1:-}" = "--test" ]; then
   # library, so that its internal assertions are checked too; of the DG
   # tests the ones that cover every code path in about a minute (the rest
   # take 1-3 minutes each in Debug), the metamaterial fit, the embedded
-  # samples and the fitting threads' error handling.
+  # samples and the fitting threads' error handling. Not the thread-count
+  # test, whose 19575-unknown solves check round-off, not assertions.
   cmake -S . -B build-debug -DCMAKE_BUILD_TYPE=Debug
   cmake --build build-debug -j2
-  (cd build-debug && ctest -j2 --output-on-failure -R \
+  (cd build-debug && ctest -j2 --output-on-failure -E "^ddfem/threads\\." -R \
     "^(ddfem|stability)/|^coarsening/(fit|embedded_samples|parallel_fit)\\.|^dg/(bad_penalty|contrast_1e6|corotated|large_penalty|linear_stress|rigid_body)\\.")
 else
   build/ddfem prm/default.prm
