@@ -523,6 +523,47 @@ namespace ddfem::app
 
   namespace
   {
+    /**
+     * Throws if the include statements of the parameter file @p file,
+     * followed as ParameterHandler follows them (paths as written, from the
+     * working directory), lead back to a file of @p chain, the files that
+     * include it (each as written and as a canonical path). ParameterHandler
+     * would recurse until the stack overflows.
+     */
+    void
+    check_include_cycles(
+      const std::string                                &file,
+      std::vector<std::pair<std::string, std::string>> &chain)
+    {
+      namespace fs = std::filesystem;
+      std::error_code   error;
+      const std::string path = fs::weakly_canonical(file, error).string();
+      for (std::size_t i = 0; i < chain.size(); ++i)
+        if (chain[i].second == path)
+          {
+            std::string cycle;
+            for (std::size_t j = i; j < chain.size(); ++j)
+              cycle += "\"" + chain[j].first + "\" includes ";
+            AssertThrow(false,
+                        ExcMessage("its include statements form a cycle: " +
+                                   cycle + "\"" + file + "\" again."));
+          }
+      std::ifstream input(file);
+      if (!input || fs::path(file).extension() != ".prm")
+        return; // ParameterHandler reports it, or has no includes there
+      chain.emplace_back(file, path);
+      std::string line;
+      while (std::getline(input, line))
+        {
+          line = Utilities::trim(line.substr(0, line.find('#')));
+          if (line.rfind("include ", 0) == 0 || line.rfind("INCLUDE ", 0) == 0)
+            check_include_cycles(Utilities::trim(line.substr(8)), chain);
+        }
+      chain.pop_back();
+    }
+
+
+
     /// Run type "compare": see Comparison.
     int
     run_comparison(ParameterHandler  &prm,
@@ -680,6 +721,8 @@ namespace ddfem::app
                                   ".")));
         try
           {
+            std::vector<std::pair<std::string, std::string>> chain;
+            check_include_cycles(prm_file, chain);
             prm.parse_input(prm_file);
           }
         catch (ExceptionBase &e)

@@ -118,6 +118,11 @@ main(int argc, char **argv)
     cantilever +
       "subsection Layout\n  set Type = voxel file\n  subsection Voxel file\n"
       "    set File name = wrong_size.txt\n  end\nend\n");
+  // A file that includes itself (ParameterHandler would recurse until the
+  // stack overflows), and two that include each other.
+  run_case("include_cycle", "include include_cycle.prm\n" + cantilever);
+  std::ofstream("include_other.prm") << "include include_each_other.prm\n";
+  run_case("include_each_other", "include include_other.prm\n" + cantilever);
   run_case("material_not_in_palette",
            cantilever + "subsection Layout\n  set Material = 4\nend\n");
   run_case("bad_expression",
