@@ -224,9 +224,9 @@ namespace ddfem::scene
         prm.declare_entry(
           "Angle",
           "90",
-          Patterns::Double(),
+          Patterns::Double(-3600, 3600),
           "rotation: angle in degrees at load factor 1 (right-handed "
-          "about 'Axis').");
+          "about 'Axis'), from -3600 to 3600 (ten turns).");
         prm.declare_entry(
           "Center",
           "auto",

@@ -123,6 +123,14 @@ main(int argc, char **argv)
   run_case("include_cycle", "include include_cycle.prm\n" + cantilever);
   std::ofstream("include_other.prm") << "include include_each_other.prm\n";
   run_case("include_each_other", "include include_other.prm\n" + cantilever);
+  // 1e308 degrees overflowed to an infinite angle in radians, whose NaN
+  // boundary values the Newton solver took as reached.
+  run_case("rotation_angle",
+           cantilever,
+           {"--set",
+            "Boundary conditions/Condition 2/Type=rotation",
+            "--set",
+            "Boundary conditions/Condition 2/Angle=1e308"});
   run_case("material_not_in_palette",
            cantilever + "subsection Layout\n  set Material = 4\nend\n");
   run_case("bad_expression",
