@@ -215,11 +215,11 @@ namespace ddfem::scene
     TriangleMesh
     read_obj(const std::string &file, const std::string &content)
     {
-      TriangleMesh       mesh;
-      std::istringstream in(content);
-      std::string        line;
-      unsigned int       line_no = 0;
-      const auto         where   = [&]() {
+      std::vector<Point<3>> vertices, corners;
+      std::istringstream    in(content);
+      std::string           line;
+      unsigned int          line_no = 0;
+      const auto            where   = [&]() {
         return file + ", line " + std::to_string(line_no) + ": ";
       };
       while (std::getline(in, line))
@@ -235,7 +235,7 @@ namespace ddfem::scene
               AssertThrow(parse_point(tokens, 1, p),
                           ExcMessage(where() + "malformed vertex line \"" +
                                      line + "\"."));
-              mesh.vertices.push_back(p);
+              vertices.push_back(p);
             }
           else if (tokens[0] == "f")
             {
@@ -254,7 +254,7 @@ namespace ddfem::scene
                   AssertThrow(parse(token.substr(0, token.find('/')), index),
                               ExcMessage(where() + "malformed face vertex \"" +
                                          std::string(token) + "\"."));
-                  const long long n_vertices = mesh.vertices.size();
+                  const long long n_vertices = vertices.size();
                   const long long v =
                     index > 0 ? index - 1 : n_vertices + index;
                   AssertThrow(index != 0 && v >= 0 && v < n_vertices,
@@ -266,10 +266,14 @@ namespace ddfem::scene
                   face.push_back(static_cast<unsigned int>(v));
                 }
               for (std::size_t c = 1; c + 1 < face.size(); ++c)
-                mesh.triangles.push_back({{face[0], face[c], face[c + 1]}});
+                for (const unsigned int v : {face[0], face[c], face[c + 1]})
+                  corners.push_back(vertices[v]);
             }
         }
-      return mesh;
+      // As an STL file's corners: vertices at the same place become one
+      // (a mesh written as a triangle soup is closed), and vertices no face
+      // uses do not count toward 'Fit to grid'.
+      return merge_corners(corners);
     }
 
 

@@ -160,7 +160,17 @@ main()
         binary.write(reinterpret_cast<const char *>(&attribute), 2);
       }
     ascii << "endsolid octahedron\n";
+    // The OBJ as a triangle soup (three vertices of its own per triangle),
+    // and with a vertex that no face uses.
+    std::ofstream soup("octahedron_soup.obj");
+    for (const auto &t : mesh.triangles)
+      for (const unsigned int i : t)
+        soup << "v " << mesh.vertices[i] << "\n";
+    for (unsigned int t = 0; t < mesh.triangles.size(); ++t)
+      soup << "f " << 3 * t + 1 << " " << 3 * t + 2 << " " << 3 * t + 3 << "\n";
   }
+  std::ofstream("octahedron_stray.obj")
+    << std::ifstream("octahedron.obj").rdbuf() << "v 1 1 1\n";
   unsigned int inside = 0;
   for (unsigned int k = 0; k < 16; ++k)
     for (unsigned int j = 0; j < 16; ++j)
@@ -170,16 +180,25 @@ main()
                      std::abs((k + 0.5) * 0.01 - 0.08) <=
                    0.0605);
   std::cout << "octahedron: voxel centers inside " << inside << std::endl;
-  for (const std::string file :
-       {"octahedron.obj", "octahedron_ascii.stl", "octahedron_binary.stl"})
-    std::cout << "  " << file << ": "
-              << histogram(
-                   make_scene("set Type = surface mesh\nset Material = 2\n"
-                              "subsection Surface mesh\n set File name = " +
-                                file + "\n set Fit to grid = false\nend",
-                              "16, 16, 16")
-                     .grid)[2]
-              << " voxels" << std::endl;
+  const auto voxels = [&](const std::string &file, const std::string &fit) {
+    return histogram(make_scene("set Type = surface mesh\nset Material = 2\n"
+                                "subsection Surface mesh\n set File name = " +
+                                  file + "\n set Fit to grid = " + fit +
+                                  "\nend",
+                                "16, 16, 16")
+                       .grid)[2];
+  };
+  for (const std::string file : {"octahedron.obj",
+                                 "octahedron_ascii.stl",
+                                 "octahedron_binary.stl",
+                                 "octahedron_soup.obj",
+                                 "octahedron_stray.obj"})
+    std::cout << "  " << file << ": " << voxels(file, "false") << " voxels"
+              << std::endl;
+  std::cout << "  fitted to the grid: octahedron.obj "
+            << voxels("octahedron.obj", "true") << " voxels, with a vertex "
+            << "that no face uses " << voxels("octahedron_stray.obj", "true")
+            << std::endl;
 
   // Voxel meshes of the sphere scene: fine and one level coarser.
   const auto sphere =
