@@ -207,6 +207,17 @@ namespace ddfem::scene
       AssertThrow(!in_facet,
                   ExcMessage(file +
                              ": ends inside a facet (missing \"endfacet\")."));
+      // Binary files often start with "solid" as well: one whose size does
+      // not match its triangle count (a truncated one, say) gets here.
+      AssertThrow(!corners.empty() || content.size() < 84,
+                  ExcMessage(file +
+                             ": starts with \"solid\" but has no ASCII facet, "
+                             "and as a binary STL its size " +
+                             std::to_string(content.size()) +
+                             " bytes does not equal 84 + 50 * " +
+                             std::to_string(n_binary) +
+                             ", the triangle count in its header (a "
+                             "truncated file?)."));
       return merge_corners(corners);
     }
 

@@ -350,6 +350,20 @@ main(int argc, char **argv)
     cantilever +
       "subsection Layout\n  set Type = surface mesh\n  subsection Surface mesh\n"
       "    set File name = open.obj\n  end\nend\n");
+  // A binary STL whose header starts with "solid", cut short: neither its
+  // size nor its text fits a format.
+  {
+    std::ofstream stl("truncated.stl", std::ios::binary);
+    stl << "solid made by an exporter" << std::string(55, ' ');
+    const std::uint32_t n = 12;
+    stl.write(reinterpret_cast<const char *>(&n), 4);
+    stl << std::string(200, '\1');
+  }
+  run_case(
+    "truncated_binary_stl",
+    cantilever +
+      "subsection Layout\n  set Type = surface mesh\n  subsection Surface mesh\n"
+      "    set File name = truncated.stl\n  end\nend\n");
   std::ofstream("damaged.h5.journal") << "not a journal\n";
   run_case("damaged_journal",
            cantilever,
