@@ -186,7 +186,8 @@ namespace ddfem::scene
         "true",
         Patterns::Bool(),
         "Scale and center the mesh uniformly to fill the grid's bounding "
-        "box; if false, mesh coordinates are taken as meters.");
+        "box; if false, mesh coordinates are taken as meters and must lie "
+        "in the grid (within half a voxel).");
       prm.leave_subsection();
     }
     prm.leave_subsection();
@@ -408,6 +409,26 @@ namespace ddfem::scene
                                      "Fit to grid = true): " +
                                      message_of(e)));
             }
+        else
+          {
+            // A part reaching out of the grid would be cut off without a
+            // word; half a voxel leaves room for a mesh that touches its
+            // faces.
+            const double h = 0.5 * grid.voxel_size();
+            for (const Point<3> &p : mesh.vertices)
+              for (unsigned int d = 0; d < 3; ++d)
+                AssertThrow(p[d] >= -h && p[d] <= extent[d] + h,
+                            ExcMessage(
+                              "Surface mesh \"" + surface_file +
+                              "\" (Layout/Surface mesh/File name, "
+                              "Fit to grid = false): its vertex " +
+                              format_point(p) +
+                              " lies outside the grid, from (0, 0, 0) to " +
+                              format_point(extent) +
+                              " m, by more than half a voxel. Move "
+                              "or scale the mesh, or set Fit to "
+                              "grid = true."));
+          }
         grid = VoxelGrid(n, grid.voxel_size(), void_id);
         voxelize(mesh, material, grid);
       }

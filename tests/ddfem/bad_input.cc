@@ -364,6 +364,17 @@ main(int argc, char **argv)
     cantilever +
       "subsection Layout\n  set Type = surface mesh\n  subsection Surface mesh\n"
       "    set File name = truncated.stl\n  end\nend\n");
+  // A closed tetrahedron far larger than the 0.02 x 0.04 x 0.02 m grid:
+  // without 'Fit to grid', most of it would be cut off.
+  std::ofstream("too_large.obj")
+    << "v 0 0 0\nv 0.16 0 0\nv 0 0.16 0\nv 0 0 0.16\n"
+       "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+  run_case(
+    "mesh_outside_grid",
+    cantilever +
+      "subsection Layout\n  set Type = surface mesh\n  subsection Surface mesh\n"
+      "    set File name = too_large.obj\n    set Fit to grid = false\n"
+      "  end\nend\n");
   std::ofstream("damaged.h5.journal") << "not a journal\n";
   run_case("damaged_journal",
            cantilever,
