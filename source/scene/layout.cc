@@ -5,6 +5,7 @@
 #include <ddfem/scene/layout.h>
 #include <ddfem/scene/voxel_io.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -354,6 +355,7 @@ namespace ddfem::scene
                                "to " +
                                std::to_string(n_materials) + "."));
         shape.material = static_cast<MaterialId>(id);
+        shape.where    = where;
         result.push_back(shape);
       }
     return result;
@@ -482,6 +484,25 @@ namespace ddfem::scene
                   id = random_materials[random() % random_materials.size()];
                 grid(i, j, k) = id;
               }
+        // A skin thinner than half a voxel, or fibers between the voxel
+        // centers, would silently leave the base material alone.
+        const MaterialId painted_id =
+          (type == "skin" ? skin_material : fiber_material);
+        AssertThrow(
+          (type != "skin" && type != "fibers") ||
+            std::count(grid.data().begin(), grid.data().end(), painted_id) >
+              0 ||
+            painted_id == material,
+          ExcMessage(
+            type == "skin" ?
+              "Layout/Skin/Thickness = " + format_number(skin_thickness) +
+                " m reaches no voxel center (they lie half a voxel, " +
+                format_number(0.5 * grid.voxel_size()) +
+                " m, in from the faces): the skin would be empty." :
+              "Layout/Fibers: no voxel center lies within 'Fiber "
+              "radius' of a fiber's axis (check 'Helix radius' "
+              "against the grid's cross-section): the fibers "
+              "would be empty."));
       }
 
     paint(shapes, grid);
@@ -492,14 +513,27 @@ namespace ddfem::scene
   void
   Layout::paint(const std::vector<Shape> &list, VoxelGrid &grid)
   {
-    const auto &n = grid.size();
+    const auto       &n = grid.size();
+    std::vector<bool> painted(list.size(), false);
     if (!list.empty())
       for (unsigned int k = 0; k < n[2]; ++k)
         for (unsigned int j = 0; j < n[1]; ++j)
           for (unsigned int i = 0; i < n[0]; ++i)
-            for (const Shape &shape : list)
-              if (shape.contains(grid.center(i, j, k)))
-                grid(i, j, k) = shape.material;
+            for (unsigned int s = 0; s < list.size(); ++s)
+              if (list[s].contains(grid.center(i, j, k)))
+                {
+                  grid(i, j, k) = list[s].material;
+                  painted[s]    = true;
+                }
+    for (unsigned int s = 0; s < list.size(); ++s)
+      AssertThrow(painted[s],
+                  ExcMessage(list[s].where +
+                             ": the shape contains no voxel center of the "
+                             "grid, which spans (0, 0, 0) to " +
+                             format_point(grid.extent()) +
+                             " m with voxel centers half a voxel in from its "
+                             "faces, so it would paint nothing (coordinates "
+                             "are meters)."));
   }
 
 

@@ -131,6 +131,16 @@ main(int argc, char **argv)
             "Boundary conditions/Condition 2/Type=rotation",
             "--set",
             "Boundary conditions/Condition 2/Angle=1e308"});
+  // Layouts that would paint nothing: a box given in voxel indices instead
+  // of meters, and a skin thinner than half a voxel.
+  run_case("shape_outside_grid",
+           cantilever +
+             "subsection Layout\n  set Shapes = box 1 1 1 2 2 2 : 2\n"
+             "end\n");
+  run_case("skin_thinner_than_half_a_voxel",
+           cantilever + "subsection Layout\n  set Type = skin\n"
+                        "  subsection Skin\n    set Thickness = 0.004\n  end\n"
+                        "end\n");
   run_case("material_not_in_palette",
            cantilever + "subsection Layout\n  set Material = 4\nend\n");
   run_case("bad_expression",

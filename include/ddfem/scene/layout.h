@@ -67,6 +67,8 @@ namespace ddfem::scene
       } kind;
       std::vector<double> values;
       MaterialId          material;
+      /// Its parameter and entry, for messages.
+      std::string where;
 
       /// Whether @p p lies inside this shape.
       bool
@@ -79,7 +81,8 @@ namespace ddfem::scene
                  const unsigned int n_materials,
                  const std::string &parameter);
 
-    /// Paints @p list over @p grid in order.
+    /// Paints @p list over @p grid in order. A shape that contains no
+    /// voxel center is an error: it would paint nothing.
     static void
     paint(const std::vector<Shape> &list, VoxelGrid &grid);
 
