@@ -255,7 +255,7 @@ namespace
                   << ": level-2 points are the children's level-1 points: "
                   << (distance < 1e-15 ? "yes" : "NO") << std::endl;
       }
-    for (const double a : {0., 1.})
+    for (const double a : {0.2, 1.})
       try
         {
           solver::coarse_quadrature(1, a);

@@ -573,7 +573,7 @@ end
            {"--set",
             "Database/File=",
             "--set",
-            "Discretization/Coarse point offset=0"});
+            "Discretization/Coarse point offset=1"});
   run_case(
     "duplicate_methods",
     cantilever,

@@ -22,7 +22,7 @@ namespace ddfem::solver
 
   /**
    * Throws ExcMessage naming 'Discretization/Coarse point offset' unless
-   * 0 < @p point_offset < 1.
+   * 0.25 <= @p point_offset < 1.
    */
   void
   check_point_offset(const double point_offset);
