@@ -83,6 +83,10 @@ namespace ddfem::app
       const auto value = Utilities::trim(text.substr(equal + 1));
       AssertThrow(!path.empty(),
                   ExcMessage("--set \"" + text + "\": no parameter name."));
+      // The run's parameters.prm could not be read back.
+      AssertThrow(text.find_first_of("\n\r") == std::string::npos,
+                  ExcMessage("--set \"" + text +
+                             "\": a value must not contain a line break."));
       // A misspelt subsection or parameter is named as such (deal.II would
       // create the misspelt subsection and then report a missing entry).
       const std::string name     = text.substr(0, equal);

@@ -384,6 +384,17 @@ namespace ddfem::dg
     AssertThrow(!problems.empty() && !methods.empty(),
                 ExcMessage("DG convergence/Problems and Methods must each "
                            "name at least one entry."));
+    // A study runs each entry once: a repeated one would only run again.
+    for (const std::string parameter : {"Problems", "Methods"})
+      {
+        auto names = Utilities::split_string_list(prm.get(parameter));
+        std::sort(names.begin(), names.end());
+        const auto repeated = std::adjacent_find(names.begin(), names.end());
+        AssertThrow(repeated == names.end(),
+                    ExcMessage("DG convergence/" + parameter + " names \"" +
+                               (repeated == names.end() ? "" : *repeated) +
+                               "\" twice; give each entry once."));
+      }
     for (const StudyMethod &method : methods)
       if (!method.continuous)
         dg.check_penalty(method.flux,

@@ -28,7 +28,7 @@ namespace ddfem::solver
     prm.declare_entry(
       "Tolerance",
       "1e-2",
-      Patterns::Double(0, 1),
+      Patterns::Double(1e-12, 1),
       "cg-amg: the loosest relative residual reduction of a linear solve. "
       "Newton's method tightens it to 0.1 |R| / |R_ref| as its residual "
       "|R| falls (inexact Newton), so early iterations are cheap and the "
@@ -36,7 +36,7 @@ namespace ddfem::solver
     prm.declare_entry(
       "Cholesky tolerance",
       "1e-8",
-      Patterns::Double(0, 1),
+      Patterns::Double(1e-12, 1),
       "cg-cholesky: the loosest relative residual reduction of a linear "
       "solve (tightened like 'Tolerance'). Its iterations are cheap, so "
       "tight solves that keep Newton's quadratic convergence pay off.");

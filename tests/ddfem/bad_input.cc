@@ -154,6 +154,10 @@ main(int argc, char **argv)
            cantilever,
            {"--set", "Nonlinear solver/Load steps=-3"});
   run_case("unknown_override", cantilever, {"--set", "Solver/Load steps=3"});
+  run_case("line_break_in_override", cantilever, {"--set", "Scene name=a\nb"});
+  run_case("zero_linear_tolerance",
+           cantilever,
+           {"--set", "Linear solver/Tolerance=0"});
   run_case("unknown_override_entry",
            cantilever,
            {"--set", "Nonlinear solver/Load stepz=3"});

@@ -3,7 +3,8 @@
 // the other DG input errors give clear messages too: penalties out of
 // range, an automatic penalty with the Babuska-Zlamal flux, conditions
 // that leave rigid motions free (of the whole solid, or of a part joined to
-// the rest by an edge only), loads that are not finite.
+// the rest by an edge only), loads that are not finite, a study method
+// named twice.
 
 #include <ddfem/app/application.h>
 
@@ -70,6 +71,12 @@ main(int argc, char **argv)
            "set Run type = dg convergence\n"
            "subsection DG convergence\n  set Problems = 2D Poisson\n"
            "  set Methods = IP lin, BZ lin\n  set 2D refinements = 1, 1\n"
+           "end\n",
+           "");
+  run_case("repeated_study_method",
+           "set Run type = dg convergence\n"
+           "subsection DG convergence\n  set Problems = 2D Poisson\n"
+           "  set Methods = IP lin, IP lin\n  set 2D refinements = 1, 1\n"
            "end\n",
            "");
   run_case("automatic_cost",
