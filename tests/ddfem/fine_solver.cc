@@ -387,7 +387,7 @@ namespace
     testing::check_below("  largest difference to the uncut solve, relative",
                          difference.linfty_norm() /
                            uncut.solver->solution().linfty_norm(),
-                         1e-6);
+                         1e-7);
   }
 
   /**
