@@ -5,7 +5,8 @@
 // 2. a homogeneous block in uniaxial stretch with free lateral faces
 //    against the analytic compressible Neo-Hookean solution;
 // 3. the patch test: an affine boundary displacement is reproduced
-//    exactly inside;
+//    exactly inside; a rigid rotation by 150 degrees of one face turns the
+//    free, unloaded rest rigidly, at zero energy;
 // 4. the small-load limit: the solution divided by the load tends to the
 //    linear elastic one at first order;
 // 5. Newton's iteration budget: a load step that needs N iterations
@@ -249,6 +250,55 @@ namespace
                          1e-10);
   }
 
+  /**
+   * A rigid rotation: a heterogeneous bar whose y- face is turned by 150
+   * degrees about (1, 2, 2)/3 through the face's centre (the 'rotation'
+   * condition, Rodrigues' formula) and which is otherwise free and unloaded
+   * rotates rigidly. The rotation is affine, so the Q1 space holds it
+   * exactly; the energy vanishes, as it must for a frame-indifferent
+   * material.
+   */
+  void
+  rigid_rotation()
+  {
+    testing::Problem problem(
+      testing::cantilever("2, 6, 3", "0; 0; 0") + testing::layers("0.01", "y") +
+      "subsection Boundary conditions\n subsection Condition 1\n"
+      "  set Type = rotation\n  set Axis = 1, 2, 2\n  set Angle = 150\n"
+      " end\n subsection Condition 2\n  set Type = none\n end\nend\n"
+      "subsection Nonlinear solver\n set Load steps = 6\nend\n");
+    const auto                      statistics = problem.solve();
+    const auto                      points     = support_points(problem);
+    const std::vector<unsigned int> component =
+      solver::dof_components(problem.discretization->dof_handler);
+    // The y- face's centre and the rotation of Rodrigues' formula.
+    const Point<3>     center(0.01, 0, 0.015);
+    const Tensor<1, 3> k({1. / 3, 2. / 3, 2. / 3});
+    const double       a     = 150 * numbers::PI / 180;
+    double             error = 0, largest = 0;
+    for (unsigned int i = 0; i < points.size(); ++i)
+      {
+        const Tensor<1, 3> r       = points[i] - center;
+        const Tensor<1, 3> rotated = r * std::cos(a) +
+                                     cross_product_3d(k, r) * std::sin(a) +
+                                     k * (k * r) * (1 - std::cos(a));
+        const double exact = rotated[component[i]] - r[component[i]];
+        error              = testing::worst(error,
+                               std::abs(problem.solver->solution()(i) - exact));
+        largest            = std::max(largest, std::abs(exact));
+      }
+    std::cout << "Rigid rotation by 150 degrees, converged: " << std::boolalpha
+              << statistics.converged << std::endl;
+    testing::check_below("  nodal error vs the rigid rotation, relative",
+                         error / largest,
+                         1e-10);
+    testing::check_below(
+      "  energy, relative to that of a 1 % stretch of the stiffest material",
+      std::abs(problem.solver->energy(problem.solver->solution(), 1)) /
+        (0.5 * 1e7 * 1e-4 * 0.02 * 0.06 * 0.03),
+      1e-10);
+  }
+
   /// Cantilever under a tip traction of @p load Pa: the nonlinear
   /// solution and the linear elastic one (tangent at u = 0).
   double
@@ -441,6 +491,7 @@ main(int argc, char **argv)
   tangent_check();
   uniaxial_stretch();
   patch_test();
+  rigid_rotation();
   small_load_limit();
   load_cuts(newton_budget());
   vertex_jacobians();
