@@ -128,6 +128,41 @@ main()
                        deviation,
                        1e-14);
 
+  // The Cauchy stress of a rotated stretch against the closed form of the
+  // material, sigma = (mu (B - I) + lambda ln J I) / J with B = F F^T.
+  {
+    Tensor<2, 3> F;
+    F[0][0] = 1.2, F[1][1] = 0.9, F[2][2] = 1.1;
+    Tensor<2, 3> Q = unit_symmetric_tensor<3>();
+    Q[0][0] = Q[1][1] = std::cos(0.7);
+    Q[0][1]           = -std::sin(0.7);
+    Q[1][0]           = std::sin(0.7);
+    F                 = Q * F;
+    m.anisotropy      = 0;
+    material::evaluate(F, m, material::KernelOutput::stress, r);
+    const double       J = determinant(F);
+    const Tensor<2, 3> expected =
+      (m.mu * (F * transpose(F) - unit_symmetric_tensor<3>()) +
+       m.lambda * std::log(J) * unit_symmetric_tensor<3>()) /
+      J;
+    testing::check_below(
+      "Cauchy stress of a rotated stretch vs closed form, "
+      "relative",
+      (material::cauchy_stress(r.stress, F) - expected).norm() /
+        expected.norm(),
+      1e-14);
+  }
+
+  // The largest principal linearized strain of F = I + G: sym(G) has the
+  // eigenvalues 0.15, -0.1 and 0.03.
+  {
+    Tensor<2, 3> F = unit_symmetric_tensor<3>();
+    F[0][0] += 0.1, F[0][1] += 0.2, F[1][1] -= 0.05, F[2][2] += 0.03;
+    testing::check_below("linearized strain of I + G vs 0.15",
+                         std::abs(material::linearized_strain(F) - 0.15),
+                         1e-14);
+  }
+
   // Hydrostatic Cauchy stress has no von Mises part; uniaxial has |sigma|.
   Tensor<2, 3> sigma;
   sigma[0][0] = sigma[1][1] = sigma[2][2] = -3e4;
