@@ -157,36 +157,41 @@ namespace
 
 
   /// The records of the naive and average elements of one 2x2x2 block
-  /// with a soft, a stiff (contrast 1e4) and a void voxel. The naive void
-  /// point gets the soft voxel's mu: 1e-3 of the stiff one would make it
-  /// ten times stiffer than the soft material.
+  /// with a soft, a stiff and a void voxel. The naive void point gets 1e-3
+  /// of the stiff voxel's mu, but never more than the soft one's: at a
+  /// contrast of 1e4, 1e-3 of the stiff one would make it ten times
+  /// stiffer than the soft material, so it gets the soft mu; at a contrast
+  /// of 100 it gets 0.1 times the soft mu.
   void
   baseline_records()
   {
-    std::cout << "Baseline records of a block with ids 1 2 0 1 1 1 1 1, "
-                 "E = 1e2 and 1e6"
-              << std::endl;
-    scene::Palette palette;
-    palette.parse("E=1e2 nu=0.3; E=1e6 nu=0.3");
-    scene::VoxelGrid grid({{2, 2, 2}}, 1, 1);
-    grid(1, 0, 0) = 2;
-    grid(0, 1, 0) = scene::void_id;
-    for (const auto method :
-         {CoarseningMethod::naive, CoarseningMethod::average})
+    for (const std::string soft : {"1e2", "1e4"})
       {
-        const coarsening::Coarsener coarsener(method,
-                                              1,
-                                              palette,
-                                              1 / std::sqrt(3.));
-        // Ten digits: the average's 1250.75 = (6 + 1e4 + 0) / 8 tells
-        // void (0) from soft (1250.875) and from the floor (1252).
-        std::ostringstream ratios;
-        ratios << std::setprecision(10);
-        for (const auto &p : coarsener.block_material(grid, 0).points)
-          ratios << " " << p.mu / palette[1].material_point().mu;
-        std::cout << "  " << coarsening::to_string(method)
-                  << ": mu / mu of E = 1e2 per point:" << ratios.str()
-                  << std::endl;
+        std::cout << "Baseline records of a block with ids 1 2 0 1 1 1 1 1, "
+                     "E = "
+                  << soft << " and 1e6" << std::endl;
+        scene::Palette palette;
+        palette.parse("E=" + soft + " nu=0.3; E=1e6 nu=0.3");
+        scene::VoxelGrid grid({{2, 2, 2}}, 1, 1);
+        grid(1, 0, 0) = 2;
+        grid(0, 1, 0) = scene::void_id;
+        for (const auto method :
+             {CoarseningMethod::naive, CoarseningMethod::average})
+          {
+            const coarsening::Coarsener coarsener(method,
+                                                  1,
+                                                  palette,
+                                                  1 / std::sqrt(3.));
+            // Ten digits: the average's 1250.75 = (6 + 1e4 + 0) / 8 tells
+            // void (0) from soft (1250.875) and from the floor (1252).
+            std::ostringstream ratios;
+            ratios << std::setprecision(10);
+            for (const auto &p : coarsener.block_material(grid, 0).points)
+              ratios << " " << p.mu / palette[1].material_point().mu;
+            std::cout << "  " << coarsening::to_string(method)
+                      << ": mu / mu of E = " << soft
+                      << " per point:" << ratios.str() << std::endl;
+          }
       }
   }
 
