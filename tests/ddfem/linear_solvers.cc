@@ -9,7 +9,8 @@
 //    next, nearby tangent by a few CG iterations with the old factor to the
 //    requested tolerance, factorizes again when a tangent is too far from
 //    the factored one, and hands an indefinite tangent to UMFPACK (after
-//    the reuse iterations fail), and the next systems at once.
+//    the reuse iterations fail), and the next 10 systems at once; the
+//    eleventh is factorized again and the twelfth solved by CG.
 
 #include <deal.II/lac/sparse_direct.h>
 
@@ -145,7 +146,17 @@ main(int argc, char **argv)
     for (unsigned int i = 0; i < n; i += 7)
       indefinite.diag_element(i) = -indefinite.diag_element(i);
     solve("indefinite tangent, UMFPACK", indefinite, 1e-10);
-    // The next 10 systems go to UMFPACK at once (1 iteration, no CG).
+    // The next 10 systems go to UMFPACK at once (1 iteration, no CG), then
+    // CG takes over again.
     solve("the same again, UMFPACK at once", indefinite, 1e-10);
+    bool direct = true;
+    for (unsigned int i = 0; i < 9; ++i)
+      direct = direct && linear_solver.solve(K1, x, b) == 1;
+    std::cout << "  nine more systems, UMFPACK at once: "
+              << (direct ? "yes" : "NO") << std::endl;
+    // Then K1 is factorized (the indefinite matrix left no factor), and
+    // K0 is solved by CG with that factor.
+    solve("the eleventh, Cholesky factor of K1", K1, 1e-12);
+    solve("the twelfth, K0 by CG with K1's factor", K0, 1e-8);
   }
 }
