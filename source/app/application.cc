@@ -530,9 +530,11 @@ namespace ddfem::app
     /**
      * Throws if the include statements of the parameter file @p file,
      * followed as ParameterHandler follows them (paths as written, from the
-     * working directory), lead back to a file of @p chain, the files that
-     * include it (each as written and as a canonical path). ParameterHandler
-     * would recurse until the stack overflows.
+     * working directory; an included file is read as PRM text whatever its
+     * name), lead back to a file of @p chain, the files that include it
+     * (each as written and as a canonical path). ParameterHandler would
+     * recurse until the stack overflows. A top-level XML or JSON file has
+     * no include statements.
      */
     void
     check_include_cycles(
@@ -553,8 +555,16 @@ namespace ddfem::app
                                    cycle + "\"" + file + "\" again."));
           }
       std::ifstream input(file);
-      if (!input || fs::path(file).extension() != ".prm")
-        return; // ParameterHandler reports it, or has no includes there
+      if (!input)
+        return; // ParameterHandler reports it
+      if (chain.empty())
+        {
+          std::string extension = fs::path(file).extension().string();
+          for (char &c : extension)
+            c = std::tolower(static_cast<unsigned char>(c));
+          if (extension == ".xml" || extension == ".json")
+            return;
+        }
       chain.emplace_back(file, path);
       std::string line;
       while (std::getline(input, line))

@@ -531,10 +531,10 @@ namespace ddfem::coarsening
                 " materials; databases hold at most 8 materials plus void");
         settings.point_offset =
           read_number_attribute(h5, "coarse point offset");
-        check(settings.point_offset > 0 && settings.point_offset < 1,
+        check(settings.point_offset >= 0.25 && settings.point_offset < 1,
               "has a coarse point offset of " +
                 Utilities::to_string(settings.point_offset) +
-                ", which is not in (0, 1)");
+                ", which is not in [0.25, 1)");
         const std::string fingerprint = read_attribute(h5, "settings");
         Database          db(settings, n_materials);
         db.settings_fingerprint = fingerprint;

@@ -164,6 +164,7 @@ namespace ddfem::scene
       std::string        line;
       unsigned int       line_no         = 0;
       bool               in_facet        = false;
+      bool               ended           = false;
       unsigned int       n_facet_corners = 0;
       const auto check = [&](const bool ok, const std::string &problem) {
         AssertThrow(ok,
@@ -200,16 +201,20 @@ namespace ddfem::scene
               in_facet = false;
             }
           else
-            check(keyword == "solid" || keyword == "outer" ||
-                    keyword == "endloop" || keyword == "endsolid",
-                  "unexpected keyword \"" + std::string(keyword) + "\"");
+            {
+              check(keyword == "solid" || keyword == "outer" ||
+                      keyword == "endloop" || keyword == "endsolid",
+                    "unexpected keyword \"" + std::string(keyword) + "\"");
+              ended = ended || keyword == "endsolid";
+            }
         }
       AssertThrow(!in_facet,
                   ExcMessage(file +
                              ": ends inside a facet (missing \"endfacet\")."));
       // Binary files often start with "solid" as well: one whose size does
-      // not match its triangle count (a truncated one, say) gets here.
-      AssertThrow(!corners.empty() || content.size() < 84,
+      // not match its triangle count (a truncated one, say) gets here, and
+      // has no "endsolid" line.
+      AssertThrow(!corners.empty() || ended || content.size() < 84,
                   ExcMessage(file +
                              ": starts with \"solid\" but has no ASCII facet, "
                              "and as a binary STL its size " +

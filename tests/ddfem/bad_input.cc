@@ -119,10 +119,11 @@ main(int argc, char **argv)
       "subsection Layout\n  set Type = voxel file\n  subsection Voxel file\n"
       "    set File name = wrong_size.txt\n  end\nend\n");
   // A file that includes itself (ParameterHandler would recurse until the
-  // stack overflows), and two that include each other.
+  // stack overflows), and two that include each other (an included file
+  // is read as PRM text whatever its name).
   run_case("include_cycle", "include include_cycle.prm\n" + cantilever);
-  std::ofstream("include_other.prm") << "include include_each_other.prm\n";
-  run_case("include_each_other", "include include_other.prm\n" + cantilever);
+  std::ofstream("include_other.inc") << "include include_each_other.prm\n";
+  run_case("include_each_other", "include include_other.inc\n" + cantilever);
   // 1e308 degrees overflowed to an infinite angle in radians, whose NaN
   // boundary values the Newton solver took as reached.
   run_case("rotation_angle",
@@ -389,6 +390,14 @@ main(int argc, char **argv)
       "subsection Layout\n  set Type = surface mesh\n  subsection Surface mesh\n"
       "    set File name = too_large.obj\n    set Fit to grid = false\n"
       "  end\nend\n");
+  // An ASCII STL without facets, longer than a binary header: no triangles.
+  std::ofstream("no_facets.stl")
+    << "solid " << std::string(90, 'x') << "\nendsolid\n";
+  run_case(
+    "ascii_stl_without_facets",
+    cantilever +
+      "subsection Layout\n  set Type = surface mesh\n  subsection Surface mesh\n"
+      "    set File name = no_facets.stl\n  end\nend\n");
   std::ofstream("damaged.h5.journal") << "not a journal\n";
   run_case("damaged_journal",
            cantilever,

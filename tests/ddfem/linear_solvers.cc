@@ -149,9 +149,11 @@ main(int argc, char **argv)
     // The next 10 systems go to UMFPACK at once (1 iteration, no CG), then
     // CG takes over again.
     solve("the same again, UMFPACK at once", indefinite, 1e-10);
+    // K0 and K1 in turn: CG with the factor of the other would need more
+    // than one iteration.
     bool direct = true;
     for (unsigned int i = 0; i < 9; ++i)
-      direct = direct && linear_solver.solve(K1, x, b) == 1;
+      direct = direct && linear_solver.solve(i % 2 ? K0 : K1, x, b) == 1;
     std::cout << "  nine more systems, UMFPACK at once: "
               << (direct ? "yes" : "NO") << std::endl;
     // Then K1 is factorized (the indefinite matrix left no factor), and

@@ -35,7 +35,8 @@ namespace
       type + "\nend\n");
     const auto statistics = problem.solve();
     std::cout << "  " << problem.discretization->dof_handler.n_dofs()
-              << " DoFs, " << type << ", " << threads << " thread(s): "
+              << " DoFs, " << type << ", " << MultithreadInfo::n_threads()
+              << " thread(s): "
               << (statistics.converged ? "converged" : "FAILED") << " in "
               << statistics.newton_iterations << " Newton iterations"
               << std::endl;

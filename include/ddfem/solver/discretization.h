@@ -41,7 +41,7 @@ namespace ddfem::solver
    * energy of the trilinear element's bending modes, whose strains grow
    * linearly away from the centre.
    *
-   * Throws ExcMessage for other levels and for offsets outside (0, 1)
+   * Throws ExcMessage for other levels and for offsets outside [0.25, 1)
    * (the parameter 'Discretization/Coarse point offset').
    */
   Quadrature<3>
