@@ -3,6 +3,7 @@
 #include <ddfem/app/comparison.h>
 #include <ddfem/app/model_run.h>
 #include <ddfem/base/files.h>
+#include <ddfem/base/parsing.h>
 #include <ddfem/coarsening/coarsener.h>
 #include <ddfem/report/vertex_error.h>
 #include <nlohmann/json.hpp>
@@ -350,10 +351,7 @@ namespace ddfem::app
     AssertThrow(method_names.empty() || !level_list.empty(),
                 ExcMessage("Comparison/Levels is empty: give the coarsening "
                            "levels (1, 2) of Comparison/Methods."));
-    AssertThrow(std::set<std::string>(method_names.begin(), method_names.end())
-                    .size() == method_names.size(),
-                ExcMessage("Comparison/Methods = " + prm_methods +
-                           ": name each method once."));
+    check_each_once(prm_methods, "Comparison/Methods");
     AssertThrow(std::set<int>(level_list.begin(), level_list.end()).size() ==
                   level_list.size(),
                 ExcMessage("Comparison/Levels = " + prm_levels +

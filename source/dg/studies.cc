@@ -9,6 +9,7 @@
 #include <deal.II/numerics/vector_tools.h>
 
 #include <ddfem/base/files.h>
+#include <ddfem/base/parsing.h>
 #include <ddfem/dg/studies.h>
 #include <ddfem/dg/system.h>
 #include <ddfem/report/output.h>
@@ -386,15 +387,7 @@ namespace ddfem::dg
                            "name at least one entry."));
     // A study runs each entry once: a repeated one would only run again.
     for (const std::string parameter : {"Problems", "Methods"})
-      {
-        auto names = Utilities::split_string_list(prm.get(parameter));
-        std::sort(names.begin(), names.end());
-        const auto repeated = std::adjacent_find(names.begin(), names.end());
-        AssertThrow(repeated == names.end(),
-                    ExcMessage("DG convergence/" + parameter + " names \"" +
-                               (repeated == names.end() ? "" : *repeated) +
-                               "\" twice; give each entry once."));
-      }
+      check_each_once(prm.get(parameter), "DG convergence/" + parameter);
     for (const StudyMethod &method : methods)
       if (!method.continuous)
         dg.check_penalty(method.flux,

@@ -3,10 +3,12 @@
 
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/point.h>
+#include <deal.II/base/utilities.h>
 
 #include <cmath>
 #include <cstdlib>
 #include <iomanip>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -54,6 +56,20 @@ namespace ddfem
     return dealii::Point<3>(parse_number(words[0], where),
                             parse_number(words[1], where),
                             parse_number(words[2], where));
+  }
+
+  /**
+   * Throws ExcMessage naming @p parameter unless every entry of the
+   * comma-separated list @p text appears once.
+   */
+  inline void
+  check_each_once(const std::string &text, const std::string &parameter)
+  {
+    const auto entries = dealii::Utilities::split_string_list(text);
+    AssertThrow(std::set<std::string>(entries.begin(), entries.end()).size() ==
+                  entries.size(),
+                dealii::ExcMessage(parameter + " = " + text +
+                                   ": name each entry once."));
   }
 
   /// @p x with 4 significant digits, for messages.
