@@ -72,13 +72,13 @@ namespace ddfem::coarsening
     prm.declare_entry(
       "Coarse point offset",
       "0.57735026918962576",
-      Patterns::Double(0.25, 1),
+      Patterns::Double(solver::minimum_point_offset, 1),
       "Method = ddfem, naive or average: where the coarse element's 8 "
       "points per 2x2x2 block sit, as the fraction of its half-width "
       "between its centre and each point, in every direction (from 0.25 "
       "up to, not including, 1: the element's bending energy scales with "
-      "the offset squared, and below 0.25 it nears a mechanism). 1/sqrt(3) is the 2-point Gauss rule, the paper's "
-      "element. Smaller offsets keep the element's energy under constant "
+      "the offset squared, and below 0.25 it nears a mechanism). 1/sqrt(3) "
+      "is the 2-point Gauss rule, the paper's element. Smaller offsets keep the element's energy under constant "
       "strains and lower it under bending. Metamaterials are fitted for "
       "one offset: a database built with another is rejected.");
     prm.leave_subsection();

@@ -1,9 +1,11 @@
 #include <deal.II/base/exceptions.h>
 
 #include <ddfem/base/exceptions.h>
+#include <ddfem/base/parsing.h>
 #include <ddfem/coarsening/block_sampler.h>
 #include <ddfem/coarsening/database.h>
 #include <ddfem/coarsening/hierarchy.h>
+#include <ddfem/solver/discretization.h>
 
 #include <algorithm>
 #include <cmath>
@@ -531,10 +533,11 @@ namespace ddfem::coarsening
                 " materials; databases hold at most 8 materials plus void");
         settings.point_offset =
           read_number_attribute(h5, "coarse point offset");
-        check(settings.point_offset >= 0.25 && settings.point_offset < 1,
+        check(solver::valid_point_offset(settings.point_offset),
               "has a coarse point offset of " +
                 Utilities::to_string(settings.point_offset) +
-                ", which is not in [0.25, 1)");
+                ", which is not in [" +
+                format_number(solver::minimum_point_offset) + ", 1)");
         const std::string fingerprint = read_attribute(h5, "settings");
         Database          db(settings, n_materials);
         db.settings_fingerprint = fingerprint;

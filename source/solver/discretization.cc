@@ -10,16 +10,14 @@ namespace ddfem::solver
   void
   check_point_offset(const double point_offset)
   {
-    // The element's energy in its hourglass (bending) modes scales with
-    // the offset squared: below 0.25 it is less than a fifth of the Gauss
-    // rule's, and the element nears a mechanism.
-    AssertThrow(point_offset >= 0.25 && point_offset < 1,
+    const std::string minimum = format_number(minimum_point_offset);
+    AssertThrow(valid_point_offset(point_offset),
                 ExcMessage("Discretization/Coarse point offset must lie "
-                           "from 0.25 up to (not including) 1, not " +
-                           format_number(point_offset) +
-                           ". Below 0.25 the element nears a mechanism "
-                           "(its bending energy scales with the offset "
-                           "squared)."));
+                           "from " +
+                           minimum + " up to (not including) 1, not " +
+                           format_number(point_offset) + ". Below " + minimum +
+                           " the element nears a mechanism (its bending "
+                           "energy scales with the offset squared)."));
   }
 
 

@@ -21,8 +21,23 @@ namespace ddfem::solver
   constexpr double gauss_point_offset = 0.57735026918962576451;
 
   /**
+   * The smallest coarse point offset. The element's energy in its
+   * hourglass (bending) modes scales with the offset squared: below 0.25 it
+   * is less than a fifth of the Gauss rule's, and the element nears a
+   * mechanism.
+   */
+  constexpr double minimum_point_offset = 0.25;
+
+  /// Whether minimum_point_offset <= @p point_offset < 1.
+  inline bool
+  valid_point_offset(const double point_offset)
+  {
+    return point_offset >= minimum_point_offset && point_offset < 1;
+  }
+
+  /**
    * Throws ExcMessage naming 'Discretization/Coarse point offset' unless
-   * 0.25 <= @p point_offset < 1.
+   * valid_point_offset(@p point_offset).
    */
   void
   check_point_offset(const double point_offset);
