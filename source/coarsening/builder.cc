@@ -78,9 +78,10 @@ namespace ddfem::coarsening
       "between its centre and each point, in every direction (from 0.25 "
       "up to, not including, 1: the element's bending energy scales with "
       "the offset squared, and below 0.25 it nears a mechanism). 1/sqrt(3) "
-      "is the 2-point Gauss rule, the paper's element. Smaller offsets keep the element's energy under constant "
-      "strains and lower it under bending. Metamaterials are fitted for "
-      "one offset: a database built with another is rejected.");
+      "is the 2-point Gauss rule, the paper's element. Smaller offsets "
+      "keep the element's energy under constant strains and lower it under "
+      "bending. Metamaterials are fitted for one offset: a database built "
+      "with another is rejected.");
     prm.leave_subsection();
   }
 
