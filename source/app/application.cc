@@ -557,14 +557,9 @@ namespace ddfem::app
       std::ifstream input(file);
       if (!input)
         return; // ParameterHandler reports it
-      if (chain.empty())
-        {
-          std::string extension = fs::path(file).extension().string();
-          for (char &c : extension)
-            c = std::tolower(static_cast<unsigned char>(c));
-          if (extension == ".xml" || extension == ".json")
-            return;
-        }
+      if (chain.empty() && (lowercase_extension(file) == ".xml" ||
+                            lowercase_extension(file) == ".json"))
+        return;
       chain.emplace_back(file, path);
       std::string line;
       while (std::getline(input, line))

@@ -1,9 +1,9 @@
 #include <deal.II/base/exceptions.h>
 
+#include <ddfem/base/files.h>
 #include <ddfem/scene/voxel_io.h>
 
 #include <algorithm>
-#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -444,12 +444,7 @@ namespace ddfem::scene
   {
     const std::string file = "Surface mesh file \"" + filename + "\"";
 
-    std::string extension =
-      std::filesystem::path(filename).extension().string();
-    std::transform(extension.begin(),
-                   extension.end(),
-                   extension.begin(),
-                   [](const unsigned char c) { return std::tolower(c); });
+    const std::string extension = lowercase_extension(filename);
     AssertThrow(extension == ".stl" || extension == ".obj",
                 ExcMessage(file + ": unknown extension \"" + extension +
                            "\"; expected .stl or .obj."));

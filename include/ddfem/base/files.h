@@ -3,6 +3,7 @@
 
 #include <deal.II/base/exceptions.h>
 
+#include <cctype>
 #include <filesystem>
 #include <fstream>
 #include <ostream>
@@ -122,6 +123,16 @@ namespace ddfem
     AssertThrow(ok,
                 dealii::ExcMessage("Cannot write \"" + file + "\" (" + where +
                                    ")."));
+  }
+
+  /// The extension of the file name @p file in lower case (".stl").
+  inline std::string
+  lowercase_extension(const std::string &file)
+  {
+    std::string extension = std::filesystem::path(file).extension().string();
+    for (char &c : extension)
+      c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return extension;
   }
 
   /**
