@@ -35,14 +35,15 @@ namespace ddfem::testing
    * of a parameter file exactly as the ddfem program does. Solver logs go
    * to standard output only if @p verbose. At coarsening @p level 1 or 2
    * the discretization is the coarse mesh with its material records left
-   * zero (no coarsener runs).
+   * zero (no coarsener runs). The logs go to @p screen instead if given.
    */
   struct Problem
   {
     explicit Problem(const std::string &prm_text,
                      const bool         verbose = false,
-                     const unsigned int level   = 0)
-      : log(std::cout, verbose)
+                     const unsigned int level   = 0,
+                     std::ostream      &screen  = std::cout)
+      : log(screen, verbose)
       , timer(log, TimerOutput::never, TimerOutput::wall_times)
     {
       app::declare_parameters(prm);

@@ -9,7 +9,8 @@
 //    free, unloaded rest rigidly, at zero energy;
 // 4. the small-load limit: the solution divided by the load tends to the
 //    linear elastic one at first order;
-// 5. Newton's iteration budget: a load step that needs N iterations
+// 5. Newton's quadratic convergence, with exact and inexact steps;
+// 6. Newton's iteration budget: a load step that needs N iterations
 //    converges when N are allowed, not when N - 1 are; with N - 1 and
 //    cuts allowed, the step is halved, the solve goes on, and it reaches
 //    the uncut solve's state.
@@ -20,6 +21,7 @@
 
 #include <ddfem/solver/supports.h>
 
+#include <algorithm>
 #include <random>
 
 #include "../tests.h"
@@ -409,6 +411,66 @@ namespace
   }
 
   /**
+   * The residual norms |R| of the Newton iterations of the one-step
+   * cantilever solved with the linear solver @p type to a Newton tolerance
+   * of 1e-13, read from the solver's log.
+   */
+  std::vector<double>
+  newton_residuals(const std::string &type)
+  {
+    std::ostringstream log;
+    testing::Problem   problem(one_step_cantilever(30) + R"(
+      subsection Nonlinear solver
+        set Newton tolerance = 1e-13
+      end
+      subsection Linear solver
+        set Type = )" + type + "\nend\n",
+                             true,
+                             0,
+                             log);
+    const auto         statistics = problem.solve();
+    AssertThrow(statistics.converged, ExcMessage("not converged"));
+    std::vector<double> residuals;
+    std::istringstream  lines(log.str());
+    for (std::string line; std::getline(lines, line);)
+      if (const auto at = line.find("|R| = "); at != std::string::npos)
+        residuals.push_back(std::stod(line.substr(at + 6)));
+    return residuals;
+  }
+
+  /**
+   * Newton's quadratic convergence: with the direct solver (exact Newton
+   * steps) and with CG at the forcing terms of StaticSolver::newton(), the
+   * last two reductions of the residual above round-off (1e-11 of the
+   * largest), rho_1 then rho_2, give the order estimate
+   * log(rho_2) / log(rho_1): 2 for quadratic convergence, 1 for linear.
+   */
+  void
+  newton_rate()
+  {
+    std::cout << "Newton's order on the one-step cantilever, from its last "
+                 "two residual reductions:"
+              << std::endl;
+    for (const std::string type : {"direct", "cg-cholesky", "cg-amg"})
+      {
+        const std::vector<double> r = newton_residuals(type);
+        const double floor = 1e-11 * *std::max_element(r.begin(), r.end());
+        unsigned int last  = r.size() - 1;
+        while (last > 0 && r[last] < floor)
+          --last;
+        AssertThrow(last >= 2, ExcMessage("too few iterations"));
+        const double       rho_1 = r[last - 1] / r[last - 2];
+        const double       rho_2 = r[last] / r[last - 1];
+        const double       order = std::log(rho_2) / std::log(rho_1);
+        std::ostringstream estimate;
+        estimate << std::fixed << std::setprecision(1) << order;
+        std::cout << "  " << type << ": " << estimate.str()
+                  << (order >= 1.8 ? ", quadratic" : ", NOT quadratic")
+                  << " (at least 1.8)" << std::endl;
+      }
+  }
+
+  /**
    * Load step cuts: the one-step solve allowed one Newton iteration fewer
    * than the @p needed ones, with cuts down to 1/64 of the step, halves its
    * step until one converges, goes on, and reaches the state of the uncut solve
@@ -493,6 +555,7 @@ main(int argc, char **argv)
   patch_test();
   rigid_rotation();
   small_load_limit();
+  newton_rate();
   load_cuts(newton_budget());
   vertex_jacobians();
 }
