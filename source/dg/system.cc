@@ -10,6 +10,7 @@
 #include <deal.II/meshworker/mesh_loop.h>
 #include <deal.II/meshworker/scratch_data.h>
 
+#include <ddfem/base/cell_values.h>
 #include <ddfem/dg/system.h>
 #include <ddfem/material/kernel.h>
 
@@ -256,6 +257,8 @@ namespace ddfem::dg
     AssertThrow(data.materials.size() == triangulation.n_active_cells(),
                 ExcMessage("One material per cell is needed."));
     dof_handler.distribute_dofs(fe);
+    for (unsigned int l = 0; l < triangulation.n_levels(); ++l)
+      level_reference.push_back(dof_handler.begin_active(l));
     make_constraints(1);
     DynamicSparsityPattern dsp(dof_handler.n_dofs());
     if (is_continuous)
@@ -409,8 +412,13 @@ namespace ddfem::dg
     const auto cell_worker = [&](const Iterator               &cell,
                                  MeshWorker::ScratchData<dim> &s,
                                  CopyData                     &c) {
-      const FEValues<dim> &fv = s.reinit(cell);
-      const CellMaterial  &m  = data.materials[cell->active_cell_index()];
+      const auto [fv, shift] = reinit_thread_independently<dim>(
+        [&s](const Iterator &k) -> const FEValues<dim> & {
+          return s.reinit(k);
+        },
+        cell,
+        level_reference[cell->level()]);
+      const CellMaterial &m = data.materials[cell->active_cell_index()];
       c.dofs.resize(n);
       cell->get_dof_indices(c.dofs);
       c.matrix.reinit(n, n);
@@ -426,8 +434,9 @@ namespace ddfem::dg
                              m,
                              n_components);
           const Tensor<1, dim> f =
-            data.body_force ? t * data.body_force(fv.quadrature_point(q)) :
-                              Tensor<1, dim>();
+            data.body_force ?
+              t * data.body_force(fv.quadrature_point(q) + shift) :
+              Tensor<1, dim>();
           for (unsigned int i = 0; i < n; ++i)
             {
               const unsigned int   ci = fe.system_to_component_index(i).first;
@@ -923,12 +932,14 @@ namespace ddfem::dg
     Vector<double>                       b(n), x(n), values(fe.n_components());
     for (const auto &cell : dof_handler.active_cell_iterators())
       {
-        fv.reinit(cell);
+        const Tensor<1, dim> shift =
+          reinit_thread_independently(fv, cell, level_reference[cell->level()])
+            .shift;
         M = 0;
         b = 0;
         for (unsigned int q = 0; q < fv.n_quadrature_points; ++q)
           {
-            function.vector_value(fv.quadrature_point(q), values);
+            function.vector_value(fv.quadrature_point(q) + shift, values);
             for (unsigned int i = 0; i < n; ++i)
               {
                 const unsigned int ci = fe.system_to_component_index(i).first;
@@ -963,11 +974,16 @@ namespace ddfem::dg
     std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
     for (const auto &cell : dof_handler.active_cell_iterators())
       {
-        fv.reinit(cell);
+        const Tensor<1, dim> shift =
+          reinit_thread_independently(fv, cell, level_reference[cell->level()])
+            .shift;
         cell->get_dof_indices(dofs);
         // Deformed positions y = x + u at the quadrature points, and the
         // least-squares affine fit y ~ A x + b.
-        std::vector<Point<dim>> y(fv.get_quadrature_points());
+        std::vector<Point<dim>> x(fv.get_quadrature_points());
+        for (Point<dim> &p : x)
+          p += shift;
+        std::vector<Point<dim>> y(x);
         Point<dim>              x_mean, y_mean;
         double                  volume = 0;
         for (unsigned int q = 0; q < y.size(); ++q)
@@ -975,7 +991,7 @@ namespace ddfem::dg
             for (unsigned int i = 0; i < dofs.size(); ++i)
               y[q][fe.system_to_component_index(i).first] +=
                 u[dofs[i]] * fv.shape_value(i, q);
-            x_mean += fv.JxW(q) * fv.quadrature_point(q);
+            x_mean += fv.JxW(q) * x[q];
             y_mean += fv.JxW(q) * y[q];
             volume += fv.JxW(q);
           }
@@ -984,7 +1000,7 @@ namespace ddfem::dg
         Tensor<2, dim> XX, YX;
         for (unsigned int q = 0; q < y.size(); ++q)
           {
-            const Tensor<1, dim> dx = fv.quadrature_point(q) - x_mean;
+            const Tensor<1, dim> dx = x[q] - x_mean;
             const Tensor<1, dim> dy = y[q] - y_mean;
             XX += fv.JxW(q) * outer_product(dx, dx);
             YX += fv.JxW(q) * outer_product(dy, dx);

@@ -5,6 +5,7 @@
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/numerics/vector_tools.h>
 
+#include <ddfem/base/cell_values.h>
 #include <ddfem/base/parsing.h>
 #include <ddfem/material/kernel.h>
 #include <ddfem/solver/cell_kernel.h>
@@ -365,13 +366,16 @@ namespace ddfem::solver
                          cell->active_cell_index(),
                          voxel_position(bit, width)))
               {
-                FEValues<3> &values = *voxel_values[bit];
-                values.reinit(cell);
+                const TranslatedValues<3> on =
+                  reinit_thread_independently(*voxel_values[bit],
+                                              cell,
+                                              dof_handler.begin_active());
+                const FEValues<3> &values = on.values;
                 add_load(
                   values,
                   [&](const unsigned int q) {
                     return boundary_conditions.body_force(
-                      values.quadrature_point(q));
+                      values.quadrature_point(q) + on.shift);
                   },
                   [&](const unsigned int q) { return values.JxW(q); });
               }
@@ -501,20 +505,15 @@ namespace ddfem::solver
     bool   admissible     = true;
     min_J                 = std::numeric_limits<double>::max();
     const std::size_t n_q = discretization.quadrature.size();
-    // Every cell of the grid is a translate of the first one, so the first
-    // cell's shape gradients and JxW values serve them all. FEValues
-    // reinitialized on each cell would keep the values of the cell its
-    // thread saw first (CellSimilarity::translation), which differ from
-    // cell to cell in round-off: results would depend on the number of
-    // threads.
+    // Every cell of the grid is a translate of the first one, whose values
+    // it then takes (reinit_thread_independently()).
     const auto reference = discretization.dof_handler.begin_active();
 
     const auto worker =
       [&](const typename DoFHandler<3>::active_cell_iterator &cell,
           ScratchData                                        &scratch,
           CopyData                                           &copy) {
-        Assert(cell->is_translation_of(reference), ExcInternalError());
-        scratch.fe_values.reinit(reference);
+        reinit_thread_independently(scratch.fe_values, cell, reference);
         cell->get_dof_values(u, scratch.local_u);
         copy.dofs.resize(scratch.local_u.size());
         cell->get_dof_indices(copy.dofs);
@@ -876,9 +875,11 @@ namespace ddfem::solver
     const unsigned int        w        = 1u << discretization.level;
     double                    smallest = infinity;
     Point<3>                  where;
+    const auto reference = discretization.dof_handler.begin_active();
     for (const auto &cell : discretization.dof_handler.active_cell_iterators())
       {
-        fe_values.reinit(cell);
+        const Tensor<1, 3> shift =
+          reinit_thread_independently(fe_values, cell, reference).shift;
         cell->get_dof_values(u, local_u);
         deformation_gradients(fe_values, local_u, F);
         const std::uint64_t solid =
@@ -892,7 +893,7 @@ namespace ddfem::solver
             if (((solid >> bit) & 1) != 0 && J < smallest)
               {
                 smallest = J;
-                where    = fe_values.quadrature_point(v);
+                where    = fe_values.quadrature_point(v) + shift;
               }
           }
       }
@@ -915,9 +916,10 @@ namespace ddfem::solver
     Vector<double>     local_u(discretization.fe.n_dofs_per_cell());
     std::vector<Tensor<2, 3>> F;
     material::KernelResult    k;
+    const auto reference = discretization.dof_handler.begin_active();
     for (const auto &cell : discretization.dof_handler.active_cell_iterators())
       {
-        fe_values.reinit(cell);
+        reinit_thread_independently(fe_values, cell, reference);
         cell->get_dof_values(u, local_u);
         deformation_gradients(fe_values, local_u, F);
         const unsigned int c = cell->active_cell_index();
