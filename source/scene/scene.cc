@@ -3,16 +3,50 @@
 
 #include <ddfem/base/parsing.h>
 #include <ddfem/scene/scene.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <iomanip>
 #include <map>
+#include <sstream>
 
 namespace ddfem::scene
 {
   namespace
   {
+    /**
+     * Memory (bytes) any model needs at least per cell of its mesh: less
+     * than half of the about 20 KiB per cell measured for fine models
+     * (peak memory of bar-32 and fibers in doc/benchmarks.md).
+     */
+    constexpr std::size_t minimum_bytes_per_cell = 8192;
+
+    /// The physical memory of the machine (bytes).
+    double
+    physical_memory()
+    {
+      return static_cast<double>(sysconf(_SC_PHYS_PAGES)) *
+             sysconf(_SC_PAGE_SIZE);
+    }
+
+    /// The number of cells whose models could fit in physical memory.
+    std::size_t
+    cells_that_fit_in_memory()
+    {
+      return physical_memory() / minimum_bytes_per_cell;
+    }
+
+    /// @p bytes in GiB with one decimal.
+    std::string
+    gibibytes(const double bytes)
+    {
+      std::ostringstream text;
+      text << std::fixed << std::setprecision(1) << bytes / (1u << 30);
+      return text.str();
+    }
+
     /**
      * Throws ExcMessage naming @p p unless it lies in a solid voxel of
      * @p grid or on its surface (within 1e-9 voxel sizes), so that every
@@ -191,7 +225,9 @@ namespace ddfem::scene
     const std::array<unsigned int, 3> m = {{n[0] / b, n[1] / b, n[2] / b}};
     const double                      H = grid.voxel_size() * b;
 
-    // Blocks with at least one solid voxel, lexicographic.
+    // Blocks with at least one solid voxel, lexicographic; no more than
+    // the memory of the machine can take as cells.
+    const std::size_t        max_cells = cells_that_fit_in_memory();
     std::vector<std::size_t> blocks;
     for (unsigned int K = 0; K < m[2]; ++K)
       for (unsigned int J = 0; J < m[1]; ++J)
@@ -205,6 +241,22 @@ namespace ddfem::scene
             if (solid)
               blocks.push_back(I +
                                m[0] * (J + static_cast<std::size_t>(m[1]) * K));
+            AssertThrow(
+              blocks.size() <= max_cells,
+              ExcMessage(
+                "Geometry/Grid size = " + std::to_string(n[0]) + " x " +
+                std::to_string(n[1]) + " x " + std::to_string(n[2]) +
+                ": the scene has too many solid voxels for the memory of "
+                "this machine. Its mesh at coarsening level " +
+                std::to_string(level) + " would have more than " +
+                std::to_string(max_cells) +
+                " cells, and a model needs at least " +
+                std::to_string(minimum_bytes_per_cell / 1024) +
+                " KiB per cell (about 20 KiB measured for a fine one), "
+                "more than the " +
+                gibibytes(physical_memory()) +
+                " GiB this machine has. Use fewer voxels: a smaller Grid "
+                "size with a larger Voxel size."));
           }
     AssertThrow(!blocks.empty(),
                 ExcMessage("The scene has no solid voxel: every voxel of the " +

@@ -121,6 +121,11 @@ namespace ddfem::scene
    * Returns, for each active cell in the order of active_cell_index(), the
    * lexicographic index of its block in the coarsened grid. The cell's
    * material id is dominant_material() of its block.
+   *
+   * Throws ExcMessage naming Geometry/Grid size, before the mesh is built,
+   * if it would have more cells than models of at least 8 KiB per cell
+   * can hold in the machine's physical memory (a run would end in the
+   * kernel's out-of-memory killer without a message).
    */
   std::vector<std::size_t>
   make_voxel_mesh(const VoxelGrid   &grid,
