@@ -70,6 +70,27 @@ namespace ddfem::app
       bool screen_timings;
     };
 
+    /**
+     * The end of a message on an undeclared subsection or parameter: where
+     * the declared names are listed; for an undeclared subsection
+     * ("@p missing_subsection") of numbered boundary conditions, also how
+     * many there are.
+     */
+    std::string
+    declared_names_hint(const bool missing_subsection, const std::string &name)
+    {
+      std::string hint =
+        " (a run's parameters.prm and 'ddfem --print-parameters' list them "
+        "all";
+      if (missing_subsection &&
+          name.find("Boundary conditions") != std::string::npos &&
+          name.find("Condition ") != std::string::npos)
+        hint += "; Boundary conditions has the subsections Condition 1 to "
+                "Condition " +
+                std::to_string(scene::BoundaryConditions::max_conditions);
+      return hint + ").";
+    }
+
     /// Applies "Subsection/.../Name=value" to @p prm.
     void
     apply_override(ParameterHandler &prm, const std::string &text)
@@ -94,8 +115,8 @@ namespace ddfem::app
       AssertThrow(path.size() == 1 ||
                     prm.subsection_path_exists({path.begin(), path.end() - 1}),
                   ExcMessage("--set \"" + text +
-                             "\": there is no subsection \"" + sections +
-                             "\" (a run's parameters.prm lists them all)."));
+                             "\": there is no subsection \"" + sections + "\"" +
+                             declared_names_hint(true, sections)));
       for (unsigned int i = 0; i + 1 < path.size(); ++i)
         prm.enter_subsection(path[i]);
       try
@@ -111,7 +132,7 @@ namespace ddfem::app
                                  (path.size() == 1 ?
                                     std::string(" outside the subsections") :
                                     " in subsection \"" + sections + "\"") +
-                                 " (a run's parameters.prm lists them all)."));
+                                 declared_names_hint(false, sections)));
         }
       catch (ExceptionBase &e)
         {
@@ -736,9 +757,20 @@ namespace ddfem::app
           }
         catch (ExceptionBase &e)
           {
+            std::string message = message_of(e);
+            const bool  subsection =
+              message.find("no such subsection") != std::string::npos;
+            const bool undeclared =
+              subsection ||
+              message.find("No entry with name") != std::string::npos;
+            if (undeclared && !message.empty() && message.back() == '.')
+              message.pop_back();
             AssertThrow(false,
                         ExcMessage("In parameter file \"" + prm_file +
-                                   "\": " + message_of(e)));
+                                   "\": " + message +
+                                   (undeclared ?
+                                      declared_names_hint(subsection, message) :
+                                      std::string())));
           }
         catch (std::exception &e) // the XML and JSON readers' errors
           {

@@ -94,6 +94,14 @@ main(int argc, char **argv)
   run_case("unknown_parameter",
            cantilever +
              "subsection Geometry\n  set Grid sise = 3, 3, 3\nend\n");
+  // A condition beyond the last declared one: the message says how many
+  // there are, in a file and with --set.
+  run_case("condition_9",
+           cantilever + "subsection Boundary conditions\n  subsection "
+                        "Condition 9\n    set Type = fixed\n  end\nend\n");
+  run_case("condition_9_set",
+           cantilever,
+           {"--set", "Boundary conditions/Condition 9/Type=fixed"});
   run_case(
     "negative_E",
     cantilever +
