@@ -168,6 +168,14 @@ main(int argc, char **argv)
               "subsection Loads\n  set Body force = 1; -2; -3\nend\n",
               Tensor<1, 3>({60., -120., -180.}),
               Tensor<1, 3>({-132., 492., -372.}));
+  // A body force that varies in space, (0, 0, x) N/m^3, is evaluated where
+  // each cell's quadrature points are: force (0, 0, int x dV) and moment
+  // (int x y dV, -int x^2 dV, 0), with int x y dV = 256 - 4 = 252 and
+  // int x^2 dV = 1024/3 - 4/3 = 340 over the cube less the notch.
+  check_loads("Body force (0, 0, x) N/m^3",
+              "subsection Loads\n  set Body force = 0; 0; x\nend\n",
+              Tensor<1, 3>({0., 0., 126.}),
+              Tensor<1, 3>({252., -340., 0.}));
   // The top face z = 4 has 12 solid voxel faces of 1 m^2, centroid
   // (2.5, 2, 4).
   check_loads("Traction (0, 0, -1) Pa on z+",

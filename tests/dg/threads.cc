@@ -45,10 +45,12 @@ namespace
           const std::string    &name,
           const Vector<double> *current = nullptr)
   {
-    const std::vector<double> one = assemble_and_solve(system, 1, current);
-    const std::vector<double> two = assemble_and_solve(system, 2, current);
+    const std::vector<double> one   = assemble_and_solve(system, 1, current);
+    const unsigned int        n_one = MultithreadInfo::n_threads();
+    const std::vector<double> two   = assemble_and_solve(system, 2, current);
+    const unsigned int        n_two = MultithreadInfo::n_threads();
     std::cout << "  " << name << ", " << system.dof_handler.n_dofs()
-              << " DoFs: one and two threads "
+              << " DoFs: " << n_one << " and " << n_two << " thread(s) "
               << (one == two ? "identical" : "DIFFERENT") << std::endl;
   }
 } // namespace

@@ -29,11 +29,23 @@ namespace ddfem
    * shape gradients of the previous cell for a translate of it
    * (CellSimilarity::translation); with more threads it recomputes them for
    * every cell. The two differ in round-off, so an assembly would give
-   * other results with one thread than with two. Here the values are those
-   * of @p reference if @p cell is a translate of it (the same whether
-   * reused or recomputed), and the cell's own, computed after
-   * @p reference's, otherwise. @p reinit(c) reinitializes the FEValues
-   * object on the cell c and returns it.
+   * other results with one thread than with two.
+   *
+   * This function reinitializes the object on @p reference, and then on
+   * @p cell only if @p cell is not a translate of @p reference. So the
+   * values are:
+   * - for a translate: those of @p reference, the same whether reused from
+   *   an earlier translate or recomputed;
+   * - otherwise: the cell's own, computed fresh, since @p cell is not a
+   *   translate of @p reference, the previous cell.
+   *
+   * Everything that depends on position (quadrature points, and the cell
+   * and DoF indices a MeshWorker::ScratchData keeps) then belongs to
+   * @p reference: add the returned shift to quadrature points. This holds
+   * for mappings that the vertices determine (MappingQ1), on which a
+   * vertex translate is a translate. Nothing else may reinitialize the
+   * object between calls. @p reinit(c) reinitializes the FEValues object
+   * on the cell c and returns it.
    */
   template <int dim,
             typename Reinit,

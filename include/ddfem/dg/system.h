@@ -257,8 +257,8 @@ namespace ddfem::dg
     const bool              is_continuous;
     /// Whether every face of the mesh is normal to a coordinate axis.
     bool axis_aligned = true;
-    /// The first active cell of every level (end() if it has none): the
-    /// reference of reinit_thread_independently() for the level's cells.
+    /// dof_handler.begin_active(l) for every level l: the reference of
+    /// reinit_thread_independently() for the level's active cells.
     std::vector<typename DoFHandler<dim>::active_cell_iterator> level_reference;
     /// Cell and face quadrature rules (Gauss, k+1 points per direction).
     const QGauss<dim>     quadrature;
