@@ -72,19 +72,25 @@ namespace ddfem::app
 
     /**
      * The end of a message on an undeclared subsection or parameter: where
-     * the declared names are listed; for an undeclared subsection
-     * ("@p missing_subsection") of numbered boundary conditions, also how
-     * many there are.
+     * the declared names are listed. If the undeclared subsection
+     * (@p missing_subsection) is a numbered boundary condition, the last
+     * component of @p path ("Boundary conditions/Condition 9", or with '.'
+     * as deal.II writes it), also how many there are.
      */
     std::string
-    declared_names_hint(const bool missing_subsection, const std::string &name)
+    declared_names_hint(const bool missing_subsection, const std::string &path)
     {
-      std::string hint =
-        " (a run's parameters.prm and 'ddfem --print-parameters' list them "
-        "all";
-      if (missing_subsection &&
-          name.find("Boundary conditions") != std::string::npos &&
-          name.find("Condition ") != std::string::npos)
+      std::string       hint = " (a run's parameters.prm and 'ddfem "
+                               "--print-parameters' list them all";
+      const std::size_t last = path.find_last_of("/.");
+      const std::string parent =
+        last == std::string::npos ? std::string() : path.substr(0, last);
+      const std::string condition = "Condition ", group = "Boundary conditions";
+      if (missing_subsection && last != std::string::npos &&
+          path.compare(last + 1, condition.size(), condition) == 0 &&
+          parent.size() >= group.size() &&
+          parent.compare(parent.size() - group.size(), group.size(), group) ==
+            0)
         hint += "; Boundary conditions has the subsections Condition 1 to "
                 "Condition " +
                 std::to_string(scene::BoundaryConditions::max_conditions);

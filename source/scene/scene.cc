@@ -9,6 +9,7 @@
 #include <array>
 #include <cmath>
 #include <iomanip>
+#include <limits>
 #include <map>
 #include <sstream>
 
@@ -23,19 +24,24 @@ namespace ddfem::scene
      */
     constexpr std::size_t minimum_bytes_per_cell = 8192;
 
-    /// The physical memory of the machine (bytes).
+    /// The physical memory of the machine (bytes; not a container's limit),
+    /// or 0 if the system does not say.
     double
     physical_memory()
     {
-      return static_cast<double>(sysconf(_SC_PHYS_PAGES)) *
-             sysconf(_SC_PAGE_SIZE);
+      const long pages = sysconf(_SC_PHYS_PAGES);
+      const long size  = sysconf(_SC_PAGE_SIZE);
+      return pages > 0 && size > 0 ? static_cast<double>(pages) * size : 0.;
     }
 
-    /// The number of cells whose models could fit in physical memory.
+    /// The number of cells whose models could fit in physical memory (no
+    /// limit if the system does not say how much it has).
     std::size_t
     cells_that_fit_in_memory()
     {
-      return physical_memory() / minimum_bytes_per_cell;
+      const double memory = physical_memory();
+      return memory > 0 ? memory / minimum_bytes_per_cell :
+                          std::numeric_limits<std::size_t>::max();
     }
 
     /// @p bytes in GiB with one decimal.
@@ -249,13 +255,13 @@ namespace ddfem::scene
                 ": the scene has too many solid voxels for the memory of "
                 "this machine. Its mesh at coarsening level " +
                 std::to_string(level) + " would have more than " +
-                std::to_string(max_cells) +
-                " cells, and a model needs at least " +
+                std::to_string(max_cells) + " cells, and at " +
                 std::to_string(minimum_bytes_per_cell / 1024) +
-                " KiB per cell (about 20 KiB measured for a fine one), "
-                "more than the " +
+                " KiB or more per cell (about 20 KiB measured for a fine "
+                "model) they need more than the " +
                 gibibytes(physical_memory()) +
-                " GiB this machine has. Use fewer voxels: a smaller Grid "
+                " GiB of physical memory this machine has. Use fewer "
+                "voxels: a smaller Grid "
                 "size with a larger Voxel size."));
           }
     AssertThrow(!blocks.empty(),
