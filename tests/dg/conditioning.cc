@@ -1,6 +1,6 @@
 // The condition number of the stiffness matrix grows like h^-2 for every
-// method of the DG convergence study, and DG's is one to two orders of
-// magnitude above CG's on the same mesh (doc/dg.md, paper figure 4). Exact
+// method of the DG convergence study, and DG's is above CG's of the same
+// degree on the same mesh (doc/dg.md, paper figure 4). Exact
 // condition numbers, not the study's Lanczos estimates: the extreme
 // eigenvalues (LAPACK dsyevx) of the dense matrix restricted to the
 // unconstrained DoFs, for the study's 2D Poisson problem (Dirichlet weak for
@@ -86,11 +86,13 @@ print_growth(const dg::StudyMethod        &method,
       kappa.push_back(condition_number(method, element, n));
       std::cout << ' ' << kappa.back();
     }
-  // The exponents p of kappa ~ h^-p on the two pairs of grids.
+  // The exponents p of kappa ~ h^-p on the two pairs of grids: 2 within
+  // 0.1 on the finest pair, or still on the way there, with the distance to
+  // 2 at most half of that on the coarser pair.
   const double coarse = std::log2(kappa[1] / kappa[0]);
   const double fine   = std::log2(kappa[2] / kappa[1]);
-  const bool   tends  = std::abs(fine - 2) <= 0.25 &&
-                     std::abs(fine - 2) <= std::abs(coarse - 2) + 0.02;
+  const bool   tends  = std::abs(fine - 2) <= 0.1 ||
+                     std::abs(fine - 2) <= 0.5 * std::abs(coarse - 2);
   std::cout << std::fixed << std::setprecision(2) << "; h^-" << coarse
             << ", then h^-" << fine << ": "
             << (tends ? "tends to h^-2" : "does NOT tend to h^-2") << std::endl;
