@@ -261,8 +261,7 @@ namespace ddfem::scene
                 "model) they need more than the " +
                 gibibytes(physical_memory()) +
                 " GiB of physical memory this machine has. Use fewer "
-                "voxels: a smaller Grid "
-                "size with a larger Voxel size."));
+                "voxels: a smaller Grid size with a larger Voxel size."));
           }
     AssertThrow(!blocks.empty(),
                 ExcMessage("The scene has no solid voxel: every voxel of the " +
