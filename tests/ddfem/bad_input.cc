@@ -102,6 +102,12 @@ main(int argc, char **argv)
   run_case("condition_9_set",
            cantilever,
            {"--set", "Boundary conditions/Condition 9/Type=fixed"});
+  // A subsection missing inside a declared condition: no word on how many
+  // conditions there are.
+  run_case("condition_3_subsection",
+           cantilever + "subsection Boundary conditions\n  subsection "
+                        "Condition 3\n    subsection Foo\n    end\n  "
+                        "end\nend\n");
   run_case(
     "negative_E",
     cantilever +
