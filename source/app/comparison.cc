@@ -14,7 +14,6 @@
 #include <iomanip>
 #include <map>
 #include <optional>
-#include <set>
 #include <sstream>
 
 namespace ddfem::app
@@ -351,11 +350,8 @@ namespace ddfem::app
     AssertThrow(method_names.empty() || !level_list.empty(),
                 ExcMessage("Comparison/Levels is empty: give the coarsening "
                            "levels (1, 2) of Comparison/Methods."));
-    check_each_once(prm_methods, "Comparison/Methods");
-    AssertThrow(std::set<int>(level_list.begin(), level_list.end()).size() ==
-                  level_list.size(),
-                ExcMessage("Comparison/Levels = " + prm_levels +
-                           ": name each level once."));
+    check_each_once(method_names, prm_methods, "Comparison/Methods");
+    check_each_once(level_list, prm_levels, "Comparison/Levels");
     prm.enter_subsection("Discretization");
     degree = prm.get_integer("Polynomial degree");
     prm.leave_subsection();

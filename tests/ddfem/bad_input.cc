@@ -619,6 +619,9 @@ end
     "duplicate_methods",
     cantilever,
     {"--set", "Run type=compare", "--set", "Comparison/Methods=naive, naive"});
+  run_case("duplicate_levels",
+           cantilever,
+           {"--set", "Run type=compare", "--set", "Comparison/Levels=1, 1"});
   run_case("edge_hinge",
            R"(
 subsection Geometry

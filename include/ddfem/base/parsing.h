@@ -59,17 +59,27 @@ namespace ddfem
   }
 
   /**
-   * Throws ExcMessage naming @p parameter unless every entry of the
-   * comma-separated list @p text appears once.
+   * Throws ExcMessage naming @p parameter (whose value is @p text) unless
+   * every one of its parsed @p entries appears once.
    */
+  template <typename T>
+  inline void
+  check_each_once(const std::vector<T> &entries,
+                  const std::string    &text,
+                  const std::string    &parameter)
+  {
+    AssertThrow(
+      std::set<T>(entries.begin(), entries.end()).size() == entries.size(),
+      dealii::ExcMessage(parameter + " = " + text + ": name each entry once."));
+  }
+
+  /// check_each_once() of the entries of the comma-separated list @p text.
   inline void
   check_each_once(const std::string &text, const std::string &parameter)
   {
-    const auto entries = dealii::Utilities::split_string_list(text);
-    AssertThrow(std::set<std::string>(entries.begin(), entries.end()).size() ==
-                  entries.size(),
-                dealii::ExcMessage(parameter + " = " + text +
-                                   ": name each entry once."));
+    check_each_once(dealii::Utilities::split_string_list(text),
+                    text,
+                    parameter);
   }
 
   /// @p x with 4 significant digits, for messages.
