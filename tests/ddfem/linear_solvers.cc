@@ -8,9 +8,13 @@
 // 2. cg-cholesky factorizes the first tangent (1 iteration), solves the
 //    next, nearby tangent by a few CG iterations with the old factor to the
 //    requested tolerance, factorizes again when a tangent is too far from
-//    the factored one, and hands an indefinite tangent to UMFPACK (after
-//    the reuse iterations fail), and the next 10 systems at once; the
-//    eleventh is factorized again and the twelfth solved by CG.
+//    the factored one (CG needs more than 'Cholesky factorization cost'
+//    iterations), and hands an indefinite tangent to UMFPACK (after CG
+//    fails), and the next 10 systems at once; the eleventh is factorized
+//    again and the twelfth solved by CG; a solve that needs more iterations
+//    than the average cost per solve of its factor (the factorization
+//    counted as 'Cholesky factorization cost') makes the next system be
+//    factorized at once.
 
 #include <deal.II/lac/sparse_direct.h>
 
@@ -109,7 +113,7 @@ main(int argc, char **argv)
               << ", factor held: " << cholesky.factorized() << std::endl;
   }
 
-  std::cout << "cg-cholesky (Cholesky tolerance 1e-8, reuse iterations 20)"
+  std::cout << "cg-cholesky (Cholesky tolerance 1e-8, factorization cost 20)"
             << std::endl;
   {
     ParameterHandler prm;
@@ -118,7 +122,7 @@ main(int argc, char **argv)
       subsection Linear solver
         set Type = cg-cholesky
         set Cholesky tolerance = 1e-8
-        set Cholesky reuse iterations = 20
+        set Cholesky factorization cost = 20
       end)");
     solver::LinearSolver linear_solver;
     linear_solver.parse_parameters(prm);
@@ -160,5 +164,22 @@ main(int argc, char **argv)
     // K0 is solved by CG with that factor.
     solve("the eleventh, Cholesky factor of K1", K1, 1e-12);
     solve("the twelfth, K0 by CG with K1's factor", K0, 1e-8);
+    // A matrix a little way from K1 toward the far one needs more CG
+    // iterations with K1's factor than the average cost of that factor's
+    // solves so far ((20 + 1 + 11) / 2 iterations): solved by CG, then
+    // factorized before the next solve, since that one would likely need
+    // as many again.
+    SparseMatrix<double> K3;
+    K3.reinit(K1.get_sparsity_pattern());
+    K3.copy_from(K1);
+    K3 *= 0.997;
+    K3.add(0.003, K2);
+    solve("a matrix 0.3 % of the way from K1 to the far one, K1's factor",
+          K3,
+          1e-8);
+    solve("the same again, above the average (20 + 1 + 11 + 18) / 3, "
+          "factorized",
+          K3,
+          1e-12);
   }
 }

@@ -23,10 +23,11 @@ namespace ddfem::solver
    * Solves the linearized systems K x = b of the Newton method with one of
    * - a sparse LU factorization of every system (UMFPACK, 'direct');
    * - conjugate gradients preconditioned by the sparse Cholesky factor of
-   *   an earlier system ('cg-cholesky'): the factor is recomputed only when
-   *   CG needs more than 'Cholesky reuse iterations', so a few
-   *   factorizations serve a whole load path; a system that is not positive
-   *   definite goes to UMFPACK, and so do the next 10;
+   *   an earlier system ('cg-cholesky'): the factor is recomputed when
+   *   that lowers the average cost per solve, counted in CG iterations
+   *   with a factorization worth 'Cholesky factorization cost' of them, so
+   *   a few factorizations serve a whole load path; a system that is not
+   *   positive definite goes to UMFPACK, and so do the next 10;
    * - conjugate gradients preconditioned by Trilinos ML algebraic multigrid
    *   whose near null space are the six rigid body modes ('cg-amg'). The
    *   hierarchy is kept across Newton iterations and rebuilt only when CG
@@ -113,18 +114,21 @@ namespace ddfem::solver
     /// 'Type' as given, and the method it resolved to for this system.
     std::string requested, chosen;
     /// cg-cholesky: CG with the last Cholesky factor, or a new factor if
-    /// there is none or CG needs more than 'Cholesky reuse iterations'.
+    /// there is none, if the last solve needed more iterations than the
+    /// average cost per solve of the factor so far, or if CG needs more
+    /// than 'Cholesky factorization cost' iterations.
     unsigned int
     solve_with_cholesky(const SparseMatrix<double> &K,
                         Vector<double>             &x,
                         const Vector<double>       &b,
                         const double                forcing);
 
-    /// 'Tolerance', 'Cholesky tolerance', 'Cholesky reuse iterations',
+    /// 'Tolerance', 'Cholesky tolerance', 'Cholesky factorization cost',
     /// 'Maximum iterations', 'Direct solver limit' and 'Direct fallback
     /// limit'.
     double       tolerance, cholesky_tolerance;
-    unsigned int reuse_iterations, max_iterations, direct_limit, fallback_limit;
+    unsigned int factorization_cost, max_iterations, direct_limit,
+      fallback_limit;
     /// Systems still to be solved directly after a cg-amg failure ('auto')
     /// or an indefinite tangent (cg-cholesky).
     unsigned int direct_solves_left = 0;
@@ -134,9 +138,13 @@ namespace ddfem::solver
     TimerOutput *timer = nullptr;
 
     /// CG iterations of the first solve with the current multigrid
-    /// hierarchy (0: build a new one), and of the last solve.
+    /// hierarchy (0: build a new one), and of the last solve (1 for the
+    /// exact solve with a new Cholesky factor).
     unsigned int iterations_after_setup = 0;
     unsigned int last_iterations        = 0;
+    /// cg-cholesky: the solves with the current factor, and their cost in
+    /// CG iterations, its factorization included.
+    unsigned int solves_with_factor = 0, cost_with_factor = 0;
 
     /// The six rigid body modes, mode-major (mode k at [k * n_dofs]).
     std::vector<double> rigid_body_modes;
