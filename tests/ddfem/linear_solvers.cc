@@ -14,7 +14,8 @@
 //    again and the twelfth solved by CG; a solve that needs more iterations
 //    than the average cost per solve of its factor (the factorization
 //    counted as 'Cholesky factorization cost') makes the next system be
-//    factorized at once.
+//    factorized at once, and one that needs more than the CG solves before
+//    it, but not more than that average, does not.
 
 #include <deal.II/lac/sparse_direct.h>
 
@@ -164,21 +165,29 @@ main(int argc, char **argv)
     // K0 is solved by CG with that factor.
     solve("the eleventh, Cholesky factor of K1", K1, 1e-12);
     solve("the twelfth, K0 by CG with K1's factor", K0, 1e-8);
-    // A matrix a little way from K1 toward the far one needs more CG
-    // iterations with K1's factor than the average cost of that factor's
-    // solves so far ((20 + 1 + 11) / 2 iterations): solved by CG, then
-    // factorized before the next solve, since that one would likely need
-    // as many again.
-    SparseMatrix<double> K3;
-    K3.reinit(K1.get_sparsity_pattern());
-    K3.copy_from(K1);
-    K3 *= 0.997;
-    K3.add(0.003, K2);
-    solve("a matrix 0.3 % of the way from K1 to the far one, K1's factor",
-          K3,
+    // Matrices a little way from K1 toward the far one need more CG
+    // iterations with K1's factor. The factorization counts as 20 of them:
+    // a solve that needs more than the CG solves before it, but not more
+    // than the average cost per solve with the factorization counted, keeps
+    // the factor; one that needs more than that average makes the next
+    // system be factorized at once, since it would likely need as many.
+    const auto toward_far = [&](const double t) {
+      SparseMatrix<double> K;
+      K.reinit(K1.get_sparsity_pattern());
+      K.copy_from(K1);
+      K *= 1 - t;
+      K.add(t, K2);
+      return K;
+    };
+    const SparseMatrix<double> K4 = toward_far(0.002), K3 = toward_far(0.003);
+    solve("0.2 % of the way from K1 to the far matrix, K1's factor", K4, 1e-8);
+    solve("the same again, below the average (20 + 1 + 11 + 14) / 3, "
+          "K1's factor",
+          K4,
           1e-8);
-    solve("the same again, above the average (20 + 1 + 11 + 18) / 3, "
-          "factorized",
+    solve("0.3 % of the way, K1's factor", K3, 1e-8);
+    solve("the same again, above the average (20 + 1 + 11 + 14 + 14 + 18) "
+          "/ 5, factorized",
           K3,
           1e-12);
   }
