@@ -19,7 +19,7 @@ namespace ddfem::solver
       Patterns::Selection("auto|direct|cg-cholesky|cg-amg"),
       "direct: UMFPACK sparse LU of every tangent. cg-cholesky: conjugate "
       "gradients preconditioned by the CHOLMOD Cholesky factor of an "
-      "earlier tangent, refactorized when that is cheaper on average (see "
+      "earlier tangent, refactorized when the CG iterations grow (see "
       "'Cholesky factorization cost'; UMFPACK for a tangent that is not "
       "positive definite, and the next 10). cg-amg: conjugate gradients with "
       "Trilinos ML algebraic multigrid (rigid body modes as near null "

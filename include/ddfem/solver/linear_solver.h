@@ -23,11 +23,12 @@ namespace ddfem::solver
    * Solves the linearized systems K x = b of the Newton method with one of
    * - a sparse LU factorization of every system (UMFPACK, 'direct');
    * - conjugate gradients preconditioned by the sparse Cholesky factor of
-   *   an earlier system ('cg-cholesky'): the factor is recomputed when
-   *   that lowers the average cost per solve, counted in CG iterations
-   *   with a factorization worth 'Cholesky factorization cost' of them, so
-   *   a few factorizations serve a whole load path; a system that is not
-   *   positive definite goes to UMFPACK, and so do the next 10;
+   *   an earlier system ('cg-cholesky'): the factor is recomputed when the
+   *   last solve needed more CG iterations than the average cost per solve
+   *   since the last factorization (which counts as 'Cholesky
+   *   factorization cost' iterations), or when CG needs more than that
+   *   cost, so a few factorizations serve a whole load path; a system that
+   *   is not positive definite goes to UMFPACK, and so do the next 10;
    * - conjugate gradients preconditioned by Trilinos ML algebraic multigrid
    *   whose near null space are the six rigid body modes ('cg-amg'). The
    *   hierarchy is kept across Newton iterations and rebuilt only when CG
