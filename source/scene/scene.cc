@@ -8,10 +8,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <iomanip>
 #include <limits>
 #include <map>
-#include <sstream>
 
 namespace ddfem::scene
 {
@@ -42,15 +40,6 @@ namespace ddfem::scene
       const double memory = physical_memory();
       return memory > 0 ? memory / minimum_bytes_per_cell :
                           std::numeric_limits<std::size_t>::max();
-    }
-
-    /// @p bytes in GiB with one decimal.
-    std::string
-    gibibytes(const double bytes)
-    {
-      std::ostringstream text;
-      text << std::fixed << std::setprecision(1) << bytes / (1u << 30);
-      return text.str();
     }
 
     /**
@@ -259,7 +248,7 @@ namespace ddfem::scene
                 std::to_string(minimum_bytes_per_cell / 1024) +
                 " KiB or more per cell (about 20 KiB measured for a fine "
                 "model) they need more than the " +
-                gibibytes(physical_memory()) +
+                format_number(physical_memory() / (1u << 30)) +
                 " GiB of physical memory this machine has. Use fewer "
                 "voxels: a smaller Grid size with a larger Voxel size."));
           }
