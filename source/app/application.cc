@@ -363,7 +363,7 @@ namespace ddfem::app
                 check_coarse_model(scene,
                                    degree,
                                    level,
-                                   database.point_offset(),
+                                   database.point_offset(level),
                                    solver_parameters,
                                    linear_solver);
                 Timer preparation;
@@ -378,7 +378,7 @@ namespace ddfem::app
               coarsening::coarsening_method(method),
               level,
               scene.palette,
-              database.point_offset(),
+              database.point_offset(level),
               level1 ? &*level1 : nullptr,
               &level2);
           }

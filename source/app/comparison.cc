@@ -408,14 +408,13 @@ namespace ddfem::app
     const auto                             set_up = [&](const unsigned int c) {
       const Configuration &config = configurations[c];
       if (config.level > 0)
-        coarseners[c] =
-          std::make_unique<coarsening::Coarsener>(coarsening::coarsening_method(
-                                                    config.name),
-                                                  config.level,
-                                                  scene.palette,
-                                                  database.point_offset(),
-                                                  level1 ? &*level1 : nullptr,
-                                                  &level2);
+        coarseners[c] = std::make_unique<coarsening::Coarsener>(
+          coarsening::coarsening_method(config.name),
+          config.level,
+          scene.palette,
+          database.point_offset(config.level),
+          level1 ? &*level1 : nullptr,
+          &level2);
       // The other fine solvers run only where they can be faster than the
       // fine model's own.
       std::string skip;
@@ -474,7 +473,7 @@ namespace ddfem::app
             check_coarse_model(scene,
                                1,
                                c.level,
-                               database.point_offset(),
+                               database.point_offset(c.level),
                                solver_parameters,
                                *c.linear_solver);
           ddfem_level = std::max(ddfem_level, c.level);

@@ -73,8 +73,9 @@ namespace ddfem::coarsening
       "Coarse point offset",
       "0.57735026918962576",
       Patterns::Double(solver::minimum_point_offset, 1),
-      "Method = ddfem, naive or average: where the coarse element's 8 "
-      "points per 2x2x2 block sit, as the fraction of its half-width "
+      "Method = ddfem, naive or average, Coarsening levels = 1: where the "
+      "coarse element's 8 points per 2x2x2 block sit, as the fraction of "
+      "its half-width "
       "between its centre and each point, in every direction (from 0.25 "
       "up to, not including, 1: the element's bending energy scales with "
       "the offset squared, and below 0.25 it nears a mechanism). 1/sqrt(3) "
@@ -82,6 +83,15 @@ namespace ddfem::coarsening
       "keep the element's energy under constant strains and lower it under "
       "bending. Metamaterials are fitted for one offset: a database built "
       "with another is rejected.");
+    prm.declare_entry(
+      "Level-2 point offset",
+      "0.57735026918962576",
+      Patterns::Double(solver::minimum_point_offset, 1),
+      "Coarse point offset for Coarsening levels = 2: the 64 points of a "
+      "4x4x4 block sit where 8 level-1 elements with this offset would "
+      "have theirs. The second level's metamaterials are fitted for it; "
+      "their samples come from level-1 models with the Coarse point "
+      "offset. 1/sqrt(3) is the paper's element.");
     prm.leave_subsection();
   }
 
@@ -102,9 +112,11 @@ namespace ddfem::coarsening
     hierarchy.parse_parameters(prm);
     prm.leave_subsection();
     prm.enter_subsection("Discretization");
-    coarse_point_offset = prm.get_double("Coarse point offset");
+    coarse_point_offset    = prm.get_double("Coarse point offset");
+    hierarchy.point_offset = prm.get_double("Level-2 point offset");
     prm.leave_subsection();
-    solver::check_point_offset(coarse_point_offset);
+    solver::check_point_offset(coarse_point_offset, 1);
+    solver::check_point_offset(hierarchy.point_offset, 2);
     AssertThrow(!database_file.empty(),
                 ExcMessage("Database/File must name a file."));
     AssertThrow(fitting.held_out_every <= sampling.n_directions,
@@ -354,7 +366,8 @@ namespace ddfem::coarsening
     std::vector<scene::MaterialId> voxels;
     for (const Combination &block : blocks)
       voxels.insert(voxels.end(), block.begin(), block.end());
-    const BlockSampler        sampler(children, element.point_offset());
+    // The children are level-1 elements, with the level-1 offset.
+    const BlockSampler        sampler(children, level1.point_offset());
     Entry                     entry;
     const std::vector<Sample> samples =
       sampler.sample(sampling.for_block(voxels), seed, entry.n_dropped);
@@ -754,7 +767,7 @@ namespace ddfem::coarsening
             out << std::endl;
           }
 
-        const CoarseElement element2(2, database.point_offset());
+        const CoarseElement element2(2, hierarchy.point_offset);
         FitSettings         fitting2 = fitting;
         fitting2.regularization      = hierarchy.regularization;
         Timer timer2;

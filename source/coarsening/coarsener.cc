@@ -56,13 +56,18 @@ namespace ddfem::coarsening
     AssertThrow(method != CoarseningMethod::ddfem ||
                   (level1 != nullptr && (level == 1 || level2 != nullptr)),
                 ExcMessage("The ddfem coarsener needs the database."));
-    AssertThrow(method != CoarseningMethod::ddfem ||
-                  level1->point_offset() == point_offset,
-                ExcMessage("The metamaterial database was fitted for the "
-                           "coarse point offset " +
-                           Utilities::to_string(level1->point_offset()) +
-                           ", not for Discretization/Coarse point offset = " +
-                           Utilities::to_string(point_offset) + "."));
+    if (method == CoarseningMethod::ddfem)
+      {
+        const double fitted =
+          level == 1 ? level1->point_offset() : level2->settings.point_offset;
+        AssertThrow(fitted == point_offset,
+                    ExcMessage("The metamaterial database's level " +
+                               std::to_string(level) +
+                               " was fitted for the point offset " +
+                               Utilities::to_string(fitted) + ", not for " +
+                               solver::point_offset_parameter(level) + " = " +
+                               Utilities::to_string(point_offset) + "."));
+      }
     const unsigned int n = 1u << level;
     for (const Point<3> &x : quadrature.get_points())
       point_voxel.push_back({{static_cast<unsigned int>(x[0] * n),

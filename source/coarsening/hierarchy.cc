@@ -72,7 +72,8 @@ namespace ddfem::coarsening
     s << std::setprecision(17) << "level-1 classes: " << n_classes
       << ", intermediate: " << n_intermediate
       << ", representatives: " << n_representatives
-      << ", regularization: " << regularization;
+      << ", regularization: " << regularization
+      << ", point offset: " << point_offset;
     return s.str();
   }
 
@@ -460,7 +461,17 @@ namespace ddfem::coarsening
     in >> word >> word >> settings.n_classes >> comma >> word >>
       settings.n_intermediate >> comma >> word >> settings.n_representatives >>
       comma >> word >> settings.regularization;
-    check(settings.fingerprint() == text,
+    // Files written before the second level had an offset of its own
+    // name none: their metamaterials were fitted for the first level's.
+    const bool named_offset = bool(in >> comma);
+    if (named_offset)
+      in >> word >> word >> settings.point_offset;
+    else
+      settings.point_offset = level1.point_offset();
+    std::string expected = settings.fingerprint();
+    if (!named_offset)
+      expected.erase(expected.rfind(", point offset: "));
+    check(expected == text && solver::valid_point_offset(settings.point_offset),
           "has unreadable level-2 settings '" + text + "'");
 
     class_of         = read_dataset<std::int32_t>(file,

@@ -7,12 +7,22 @@
 
 namespace ddfem::solver
 {
+  std::string
+  point_offset_parameter(const unsigned int level)
+  {
+    return level == 2 ? "Discretization/Level-2 point offset" :
+                        "Discretization/Coarse point offset";
+  }
+
+
+
   void
-  check_point_offset(const double point_offset)
+  check_point_offset(const double point_offset, const unsigned int level)
   {
     const std::string minimum = format_number(minimum_point_offset);
     AssertThrow(valid_point_offset(point_offset),
-                ExcMessage("Discretization/Coarse point offset must lie "
+                ExcMessage(point_offset_parameter(level) +
+                           " must lie "
                            "from " +
                            minimum + " up to (not including) 1, not " +
                            format_number(point_offset) + ". Below " + minimum +
@@ -28,7 +38,7 @@ namespace ddfem::solver
     AssertThrow(level == 1 || level == 2,
                 ExcMessage("Coarsening levels must be 1 or 2, not " +
                            std::to_string(level) + "."));
-    check_point_offset(point_offset);
+    check_point_offset(point_offset, level);
     // The Gauss points moved toward the centre by the factor (exactly the
     // Gauss rule for the default offset).
     const QGauss<1>       gauss(2);

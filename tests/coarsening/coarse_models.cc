@@ -11,8 +11,8 @@
 // - the coarse point offset: constant strains keep their energy, the
 //   bending mode's energy scales with 3 a^2, level 2's points are its
 //   children's, bad offsets and a database fitted for another offset are
-//   clear errors, and at a smaller offset the cantilever's coarse models
-//   come closer to the fine one.
+//   clear errors, at a smaller offset the cantilever's coarse models come
+//   closer to the fine one, and level 2 keeps an offset of its own.
 
 #include <ddfem/app/model_run.h>
 #include <ddfem/base/exceptions.h>
@@ -71,13 +71,13 @@ namespace
     std::unique_ptr<coarsening::Coarsener>
     coarsener(const CoarseningMethod method, const unsigned int level) const
     {
-      return std::make_unique<coarsening::Coarsener>(method,
-                                                     level,
-                                                     scene.palette,
-                                                     builder.point_offset(),
-                                                     level1 ? &*level1 :
-                                                              nullptr,
-                                                     &level2);
+      return std::make_unique<coarsening::Coarsener>(
+        method,
+        level,
+        scene.palette,
+        builder.point_offset(level),
+        level1 ? &*level1 : nullptr,
+        &level2);
     }
 
     ParameterHandler                    prm;
@@ -260,16 +260,18 @@ namespace
                   << ": level-2 points are the children's level-1 points: "
                   << (distance < 1e-15 ? "yes" : "NO") << std::endl;
       }
-    for (const double a : {0.2, 1.})
-      try
-        {
-          solver::coarse_quadrature(1, a);
-          std::cout << "  offset " << a << ": NO ERROR" << std::endl;
-        }
-      catch (const ExceptionBase &e)
-        {
-          std::cout << "  error: " << message_of(e) << std::endl;
-        }
+    for (const unsigned int level : {1, 2})
+      for (const double a : {0.2, 1.})
+        try
+          {
+            solver::coarse_quadrature(level, a);
+            std::cout << "  level " << level << ", offset " << a << ": NO ERROR"
+                      << std::endl;
+          }
+        catch (const ExceptionBase &e)
+          {
+            std::cout << "  error: " << message_of(e) << std::endl;
+          }
 
     // The cantilever of homogeneous_small_load() at offset 0.45.
     const std::string cantilever =
@@ -281,28 +283,63 @@ namespace
     Setup smaller(cantilever + "subsection Discretization\n"
                                " set Coarse point offset = 0.45\nend\n",
                   "offset_045.h5");
-    gauss_setup.prepare({gauss_setup.scene.grid}, 1);
-    smaller.prepare({smaller.scene.grid}, 1);
-    const auto fine = solve(gauss_setup, nullptr);
+    gauss_setup.prepare({gauss_setup.scene.grid}, 2);
+    smaller.prepare({smaller.scene.grid}, 2);
+    const auto fine       = solve(gauss_setup, nullptr);
+    const auto mean_error = [&fine](const Setup &setup, const auto &run) {
+      return report::vertex_error(setup.scene.grid,
+                                  fine->discretization(),
+                                  fine->solution(),
+                                  run->discretization(),
+                                  run->solution())
+        .mean;
+    };
     for (const auto method : {CoarseningMethod::ddfem, CoarseningMethod::naive})
       {
         double error[2];
         for (Setup *setup : {&gauss_setup, &smaller})
           {
-            const auto coarsener = setup->coarsener(method, 1);
-            const auto run       = solve(*setup, coarsener.get());
-            error[setup == &smaller] =
-              report::vertex_error(setup->scene.grid,
-                                   fine->discretization(),
-                                   fine->solution(),
-                                   run->discretization(),
-                                   run->solution())
-                .mean;
+            const auto coarsener     = setup->coarsener(method, 1);
+            const auto run           = solve(*setup, coarsener.get());
+            error[setup == &smaller] = mean_error(*setup, run);
           }
         std::cout << "  level 1 " << coarsening::to_string(method)
                   << ": mean vertex error at offset 0.45 / at 1/sqrt(3): "
                   << std::setprecision(2) << error[1] / error[0] << std::endl;
       }
+    // Level 2 keeps its own offset, 1/sqrt(3) by default: its model is
+    // the Gauss setup's but for the samples of its fits, taken from
+    // level-1 models at offset 0.45.
+    {
+      const auto coarsener = smaller.coarsener(CoarseningMethod::ddfem, 2);
+      const auto run       = solve(smaller, coarsener.get());
+      const auto gauss_run =
+        solve(gauss_setup,
+              gauss_setup.coarsener(CoarseningMethod::ddfem, 2).get());
+      std::cout << "  level 2 ddfem with level 1 at offset 0.45: point offset "
+                << (coarsener->point_offset() == solver::gauss_point_offset ?
+                      "1/sqrt(3)" :
+                      "OTHER")
+                << ", mean vertex error / that "
+                << "with level 1 at 1/sqrt(3): "
+                << mean_error(smaller, run) / mean_error(gauss_setup, gauss_run)
+                << std::endl;
+      try
+        {
+          coarsening::Coarsener(CoarseningMethod::ddfem,
+                                2,
+                                smaller.scene.palette,
+                                0.45,
+                                &*smaller.level1,
+                                &smaller.level2);
+          std::cout << "  level 2 at another offset than its fits': NO ERROR"
+                    << std::endl;
+        }
+      catch (const ExceptionBase &e)
+        {
+          std::cout << "  error: " << message_of(e) << std::endl;
+        }
+    }
 
     // The database fitted for 1/sqrt(3) does not serve offset 0.45.
     smaller.prm.enter_subsection("Database");

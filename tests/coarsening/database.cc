@@ -187,6 +187,33 @@ namespace
     H5Fclose(file);
   }
 
+  /// A copy of @p original named @p copy with the string attributes
+  /// @p attributes (name, value) replaced.
+  void
+  edited_copy(
+    const std::string                                      &original,
+    const std::string                                      &copy,
+    const std::vector<std::pair<std::string, std::string>> &attributes)
+  {
+    std::filesystem::copy_file(
+      original, copy, std::filesystem::copy_options::overwrite_existing);
+    const hid_t file = H5Fopen(copy.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    for (const auto &[name, value] : attributes)
+      {
+        H5Adelete(file, name.c_str());
+        const hid_t type = H5Tcopy(H5T_C_S1);
+        H5Tset_size(type, value.size());
+        const hid_t space = H5Screate(H5S_SCALAR);
+        const hid_t attribute =
+          H5Acreate2(file, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT);
+        H5Awrite(attribute, type, value.c_str());
+        H5Aclose(attribute);
+        H5Sclose(space);
+        H5Tclose(type);
+      }
+    H5Fclose(file);
+  }
+
   void
   expect_error(const std::string &what, const std::function<void()> &f)
   {
@@ -767,6 +794,40 @@ main()
       }
     std::cout << "every block of a random grid has a 64-point metamaterial: "
               << all_found << std::endl;
+
+    // The second level's point offset: named in its settings; files
+    // written before it had one of its own name none, and were fitted for
+    // the first level's (0.45 in the edited copy).
+    const std::string settings = level2.settings.fingerprint();
+    std::cout << "level-2 settings: " << settings << std::endl;
+    const std::string unnamed =
+      settings.substr(0, settings.rfind(", point offset: "));
+    edited_copy("level2.h5",
+                "level2_unnamed.h5",
+                {{"level 2 settings", unnamed},
+                 {"coarse point offset", "0.45"}});
+    HierarchySettings other = level2.settings;
+    other.point_offset      = 0.45;
+    edited_copy("level2.h5",
+                "level2_045.h5",
+                {{"level 2 settings", other.fingerprint()}});
+    for (const std::string file : {"level2_unnamed.h5", "level2_045.h5"})
+      {
+        Hierarchy read;
+        Database::load(file, &read);
+        std::cout << file << ": level-2 point offset "
+                  << read.settings.point_offset << ", entries kept: "
+                  << same_level2_entries(read.entries, level2.entries)
+                  << std::endl;
+      }
+    other.point_offset = 0.2;
+    edited_copy("level2.h5",
+                "level2_bad_offset.h5",
+                {{"level 2 settings", other.fingerprint()}});
+    expect_error("level-2 point offset 0.2", [] {
+      Hierarchy read;
+      Database::load("level2_bad_offset.h5", &read);
+    });
   }
 
   {
@@ -1032,30 +1093,7 @@ main()
                                    std::filesystem::file_size("small.h5") / 2);
     }
     expect_error("truncated", [] { Database::load("truncated.h5"); });
-    // A copy of small.h5 named @p copy with the string attributes
-    // @p attributes (name, value) replaced.
-    const auto edited_copy =
-      [](const std::string                                      &copy,
-         const std::vector<std::pair<std::string, std::string>> &attributes) {
-        std::filesystem::copy_file(
-          "small.h5", copy, std::filesystem::copy_options::overwrite_existing);
-        const hid_t file = H5Fopen(copy.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
-        for (const auto &[name, value] : attributes)
-          {
-            H5Adelete(file, name.c_str());
-            const hid_t type = H5Tcopy(H5T_C_S1);
-            H5Tset_size(type, value.size());
-            const hid_t space     = H5Screate(H5S_SCALAR);
-            const hid_t attribute = H5Acreate2(
-              file, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT);
-            H5Awrite(attribute, type, value.c_str());
-            H5Aclose(attribute);
-            H5Sclose(space);
-            H5Tclose(type);
-          }
-        H5Fclose(file);
-      };
-    edited_copy("bad_attribute.h5", {{"representatives", "many"}});
+    edited_copy("small.h5", "bad_attribute.h5", {{"representatives", "many"}});
     expect_error("damaged attribute",
                  [] { Database::load("bad_attribute.h5"); });
     // A palette beyond the tables' limit is named before any table is
@@ -1063,10 +1101,11 @@ main()
     std::string twenty = "E=1e5 nu=0.45";
     for (unsigned int m = 1; m < 20; ++m)
       twenty += "; E=1e5 nu=0.45";
-    edited_copy("large_palette.h5",
+    edited_copy("small.h5",
+                "large_palette.h5",
                 {{"palette", twenty}, {"palette hash", palette_hash(twenty)}});
     expect_error("20 materials", [] { Database::load("large_palette.h5"); });
-    edited_copy("future_version.h5", {{"format version", "999"}});
+    edited_copy("small.h5", "future_version.h5", {{"format version", "999"}});
     expect_error("other format version",
                  [] { Database::load("future_version.h5"); });
     edit_dataset<std::uint8_t>("small.h5",

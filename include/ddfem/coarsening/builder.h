@@ -60,20 +60,21 @@ namespace ddfem::coarsening
       scene
     };
 
-    /// Declares the subsection "Database" and the coarse element's
-    /// "Discretization/Coarse point offset".
+    /// Declares the subsection "Database" and the coarse elements'
+    /// "Discretization/Coarse point offset" and "Level-2 point offset".
     static void
     declare_parameters(ParameterHandler &prm);
     /// Reads and validates what declare_parameters() declares.
     void
     parse_parameters(ParameterHandler &prm);
 
-    /// The coarse element's point offset (solver::coarse_quadrature()),
-    /// which every coarse model uses and the fits are made for.
+    /// The point offset (solver::coarse_quadrature()) of the coarse
+    /// elements of coarsening level @p level (1 or 2), which every coarse
+    /// model of that level uses and its fits are made for.
     double
-    point_offset() const
+    point_offset(const unsigned int level) const
     {
-      return coarse_point_offset;
+      return level == 2 ? hierarchy.point_offset : coarse_point_offset;
     }
 
     /// What a run fits.

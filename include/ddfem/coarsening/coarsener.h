@@ -55,9 +55,9 @@ namespace ddfem::coarsening
     /**
      * A coarsener for coarsening @p level (1 or 2) of coarse elements with
      * the point offset @p point_offset (solver::coarse_quadrature()). With
-     * CoarseningMethod::ddfem, @p level1 is required, fitted for that
-     * offset, and @p level2 too at level 2; both must outlive the
-     * coarsener.
+     * CoarseningMethod::ddfem, @p level1 is required, and @p level2 too at
+     * level 2, the one of @p level fitted for that offset; both must
+     * outlive the coarsener.
      */
     Coarsener(const CoarseningMethod method,
               const unsigned int     level,

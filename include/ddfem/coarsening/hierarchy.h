@@ -29,6 +29,11 @@ namespace ddfem::coarsening
     /// Weight of the regularization of second-level fits toward the
     /// children's records (replaces Fitting/Regularization at level 2).
     double regularization = 1;
+    /// The point offset of the second level's elements
+    /// (solver::coarse_quadrature(2, point_offset)), which its
+    /// metamaterials are fitted for: "Discretization/Level-2 point
+    /// offset", set by DatabaseBuilder, not by parse_parameters().
+    double point_offset = solver::gauss_point_offset;
 
     /// Declares the subsection "Level 2".
     static void

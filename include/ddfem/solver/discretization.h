@@ -11,6 +11,7 @@
 #include <ddfem/scene/scene.h>
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace ddfem::solver
@@ -36,11 +37,19 @@ namespace ddfem::solver
   }
 
   /**
-   * Throws ExcMessage naming 'Discretization/Coarse point offset' unless
+   * The parameter that sets the point offset of coarsening level @p level:
+   * "Discretization/Coarse point offset" at level 1,
+   * "Discretization/Level-2 point offset" at level 2.
+   */
+  std::string
+  point_offset_parameter(const unsigned int level);
+
+  /**
+   * Throws ExcMessage naming point_offset_parameter(@p level) unless
    * valid_point_offset(@p point_offset).
    */
   void
-  check_point_offset(const double point_offset);
+  check_point_offset(const double point_offset, const unsigned int level);
 
   /**
    * The quadrature rule of a coarse element of coarsening level 1 or 2,
@@ -57,7 +66,7 @@ namespace ddfem::solver
    * linearly away from the centre.
    *
    * Throws ExcMessage for other levels and for offsets outside [0.25, 1)
-   * (the parameter 'Discretization/Coarse point offset').
+   * (the parameter point_offset_parameter(@p level)).
    */
   Quadrature<3>
   coarse_quadrature(const unsigned int level,
