@@ -72,7 +72,8 @@ namespace ddfem::coarsening
     prm.declare_entry(
       "Coarse point offset",
       "0.57735026918962576",
-      Patterns::Double(solver::minimum_point_offset, 1),
+      Patterns::Double(solver::point_offset_range(1).first,
+                       solver::point_offset_range(1).second),
       "Method = ddfem, naive or average, Coarsening levels = 1: where the "
       "coarse element's 8 points per 2x2x2 block sit, as the fraction of "
       "its half-width "
@@ -86,12 +87,17 @@ namespace ddfem::coarsening
     prm.declare_entry(
       "Level-2 point offset",
       "0.57735026918962576",
-      Patterns::Double(solver::minimum_point_offset, 1),
-      "Coarse point offset for Coarsening levels = 2: the 64 points of a "
-      "4x4x4 block sit where 8 level-1 elements with this offset would "
-      "have theirs. The second level's metamaterials are fitted for it; "
-      "their samples come from level-1 models with the Coarse point "
-      "offset. 1/sqrt(3) is the paper's element.");
+      Patterns::Double(solver::point_offset_range(2).first,
+                       solver::point_offset_range(2).second),
+      "Method = ddfem, naive or average, Coarsening levels = 2: the 64 "
+      "points of a 4x4x4 block are those of the 2-point Gauss rule iterated "
+      "twice, moved toward the block's centre by the factor offset / "
+      "(1/sqrt(3)), so its bending energy scales as at level 1 (from 0.37 "
+      "up to, not including, 0.73: outside, some points would leave their "
+      "voxels). 1/sqrt(3) is the paper's element. The second level's "
+      "metamaterials are fitted for it, from samples of level-1 models "
+      "with the Coarse point offset; a second level a database file holds "
+      "for another offset is fitted anew.");
     prm.leave_subsection();
   }
 

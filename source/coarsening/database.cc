@@ -533,11 +533,12 @@ namespace ddfem::coarsening
                 " materials; databases hold at most 8 materials plus void");
         settings.point_offset =
           read_number_attribute(h5, "coarse point offset");
-        check(solver::valid_point_offset(settings.point_offset),
+        const auto [low, high] = solver::point_offset_range(1);
+        check(solver::valid_point_offset(settings.point_offset, 1),
               "has a coarse point offset of " +
                 Utilities::to_string(settings.point_offset) +
-                ", which is not in [" +
-                format_number(solver::minimum_point_offset) + ", 1)");
+                ", which is not in [" + format_number(low) + ", " +
+                format_number(high) + ")");
         const std::string fingerprint = read_attribute(h5, "settings");
         Database          db(settings, n_materials);
         db.settings_fingerprint = fingerprint;

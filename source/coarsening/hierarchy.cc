@@ -462,17 +462,21 @@ namespace ddfem::coarsening
       settings.n_intermediate >> comma >> word >> settings.n_representatives >>
       comma >> word >> settings.regularization;
     // Files written before the second level had an offset of its own
-    // name none: their metamaterials were fitted for the first level's.
+    // name none. Their second level was fitted for the Gauss rule where
+    // the first level's offset is the default; for another one, it was
+    // fitted for a rule no longer used, and is dropped (builds fit it anew).
     const bool named_offset = bool(in >> comma);
+    settings.point_offset   = solver::gauss_point_offset;
     if (named_offset)
       in >> word >> word >> settings.point_offset;
-    else
-      settings.point_offset = level1.point_offset();
     std::string expected = settings.fingerprint();
     if (!named_offset)
       expected.erase(expected.rfind(", point offset: "));
-    check(expected == text && solver::valid_point_offset(settings.point_offset),
+    check(expected == text &&
+            solver::valid_point_offset(settings.point_offset, 2),
           "has unreadable level-2 settings '" + text + "'");
+    if (!named_offset && level1.point_offset() != solver::gauss_point_offset)
+      return false;
 
     class_of         = read_dataset<std::int32_t>(file,
                                           "level2/class of",

@@ -19,15 +19,18 @@ namespace ddfem::solver
   void
   check_point_offset(const double point_offset, const unsigned int level)
   {
-    const std::string minimum = format_number(minimum_point_offset);
-    AssertThrow(valid_point_offset(point_offset),
-                ExcMessage(point_offset_parameter(level) +
-                           " must lie "
-                           "from " +
-                           minimum + " up to (not including) 1, not " +
-                           format_number(point_offset) + ". Below " + minimum +
-                           " the element nears a mechanism (its bending "
-                           "energy scales with the offset squared)."));
+    const auto [low, high] = point_offset_range(level);
+    AssertThrow(valid_point_offset(point_offset, level),
+                ExcMessage(
+                  point_offset_parameter(level) + " must lie from " +
+                  format_number(low) + " up to (not including) " +
+                  format_number(high) + ", not " + format_number(point_offset) +
+                  (level == 2 ?
+                     ": outside, some of the 64 points would leave their "
+                     "voxels." :
+                     ". Below " + format_number(low) +
+                       " the element nears a mechanism (its bending energy "
+                       "scales with the offset squared).")));
   }
 
 
@@ -39,16 +42,15 @@ namespace ddfem::solver
                 ExcMessage("Coarsening levels must be 1 or 2, not " +
                            std::to_string(level) + "."));
     check_point_offset(point_offset, level);
-    // The Gauss points moved toward the centre by the factor (exactly the
-    // Gauss rule for the default offset).
-    const QGauss<1>       gauss(2);
+    // The Gauss points (iterated at level 2) moved toward the centre by the
+    // factor (exactly the Gauss rule for the default offset).
+    const Quadrature<1> gauss =
+      level == 1 ? Quadrature<1>(QGauss<1>(2)) : QIterated<1>(QGauss<1>(2), 2);
     const double          factor = point_offset / gauss_point_offset;
     std::vector<Point<1>> points;
     for (const Point<1> &x : gauss.get_points())
       points.emplace_back(x[0] * factor + 0.5 * (1 - factor));
-    const Quadrature<1> rule(points, gauss.get_weights());
-    return level == 1 ? Quadrature<3>(rule) :
-                        Quadrature<3>(QIterated<3>(rule, 2));
+    return Quadrature<3>(Quadrature<1>(points, gauss.get_weights()));
   }
 
 

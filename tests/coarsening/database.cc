@@ -795,15 +795,19 @@ main()
     std::cout << "every block of a random grid has a 64-point metamaterial: "
               << all_found << std::endl;
 
-    // The second level's point offset: named in its settings; files
-    // written before it had one of its own name none, and were fitted for
-    // the first level's (0.45 in the edited copy).
+    // The second level's point offset: named in its settings. Files
+    // written before it had one of its own name none; their second level
+    // is the Gauss rule's where the first level has the default offset, and
+    // is dropped otherwise (0.45 in the edited copy).
     const std::string settings = level2.settings.fingerprint();
     std::cout << "level-2 settings: " << settings << std::endl;
     const std::string unnamed =
       settings.substr(0, settings.rfind(", point offset: "));
     edited_copy("level2.h5",
                 "level2_unnamed.h5",
+                {{"level 2 settings", unnamed}});
+    edited_copy("level2.h5",
+                "level2_unnamed_045.h5",
                 {{"level 2 settings", unnamed},
                  {"coarse point offset", "0.45"}});
     HierarchySettings other = level2.settings;
@@ -811,14 +815,19 @@ main()
     edited_copy("level2.h5",
                 "level2_045.h5",
                 {{"level 2 settings", other.fingerprint()}});
-    for (const std::string file : {"level2_unnamed.h5", "level2_045.h5"})
+    for (const std::string file :
+         {"level2_unnamed.h5", "level2_unnamed_045.h5", "level2_045.h5"})
       {
         Hierarchy read;
         Database::load(file, &read);
-        std::cout << file << ": level-2 point offset "
-                  << read.settings.point_offset << ", entries kept: "
-                  << same_level2_entries(read.entries, level2.entries)
-                  << std::endl;
+        std::cout << file << ": ";
+        if (read.empty())
+          std::cout << "level 2 dropped" << std::endl;
+        else
+          std::cout << "level-2 point offset " << read.settings.point_offset
+                    << ", entries kept: "
+                    << same_level2_entries(read.entries, level2.entries)
+                    << std::endl;
       }
     other.point_offset = 0.2;
     edited_copy("level2.h5",

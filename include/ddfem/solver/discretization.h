@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace ddfem::solver
@@ -22,18 +23,25 @@ namespace ddfem::solver
   constexpr double gauss_point_offset = 0.57735026918962576451;
 
   /**
-   * The smallest coarse point offset. The element's energy in its
-   * hourglass (bending) modes scales with the offset squared: below 0.25 it
-   * is less than a fifth of the Gauss rule's, and the element nears a
-   * mechanism.
+   * The point offsets allowed at coarsening level @p level (1 or 2),
+   * [first, second). At level 1 from 0.25, below which the hourglass
+   * (bending) modes keep less than a fifth of the Gauss rule's energy and
+   * the element nears a mechanism, up to 1, where the points reach the
+   * faces. At level 2 from 0.37 up to 0.73: outside, some of the 64 points
+   * would leave their voxels (coarse_quadrature()).
    */
-  constexpr double minimum_point_offset = 0.25;
-
-  /// Whether minimum_point_offset <= @p point_offset < 1.
-  inline bool
-  valid_point_offset(const double point_offset)
+  inline std::pair<double, double>
+  point_offset_range(const unsigned int level)
   {
-    return point_offset >= minimum_point_offset && point_offset < 1;
+    return level == 2 ? std::pair(0.37, 0.73) : std::pair(0.25, 1.);
+  }
+
+  /// Whether @p point_offset lies in point_offset_range(@p level).
+  inline bool
+  valid_point_offset(const double point_offset, const unsigned int level)
+  {
+    const auto [low, high] = point_offset_range(level);
+    return point_offset >= low && point_offset < high;
   }
 
   /**
@@ -46,7 +54,7 @@ namespace ddfem::solver
 
   /**
    * Throws ExcMessage naming point_offset_parameter(@p level) unless
-   * valid_point_offset(@p point_offset).
+   * valid_point_offset(@p point_offset, @p level).
    */
   void
   check_point_offset(const double point_offset, const unsigned int level);
@@ -57,16 +65,19 @@ namespace ddfem::solver
    * of weight 1/8, point k in child octant k, at +-@p point_offset of the
    * element's half-width from its centre in every direction: the 2-point
    * Gauss rule with the default gauss_point_offset (the paper's element).
-   * At level 2 it is the same rule iterated twice (64 points, one in each
-   * voxel of the 4x4x4 block, where the level-1 children have theirs).
+   * At level 2 it has 64 points of weight 1/64, one in each voxel of the
+   * 4x4x4 block: the 2-point Gauss rule iterated twice (where level-1
+   * children of the default offset have their points), moved toward the
+   * centre by the factor @p point_offset / gauss_point_offset.
    *
-   * A smaller offset leaves the energy of every constant-strain mode as
-   * it is (the weights integrate constants exactly) and scales down the
-   * energy of the trilinear element's bending modes, whose strains grow
-   * linearly away from the centre.
+   * At both levels a smaller offset leaves the energy of every
+   * constant-strain mode as it is (the weights integrate constants exactly)
+   * and scales the energy of the trilinear element's bending modes, whose
+   * strains grow linearly away from the centre, by (@p point_offset /
+   * gauss_point_offset)^2.
    *
-   * Throws ExcMessage for other levels and for offsets outside [0.25, 1)
-   * (the parameter point_offset_parameter(@p level)).
+   * Throws ExcMessage for other levels and for offsets outside
+   * point_offset_range(@p level) (naming point_offset_parameter(@p level)).
    */
   Quadrature<3>
   coarse_quadrature(const unsigned int level,
