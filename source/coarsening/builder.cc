@@ -2,6 +2,7 @@
 #include <deal.II/base/timer.h>
 
 #include <ddfem/base/files.h>
+#include <ddfem/base/parsing.h>
 #include <ddfem/base/statistics.h>
 #include <ddfem/coarsening/builder.h>
 #include <ddfem/coarsening/coarsener.h>
@@ -86,7 +87,7 @@ namespace ddfem::coarsening
       "with another is rejected.");
     prm.declare_entry(
       "Level-2 point offset",
-      "0.57735026918962576",
+      format_number(solver::default_level2_point_offset),
       Patterns::Double(solver::point_offset_range(2).first,
                        solver::point_offset_range(2).second),
       "Method = ddfem, naive or average, Coarsening levels = 2: the 64 "
@@ -94,7 +95,8 @@ namespace ddfem::coarsening
       "twice, moved toward the block's centre by the factor offset / "
       "(1/sqrt(3)), so its bending energy scales as at level 1 (from 0.37 "
       "up to, not including, 0.73: outside, some points would leave their "
-      "voxels). 1/sqrt(3) is the paper's element. The second level's "
+      "voxels). 1/sqrt(3) is the paper's element; the default, 0.4, bends "
+      "like the fine blocks (doc/coarsening.md). The second level's "
       "metamaterials are fitted for it, from samples of level-1 models "
       "with the Coarse point offset; a second level a database file holds "
       "for another offset is fitted anew.");

@@ -33,7 +33,7 @@ namespace ddfem::coarsening
     /// (solver::coarse_quadrature(2, point_offset)), which its
     /// metamaterials are fitted for: "Discretization/Level-2 point
     /// offset", set by DatabaseBuilder, not by parse_parameters().
-    double point_offset = solver::gauss_point_offset;
+    double point_offset = solver::default_level2_point_offset;
 
     /// Declares the subsection "Level 2".
     static void
