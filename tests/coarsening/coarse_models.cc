@@ -109,17 +109,25 @@ namespace
 
 
 
+  /// A homogeneous cantilever of 4 x 16 x 4 voxels under a small load.
+  std::string
+  homogeneous_cantilever()
+  {
+    return testing::cantilever("4, 16, 4", "0; 0; -20") +
+           "subsection Materials\n set Palette = E=1e6 nu=0.45\nend\n"
+           "subsection Geometry\n set Voxel size = 0.01\nend\n"
+           "subsection Nonlinear solver\n set Load steps = 1\nend\n";
+  }
+
+
+
   void
   homogeneous_small_load()
   {
     std::cout << "Homogeneous cantilever, 4 x 16 x 4 voxels, small load"
               << std::endl;
-    const std::string cantilever =
-      testing::cantilever("4, 16, 4", "0; 0; -20") +
-      "subsection Materials\n set Palette = E=1e6 nu=0.45\nend\n"
-      "subsection Geometry\n set Voxel size = 0.01\nend\n"
-      "subsection Nonlinear solver\n set Load steps = 1\nend\n";
-    Setup setup(cantilever, "homogeneous.h5");
+    const std::string cantilever = homogeneous_cantilever();
+    Setup             setup(cantilever, "homogeneous.h5");
     // Level 2 with the Gauss rule, the paper's element.
     Setup gauss(cantilever + "subsection Discretization\n"
                              " set Level-2 point offset = 0.57735026918962576\n"
@@ -292,14 +300,10 @@ namespace
       }
 
     // The cantilever of homogeneous_small_load() at offset 0.45.
-    const std::string cantilever =
-      testing::cantilever("4, 16, 4", "0; 0; -20") +
-      "subsection Materials\n set Palette = E=1e6 nu=0.45\nend\n"
-      "subsection Geometry\n set Voxel size = 0.01\nend\n"
-      "subsection Nonlinear solver\n set Load steps = 1\nend\n";
-    Setup gauss_setup(cantilever, "offset_gauss.h5");
-    Setup smaller(cantilever + "subsection Discretization\n"
-                               " set Coarse point offset = 0.45\nend\n",
+    const std::string cantilever = homogeneous_cantilever();
+    Setup             gauss_setup(cantilever, "offset_gauss.h5");
+    Setup             smaller(cantilever + "subsection Discretization\n"
+                                           " set Coarse point offset = 0.45\nend\n",
                   "offset_045.h5");
     gauss_setup.prepare({gauss_setup.scene.grid}, 2);
     smaller.prepare({smaller.scene.grid}, 2);
