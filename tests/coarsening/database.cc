@@ -1055,9 +1055,10 @@ main()
     Tensor<2, 3> strain = unit_symmetric_tensor<3>(), shear = strain;
     strain[0][0] = 1.05;
     shear[0][1]  = 0.05;
-    const CoarseElement element1(1), element2(2);
-    const Combination   c = block[0];
-    const auto          level2_energy =
+    const CoarseElement element1(1, loaded.point_offset()),
+      element2(2, level2.settings.point_offset);
+    const Combination c = block[0];
+    const auto        level2_energy =
       energy_of(element2, level2.lookup(loaded, block));
     const auto child_energy = energy_of(element1, loaded.lookup(c, Fit::child));
     const auto coarse_energy = energy_of(element1, loaded.lookup(c));

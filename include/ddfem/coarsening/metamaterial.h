@@ -30,9 +30,9 @@ namespace ddfem::coarsening
   /**
    * A metamaterial: the material record of every quadrature point of one
    * coarse element (paper eq. 2). Level 1 has 8 points, point k in octant
-   * k; level 2 has 64, the level-1 rule iterated (see
-   * solver::coarse_quadrature(): the 2-point Gauss rule for the default
-   * point offset).
+   * k; level 2 has 64, one per voxel of the 4x4x4 block (see
+   * solver::coarse_quadrature(): the 2-point Gauss rule, iterated at level
+   * 2, moved toward the centre by the level's point offset).
    */
   struct Metamaterial
   {
@@ -136,9 +136,9 @@ namespace ddfem::coarsening
   /**
    * One coarse element on the unit cube, trilinear (FE_Q(1)^3), with the
    * quadrature of a coarsening level, solver::coarse_quadrature(): 8
-   * points, one per child octant, at level 1 (the 2-point Gauss rule for
-   * the default point offset), the same rule iterated twice (64 points,
-   * the points of the children's own rules) at level 2. It
+   * points, one per child octant, at level 1, 64 points, one per voxel, at
+   * level 2 (the 2-point Gauss rule and that rule iterated twice, moved
+   * toward the centre by the point offset). It
    * evaluates metamaterial energies through the cell kernel the solvers
    * use, and the per-point energy terms the fitter needs. Energies are per
    * unit volume of the coarse element: metamaterial parameters do not
