@@ -97,9 +97,10 @@ namespace ddfem::coarsening
       "up to, not including, 0.73: outside, some points would leave their "
       "voxels). 1/sqrt(3) is the paper's element; the default, 0.4, bends "
       "like the fine blocks (doc/coarsening.md). The second level's "
-      "metamaterials are fitted for it, from samples of level-1 models "
-      "with the Coarse point offset; a second level a database file holds "
-      "for another offset is fitted anew.");
+      "metamaterials are fitted for it, from samples of the level-1 "
+      "entries' child fits, which have the Gauss rule whatever the Coarse "
+      "point offset; a second level a database file holds for another "
+      "offset is fitted anew.");
     prm.leave_subsection();
   }
 
@@ -319,26 +320,35 @@ namespace ddfem::coarsening
       sampling.for_block({combination.begin(), combination.end()});
     const std::vector<Sample> samples =
       sampler.sample(block_sampling, seed, entry.n_dropped);
-    PointTies                         ties;
     const std::optional<unsigned int> axis =
       fitting.laminate_springs ? split_axis(combination) : std::nullopt;
-    if (axis)
-      ties = laminate_springs(prior, *axis);
-    else
-      {
-        const std::vector<Tensor<1, 3>> directions =
-          sampler.anisotropy_directions(block_sampling, element);
-        for (unsigned int q = 0; q < 8; ++q)
-          prior.points[q].direction = directions[q];
-        ties = symmetrize_directions(prior, combination, database.symmetries());
-      }
-    // Both fits solve the least-squares problem of the same samples.
-    const MetamaterialFit problem(element, samples, prior, fitting, ties);
+    // The least-squares problem of the samples for the points of element
+    // @p e: the prior's directions, and the ties of the block's symmetries.
+    const auto problem = [&](const CoarseElement &e) {
+      Metamaterial m = prior;
+      PointTies    ties;
+      if (axis)
+        ties = laminate_springs(m, *axis);
+      else
+        {
+          const std::vector<Tensor<1, 3>> directions =
+            sampler.anisotropy_directions(block_sampling, e);
+          for (unsigned int q = 0; q < 8; ++q)
+            m.points[q].direction = directions[q];
+          ties = symmetrize_directions(m, combination, database.symmetries());
+        }
+      return MetamaterialFit(e, samples, m, fitting, ties);
+    };
+    const MetamaterialFit coarse = problem(element);
     const FitResult       fit =
-      problem.fit(fitting.regularization, fitting.spring_regularization);
+      coarse.fit(fitting.regularization, fitting.spring_regularization);
     entry.material = fit.material;
     record_fit(fit, samples, entry);
-    entry.child_material = problem.parameters(fitting.child_regularization);
+    // The child fit solves the same problem where the offsets agree.
+    entry.child_material = element.point_offset() == child_point_offset ?
+                             coarse.parameters(fitting.child_regularization) :
+                             problem(CoarseElement(1, child_point_offset))
+                               .parameters(fitting.child_regularization);
     return entry;
   }
 
@@ -374,8 +384,8 @@ namespace ddfem::coarsening
     std::vector<scene::MaterialId> voxels;
     for (const Combination &block : blocks)
       voxels.insert(voxels.end(), block.begin(), block.end());
-    // The children are level-1 elements, with the level-1 offset.
-    const BlockSampler        sampler(children, level1.point_offset());
+    // The children are level-1 elements with the child fits' offset.
+    const BlockSampler        sampler(children, child_point_offset);
     Entry                     entry;
     const std::vector<Sample> samples =
       sampler.sample(sampling.for_block(voxels), seed, entry.n_dropped);

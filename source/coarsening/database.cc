@@ -91,8 +91,12 @@ namespace ddfem::coarsening
     // Named only where it is set, likewise.
     if (fitting.spring_regularization)
       s << ", spring regularization: " << *fitting.spring_regularization;
-    s << " | coarse point offset: " << point_offset
-      << " | sampler revision: " << sampler_revision;
+    s << " | coarse point offset: " << point_offset;
+    // Named only where the child fits' offset differs from the coarse
+    // element's: before, child fits had the coarse element's offset.
+    if (point_offset != child_point_offset)
+      s << ", child fits at the Gauss rule";
+    s << " | sampler revision: " << sampler_revision;
     return s.str();
   }
 

@@ -128,7 +128,7 @@ namespace ddfem::coarsening
     std::sort(required.begin(), required.end());
     required.erase(std::unique(required.begin(), required.end()),
                    required.end());
-    const CoarseElement element(1, level1.point_offset());
+    const CoarseElement element(1, child_point_offset);
 
     // The second level's palette: clusters of the level-1 metamaterials,
     // the required blocks' sub-blocks first.

@@ -670,6 +670,45 @@ main()
               << !same_points(paper.child_material, paper.material)
               << std::endl;
 
+    // The child fit is made for the Gauss rule's points whatever the coarse
+    // element's offset; the coarse fit follows the offset. A block with
+    // void takes force patterns, whose directions depend on the points.
+    DatabaseSettings with_void;
+    with_void.palette = DatabaseSettings::describe(palette());
+    const Database void_db(with_void, palette().size());
+    for (const Combination &c :
+         {canonical,
+          void_db.symmetries()
+            .canonical(Combination{{1, 0, 2, 1, 1, 1, 2, 1}})
+            .first})
+      {
+        const auto at = [&](const double offset) {
+          return DatabaseBuilder::fit_entry(palette(),
+                                            void_db,
+                                            c,
+                                            sampling,
+                                            FitSettings(),
+                                            CoarseElement(1, offset),
+                                            11);
+        };
+        const Entry gauss = at(solver::gauss_point_offset), other = at(0.45);
+        std::cout << "fits for the offset 0.45: child fit equals the Gauss "
+                     "rule's: "
+                  << same_points(other.child_material, gauss.child_material)
+                  << ", coarse fit differs: "
+                  << !same_points(other.material, gauss.material) << std::endl;
+      }
+    DatabaseSettings offset_settings = with_void;
+    offset_settings.point_offset     = 0.45;
+    std::cout << "fingerprint names the child fits' offset where the coarse "
+                 "offset differs: "
+              << (offset_settings.fingerprint().find(
+                    "child fits at the Gauss rule") != std::string::npos)
+              << ", and not where it does not: "
+              << (with_void.fingerprint().find("child fits") ==
+                  std::string::npos)
+              << std::endl;
+
     Database compressed = loaded;
     compressed.compress(5, element, feature_deformations(32, 0.1, 4711));
     // A symmetry permutes the points: the sorted shear moduli of a lookup

@@ -179,7 +179,8 @@ namespace ddfem::coarsening
      * block of the palette's materials, force-space samples from a
      * generator seeded with @p seed, anisotropy directions,
      * and the regularized, bounded fit toward the children's materials,
-     * once with FitSettings::regularization (Entry::material) and once
+     * once for @p element with FitSettings::regularization
+     * (Entry::material) and once for the element with child_point_offset
      * with FitSettings::child_regularization (Entry::child_material).
      */
     static Entry

@@ -28,6 +28,15 @@ namespace ddfem::coarsening
   constexpr int sampler_revision = 5;
 
   /**
+   * The point offset of every child fit (Entry::child_material): the
+   * Gauss rule's, whatever the first level's offset. The second level
+   * samples and clusters the child fits with their records at these points,
+   * so its metamaterials do not depend on the point offset first-level
+   * coarsening uses.
+   */
+  constexpr double child_point_offset = solver::gauss_point_offset;
+
+  /**
    * One fitted first-level metamaterial: the metamaterial of an orbit
    * representative combination, with how it was sampled and how well it
    * fits.
@@ -38,9 +47,9 @@ namespace ddfem::coarsening
     std::size_t key = 0;
     /// Its metamaterial (8 points).
     Metamaterial material;
-    /// The fit of the same samples with FitSettings::child_regularization:
-    /// the block as the second level samples it (8 points; empty for
-    /// second-level entries).
+    /// The fit of the same samples with FitSettings::child_regularization
+    /// for the element with child_point_offset: the block as the second
+    /// level samples it (8 points; empty for second-level entries).
     Metamaterial child_material;
     /// Median and largest relative energy error on held-out samples.
     double median_error = 0, max_error = 0;
