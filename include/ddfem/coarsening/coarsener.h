@@ -66,13 +66,6 @@ namespace ddfem::coarsening
               const Database        *level1 = nullptr,
               const Hierarchy       *level2 = nullptr);
 
-    /// The method.
-    CoarseningMethod
-    method() const
-    {
-      return coarsening;
-    }
-
     /// The coarsening level.
     unsigned int
     level() const

@@ -142,21 +142,14 @@ namespace ddfem::solver
 
     /**
      * The unconstrained gradient dE/du (@p residual) and Hessian
-     * (@p tangent, reinitialized on sparsity_pattern()) at @p u and load
-     * factor @p t. For verification.
+     * (@p tangent, reinitialized on the tangent's sparsity pattern without
+     * constraints) at @p u and load factor @p t. For verification.
      */
     void
     residual_and_tangent(const Vector<double> &u,
                          const double          t,
                          Vector<double>       &residual,
                          SparseMatrix<double> &tangent) const;
-
-    /// The sparsity pattern of the tangent (no constraints applied).
-    const SparsityPattern &
-    sparsity_pattern() const
-    {
-      return pattern;
-    }
 
     /// Per-cell det F, von Mises stress and largest principal strain of
     /// the state @p u (see CellFields).
