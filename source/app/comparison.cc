@@ -508,6 +508,9 @@ namespace ddfem::app
           }
         const std::size_t                       first_row = rows.size();
         std::map<unsigned int, report::GridFit> grid_fits; // per level
+        // The reference of the state's errors: its first fine model that
+        // reached the full load (the fine models run first).
+        const ModelRun *reference = nullptr;
         for (unsigned int c = 0; c < configurations.size(); ++c)
           {
             Configuration &config = configurations[c];
@@ -532,26 +535,24 @@ namespace ddfem::app
               create_directories(run_directory, "Output/Output directory");
             row.result        = model.solve(&writer);
             row.linear_solver = config.linear_solver->method();
-            // Against the fine model, which runs first (this one, if no
-            // row of the state exists yet), if it reached the full load.
-            const Row &reference =
-              rows.size() > first_row ? rows[first_row] : row;
-            const bool have_reference = reference.result.statistics.converged;
-            if (have_reference && row.result.statistics.converged)
+            if (reference == nullptr && config.level == 0 &&
+                row.result.statistics.converged)
+              reference = &model;
+            if (reference != nullptr && row.result.statistics.converged)
               row.error = report::vertex_error(scene.grid,
-                                               models[0]->discretization(),
-                                               models[0]->solution(),
+                                               reference->discretization(),
+                                               reference->solution(),
                                                model.discretization(),
                                                model.solution());
-            if (config.level > 0 && have_reference)
+            if (config.level > 0 && reference != nullptr)
               {
                 if (grid_fits.count(config.level) == 0)
                   {
                     Timer                  timer;
                     const report::GridFit &fit = grid_fits[config.level] =
                       report::grid_fit(scene.grid,
-                                       models[0]->discretization(),
-                                       models[0]->solution(),
+                                       reference->discretization(),
+                                       reference->solution(),
                                        model.discretization());
                     if (screen_timings)
                       out << "  grid fit L" << config.level << ": "

@@ -5,7 +5,8 @@
 // run writes are checked for their columns, their speedups against the
 // fine runs' wall times, and the CSV against the JSON. A second, smaller run
 // compares a quadratic fine model with the trilinear naive one; a third one
-// has a fine model that fails.
+// has a fine model that fails, and its errors are measured against the
+// direct run, as a fourth run whose scene solves directly confirms.
 
 #include <nlohmann/json.hpp>
 
@@ -212,22 +213,25 @@ main(int argc, char **argv)
       std::cout << line << std::endl;
 
   // The scene's fine model fails (CG may take one iteration only), the
-  // direct one does not: the speedups divide the direct run's time, and
-  // there are no vertex errors and no grid fits (empty CSV fields).
+  // direct one does not: the speedups divide the direct run's time, the
+  // failed run has no vertex errors (empty CSV fields), and the others are
+  // measured against the direct run.
   std::filesystem::remove_all("compare_failed");
-  std::ofstream failed("compare_failed.prm");
-  failed << ddfem::testing::compare_run("failed", "2, 8, 2", "0.02, 0.16, 0.02")
-         << ddfem::testing::layers("0.04")
-         << "subsection Linear solver\n"
-            "  set Type = cg-amg\n"
-            "  set Maximum iterations = 1\n"
-            "end\n"
-            "subsection Comparison\n"
-            "  set Methods = naive\n"
-            "  set Levels = 1\n"
-            "end\n"
-         << output("compare_failed", "none");
-  failed.close();
+  const auto failing = [](const std::string &solver,
+                          const std::string &directory) {
+    std::ofstream prm(directory + ".prm");
+    prm << ddfem::testing::compare_run("failed", "2, 8, 2", "0.02, 0.16, 0.02")
+        << ddfem::testing::layers("0.04") << "subsection Linear solver\n"
+        << solver
+        << "end\n"
+           "subsection Comparison\n"
+           "  set Methods = naive\n"
+           "  set Levels = 1\n"
+           "end\n"
+        << output(directory, "none");
+  };
+  failing("  set Type = cg-amg\n  set Maximum iterations = 1\n",
+          "compare_failed");
   std::ostringstream failed_log;
   const int          status_failed =
     ddfem::app::run({"compare_failed.prm"}, failed_log, failed_log);
@@ -241,9 +245,11 @@ main(int argc, char **argv)
                 << ", speedup_vs_fine '"
                 << (fields[1] == "fine-direct" ? fields[10] : "...") << "' ("
                 << (fields[10].empty() ? "empty" : "a number")
-                << "), mean_vertex_error '" << fields[12]
-                << "', grid_fit_lower_bound '" << fields[16] << "'"
-                << std::endl;
+                << "), mean_vertex_error '"
+                << (fields[1] == "naive" ? "..." : fields[12]) << "' ("
+                << (fields[12].empty() ? "empty" : "a number")
+                << "), grid_fit_lower_bound "
+                << (fields[16].empty() ? "empty" : "a number") << std::endl;
     }
   // The JSON has null where the CSV has empty fields, and the converged
   // runs' speedups divide the direct run's wall time by their own.
@@ -275,4 +281,28 @@ main(int argc, char **argv)
                         "FAILED");
       std::cout << std::endl;
     }
+
+  // Those are the errors of a run whose scene solves with the direct solver.
+  std::filesystem::remove_all("compare_direct");
+  failing("  set Type = direct\n", "compare_direct");
+  std::ostringstream direct_log;
+  ddfem::app::run({"compare_direct.prm"}, direct_log, direct_log);
+  std::ifstream        direct_file("compare_direct/comparison.json");
+  const nlohmann::json direct_json = nlohmann::json::parse(direct_file);
+  const auto naive = [](const nlohmann::json &runs, const std::string &key) {
+    for (const auto &run : runs.at("runs"))
+      if (run.at("method") == "naive")
+        return run.at(key).get<double>();
+    return 0.;
+  };
+  for (const std::string key :
+       {"mean_vertex_error", "max_vertex_error", "grid_fit_mean_vertex_error"})
+    std::cout << "  naive " << key
+              << " equals that against the scene's direct solver (relative "
+                 "difference below 1e-6): "
+              << (std::abs(naive(failed_json, key) / naive(direct_json, key) -
+                           1) < 1e-6 ?
+                    "yes" :
+                    "NO")
+              << std::endl;
 }
