@@ -217,8 +217,9 @@ main(int argc, char **argv)
   // failed run has no vertex errors (empty CSV fields), and the others are
   // measured against the direct run.
   std::filesystem::remove_all("compare_failed");
-  const auto failing = [](const std::string &solver,
-                          const std::string &directory) {
+  // The small layered scene with naive L1 and the linear solver @p solver.
+  const auto write_prm = [](const std::string &solver,
+                            const std::string &directory) {
     std::ofstream prm(directory + ".prm");
     prm << ddfem::testing::compare_run("failed", "2, 8, 2", "0.02, 0.16, 0.02")
         << ddfem::testing::layers("0.04") << "subsection Linear solver\n"
@@ -230,8 +231,8 @@ main(int argc, char **argv)
            "end\n"
         << output(directory, "none");
   };
-  failing("  set Type = cg-amg\n  set Maximum iterations = 1\n",
-          "compare_failed");
+  write_prm("  set Type = cg-amg\n  set Maximum iterations = 1\n",
+            "compare_failed");
   std::ostringstream failed_log;
   const int          status_failed =
     ddfem::app::run({"compare_failed.prm"}, failed_log, failed_log);
@@ -284,7 +285,7 @@ main(int argc, char **argv)
 
   // Those are the errors of a run whose scene solves with the direct solver.
   std::filesystem::remove_all("compare_direct");
-  failing("  set Type = direct\n", "compare_direct");
+  write_prm("  set Type = direct\n", "compare_direct");
   std::ostringstream direct_log;
   ddfem::app::run({"compare_direct.prm"}, direct_log, direct_log);
   std::ifstream        direct_file("compare_direct/comparison.json");
