@@ -40,6 +40,30 @@ namespace ddfem::scene
 
 
 
+    // Calls f(tokens, line, where) for every line of @p in that has a
+    // token: tokens are the line's white-space separated words (those
+    // before a '#' where @p comments), where is the prefix "<file>, line
+    // <n>: " of a message about the line.
+    template <typename Function>
+    void
+    for_each_line(std::istream      &in,
+                  const std::string &file,
+                  const bool         comments,
+                  const Function    &f)
+    {
+      std::string line;
+      for (unsigned int line_no = 1; std::getline(in, line); ++line_no)
+        {
+          const std::string_view text(line);
+          const auto             tokens =
+            split(comments ? text.substr(0, text.find('#')) : text);
+          if (!tokens.empty())
+            f(tokens, line, file + ", line " + std::to_string(line_no) + ": ");
+        }
+    }
+
+
+
     // "nx ny nz" as in the voxel file header.
     std::string
     size_string(const std::array<unsigned int, 3> &n)
@@ -161,22 +185,20 @@ namespace ddfem::scene
                              "not start with \"solid\")."));
 
       std::istringstream in(content);
-      std::string        line;
-      unsigned int       line_no         = 0;
       bool               in_facet        = false;
       bool               ended           = false;
       unsigned int       n_facet_corners = 0;
-      const auto check = [&](const bool ok, const std::string &problem) {
-        AssertThrow(ok,
-                    ExcMessage(file + ", line " + std::to_string(line_no) +
-                               ": " + problem + " in \"" + line + "\"."));
-      };
-      while (std::getline(in, line))
-        {
-          ++line_no;
-          const auto tokens = split(line);
-          if (tokens.empty())
-            continue;
+      for_each_line(
+        in,
+        file,
+        false,
+        [&](const auto        &tokens,
+            const std::string &line,
+            const std::string &where) {
+          const auto check = [&](const bool ok, const std::string &problem) {
+            AssertThrow(ok,
+                        ExcMessage(where + problem + " in \"" + line + "\"."));
+          };
           const std::string_view keyword = tokens[0];
           Point<3>               p;
           if (keyword == "facet")
@@ -207,7 +229,7 @@ namespace ddfem::scene
                     "unexpected keyword \"" + std::string(keyword) + "\"");
               ended = ended || keyword == "endsolid";
             }
-        }
+        });
       AssertThrow(!in_facet,
                   ExcMessage(file +
                              ": ends inside a facet (missing \"endfacet\")."));
@@ -233,30 +255,25 @@ namespace ddfem::scene
     {
       std::vector<Point<3>> vertices, corners;
       std::istringstream    in(content);
-      std::string           line;
-      unsigned int          line_no = 0;
-      const auto            where   = [&]() {
-        return file + ", line " + std::to_string(line_no) + ": ";
-      };
-      while (std::getline(in, line))
-        {
-          ++line_no;
-          const auto tokens =
-            split(std::string_view(line).substr(0, line.find('#')));
-          if (tokens.empty())
-            continue;
+      for_each_line(
+        in,
+        file,
+        true,
+        [&](const auto        &tokens,
+            const std::string &line,
+            const std::string &where) {
           if (tokens[0] == "v")
             {
               Point<3> p;
               AssertThrow(parse_point(tokens, 1, p),
-                          ExcMessage(where() + "malformed vertex line \"" +
-                                     line + "\"."));
+                          ExcMessage(where + "malformed vertex line \"" + line +
+                                     "\"."));
               vertices.push_back(p);
             }
           else if (tokens[0] == "f")
             {
               AssertThrow(tokens.size() >= 4,
-                          ExcMessage(where() +
+                          ExcMessage(where +
                                      "a face needs at least 3 "
                                      "vertices: \"" +
                                      line + "\"."));
@@ -268,13 +285,13 @@ namespace ddfem::scene
                   const std::string_view token = tokens[t];
                   long long              index = 0;
                   AssertThrow(parse(token.substr(0, token.find('/')), index),
-                              ExcMessage(where() + "malformed face vertex \"" +
+                              ExcMessage(where + "malformed face vertex \"" +
                                          std::string(token) + "\"."));
                   const long long n_vertices = vertices.size();
                   const long long v =
                     index > 0 ? index - 1 : n_vertices + index;
                   AssertThrow(index != 0 && v >= 0 && v < n_vertices,
-                              ExcMessage(where() + "vertex index " +
+                              ExcMessage(where + "vertex index " +
                                          std::to_string(index) +
                                          " is out of range (" +
                                          std::to_string(n_vertices) +
@@ -285,7 +302,7 @@ namespace ddfem::scene
                 for (const unsigned int v : {face[0], face[c], face[c + 1]})
                   corners.push_back(vertices[v]);
             }
-        }
+        });
       // As an STL file's corners: vertices at the same place become one
       // (a mesh written as a triangle soup is closed), and vertices no face
       // uses do not count toward 'Fit to grid'.
@@ -341,20 +358,15 @@ namespace ddfem::scene
 
     std::vector<MaterialId> ids;
     ids.reserve(grid.n_voxels());
-    std::size_t  n_found     = 0;
-    bool         have_header = false;
-    std::string  line;
-    unsigned int line_no = 0;
-    while (std::getline(in, line))
-      {
-        ++line_no;
-        const auto tokens =
-          split(std::string_view(line).substr(0, line.find('#')));
-        if (tokens.empty())
-          continue;
-        const std::string where =
-          file + ", line " + std::to_string(line_no) + ": ";
-
+    std::size_t n_found     = 0;
+    bool        have_header = false;
+    for_each_line(
+      in,
+      file,
+      true,
+      [&](const auto        &tokens,
+          const std::string &line,
+          const std::string &where) {
         if (!have_header)
           {
             std::array<unsigned int, 3> m;
@@ -369,7 +381,7 @@ namespace ddfem::scene
                                    "\" does not match the grid size \"" +
                                    header + "\"."));
             have_header = true;
-            continue;
+            return;
           }
 
         for (const std::string_view token : tokens)
@@ -395,7 +407,7 @@ namespace ddfem::scene
               }
             ++n_found;
           }
-      }
+      });
 
     AssertThrow(have_header,
                 ExcMessage(file + ": no header \"nx ny nz\" found."));
