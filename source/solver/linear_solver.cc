@@ -9,6 +9,31 @@
 
 namespace ddfem::solver
 {
+  namespace
+  {
+    // CG from x = 0 until the residual is at most tolerance |b|, but not
+    // below 1e-12 |b|. Returns the iterations; throws
+    // SolverControl::NoConvergence after max_iterations.
+    template <typename Preconditioner>
+    unsigned int
+    solve_with_cg(const SparseMatrix<double> &K,
+                  Vector<double>             &x,
+                  const Vector<double>       &b,
+                  const Preconditioner       &preconditioner,
+                  const unsigned int          max_iterations,
+                  const double                tolerance)
+    {
+      SolverControl            control(max_iterations,
+                            std::max(1e-12, tolerance) * b.l2_norm());
+      SolverCG<Vector<double>> cg(control);
+      x = 0;
+      cg.solve(K, x, b, preconditioner);
+      return control.last_step();
+    }
+  } // namespace
+
+
+
   void
   LinearSolver::declare_parameters(ParameterHandler &prm)
   {
@@ -189,24 +214,23 @@ namespace ddfem::solver
     if (cholesky.factorized() &&
         last_iterations * solves_with_factor <= cost_with_factor)
       {
-        TimerOutput::Scope       scope(*timer, "linear solve");
-        SolverControl            control(factorization_cost,
-                              std::max(1e-12,
-                                       std::min(forcing, cholesky_tolerance)) *
-                                b.l2_norm());
-        SolverCG<Vector<double>> cg(control);
-        x = 0;
+        TimerOutput::Scope scope(*timer, "linear solve");
         try
           {
-            cg.solve(K, x, b, cholesky);
-            last_iterations = control.last_step();
+            last_iterations =
+              solve_with_cg(K,
+                            x,
+                            b,
+                            cholesky,
+                            factorization_cost,
+                            std::min(forcing, cholesky_tolerance));
             ++solves_with_factor;
             cost_with_factor += last_iterations;
             return last_iterations;
           }
-        catch (SolverControl::NoConvergence &)
+        catch (const SolverControl::NoConvergence &failure)
           {
-            iterations = control.last_step();
+            iterations = failure.last_step;
           }
       }
 
@@ -268,26 +292,21 @@ namespace ddfem::solver
         amg.initialize(trilinos_matrix, list);
       }
 
-    TimerOutput::Scope       scope(*timer, "linear solve");
-    SolverControl            control(max_iterations,
-                          std::max(1e-12, std::min(forcing, tolerance)) *
-                            b.l2_norm());
-    SolverCG<Vector<double>> cg(control);
-    x = 0;
+    TimerOutput::Scope scope(*timer, "linear solve");
     try
       {
-        cg.solve(K, x, b, amg);
+        last_iterations = solve_with_cg(
+          K, x, b, amg, max_iterations, std::min(forcing, tolerance));
       }
-    catch (const std::exception &)
+    catch (const SolverControl::NoConvergence &failure)
       {
         iterations_after_setup = 0;
         if (requested == "auto" && x.size() <= fallback_limit)
-          return control.last_step() + fall_back_to_direct(K, x, b);
+          return failure.last_step + fall_back_to_direct(K, x, b);
         throw Failure("CG did not converge in " +
-                      std::to_string(control.last_step()) +
+                      std::to_string(failure.last_step) +
                       " iterations (indefinite or ill-conditioned tangent?)");
       }
-    last_iterations = control.last_step();
     if (rebuild)
       iterations_after_setup = std::max(1u, last_iterations);
     return last_iterations;
