@@ -70,11 +70,15 @@ namespace ddfem::coarsening
     prm.leave_subsection();
 
     prm.enter_subsection("Discretization");
+    // Offsets from solver::point_offset_range(level).
+    const auto offset_pattern = [](const unsigned int level) {
+      const auto [lower, upper] = solver::point_offset_range(level);
+      return Patterns::Double(lower, upper);
+    };
     prm.declare_entry(
       "Coarse point offset",
       "0.57735026918962576",
-      Patterns::Double(solver::point_offset_range(1).first,
-                       solver::point_offset_range(1).second),
+      offset_pattern(1),
       "Method = ddfem, naive or average, Coarsening levels = 1: where the "
       "coarse element's 8 points per 2x2x2 block sit, as the fraction of "
       "its half-width "
@@ -88,8 +92,7 @@ namespace ddfem::coarsening
     prm.declare_entry(
       "Level-2 point offset",
       format_number(solver::default_level2_point_offset),
-      Patterns::Double(solver::point_offset_range(2).first,
-                       solver::point_offset_range(2).second),
+      offset_pattern(2),
       "Method = ddfem, naive or average, Coarsening levels = 2: the 64 "
       "points of a 4x4x4 block are those of the 2-point Gauss rule iterated "
       "twice, moved toward the block's centre by the factor offset / "
