@@ -19,6 +19,27 @@ namespace
 {
   const std::string cantilever = testing::cantilever("2, 4, 2", "0; 0; -100");
 
+  /// The cantilever with its voxels read from @p file.
+  std::string
+  from_voxel_file(const std::string &file)
+  {
+    return cantilever +
+           "subsection Layout\n  set Type = voxel file\n  subsection Voxel "
+           "file\n    set File name = " +
+           file + "\n  end\nend\n";
+  }
+
+  /// The cantilever voxelized from the surface mesh @p file, with the
+  /// further settings @p extra of subsection Surface mesh.
+  std::string
+  from_surface_mesh(const std::string &file, const std::string &extra = "")
+  {
+    return cantilever +
+           "subsection Layout\n  set Type = surface mesh\n  subsection "
+           "Surface mesh\n    set File name = " +
+           file + "\n" + extra + "  end\nend\n";
+  }
+
   /// Runs ddfem on @p prm_text (plus @p extra arguments) and reports; of
   /// the error message only its first sentence if @p first_sentence (the
   /// rest may depend on the machine).
@@ -118,26 +139,14 @@ main(int argc, char **argv)
   run_case("nu_too_small",
            cantilever +
              "subsection Materials\n  set Palette = E=1e5 nu=-1.2\nend\n");
-  run_case(
-    "missing_voxel_file",
-    cantilever +
-      "subsection Layout\n  set Type = voxel file\n  subsection Voxel file\n"
-      "    set File name = no_such_file.txt\n  end\nend\n");
-  run_case(
-    "missing_mesh_file",
-    cantilever +
-      "subsection Layout\n  set Type = surface mesh\n  subsection Surface mesh\n"
-      "    set File name = no_such_mesh.stl\n  end\nend\n");
+  run_case("missing_voxel_file", from_voxel_file("no_such_file.txt"));
+  run_case("missing_mesh_file", from_surface_mesh("no_such_mesh.stl"));
 
   std::ofstream("wrong_size.txt") << "3 4 2\n"
                                   << std::string(24 * 2, ' ') << "\n";
   std::ofstream("wrong_size.txt", std::ios::app)
     << "1 1 1 1 1 1 1 1 1 1 1 1 1 1 1 1 1 1 1 1 1 1 1 1\n";
-  run_case(
-    "inconsistent_grid",
-    cantilever +
-      "subsection Layout\n  set Type = voxel file\n  subsection Voxel file\n"
-      "    set File name = wrong_size.txt\n  end\nend\n");
+  run_case("inconsistent_grid", from_voxel_file("wrong_size.txt"));
   // A file that includes itself (ParameterHandler would recurse until the
   // stack overflows), and two that include each other (an included file
   // is read as PRM text whatever its name).
@@ -380,19 +389,11 @@ main(int argc, char **argv)
   }
   std::ofstream("degenerate.obj") << "v 0 0 0\nv 0 0 0\nv 0 0 0\nv 0 0 0\n"
                                      "f 1 2 3\nf 1 3 4\nf 1 4 2\nf 2 4 3\n";
-  run_case(
-    "degenerate_mesh",
-    cantilever +
-      "subsection Layout\n  set Type = surface mesh\n  subsection Surface mesh\n"
-      "    set File name = degenerate.obj\n  end\nend\n");
+  run_case("degenerate_mesh", from_surface_mesh("degenerate.obj"));
   // Two faces of a tetrahedron: an open surface encloses nothing.
   std::ofstream("open.obj")
     << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\n";
-  run_case(
-    "open_mesh",
-    cantilever +
-      "subsection Layout\n  set Type = surface mesh\n  subsection Surface mesh\n"
-      "    set File name = open.obj\n  end\nend\n");
+  run_case("open_mesh", from_surface_mesh("open.obj"));
   // A binary STL whose header starts with "solid", cut short: neither its
   // size nor its text fits a format.
   {
@@ -402,30 +403,31 @@ main(int argc, char **argv)
     stl.write(reinterpret_cast<const char *>(&n), 4);
     stl << std::string(200, '\1');
   }
-  run_case(
-    "truncated_binary_stl",
-    cantilever +
-      "subsection Layout\n  set Type = surface mesh\n  subsection Surface mesh\n"
-      "    set File name = truncated.stl\n  end\nend\n");
+  run_case("truncated_binary_stl", from_surface_mesh("truncated.stl"));
   // A closed tetrahedron far larger than the 0.02 x 0.04 x 0.02 m grid:
   // without 'Fit to grid', most of it would be cut off.
   std::ofstream("too_large.obj")
     << "v 0 0 0\nv 0.16 0 0\nv 0 0.16 0\nv 0 0 0.16\n"
        "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
-  run_case(
-    "mesh_outside_grid",
-    cantilever +
-      "subsection Layout\n  set Type = surface mesh\n  subsection Surface mesh\n"
-      "    set File name = too_large.obj\n    set Fit to grid = false\n"
-      "  end\nend\n");
+  run_case("mesh_outside_grid",
+           from_surface_mesh("too_large.obj", "    set Fit to grid = false\n"));
   // An ASCII STL without facets, longer than a binary header: no triangles.
   std::ofstream("no_facets.stl")
     << "solid " << std::string(90, 'x') << "\nendsolid\n";
-  run_case(
-    "ascii_stl_without_facets",
-    cantilever +
-      "subsection Layout\n  set Type = surface mesh\n  subsection Surface mesh\n"
-      "    set File name = no_facets.stl\n  end\nend\n");
+  run_case("ascii_stl_without_facets", from_surface_mesh("no_facets.stl"));
+  // Messages name the line, counted with blank and comment lines.
+  std::ofstream("bad_face.obj")
+    << "# a tetrahedron\nv 0 0 0\nv 1 0 0\n\nv 0 1 0 # third\nv 0 0 1\n"
+       "f 1 3 2\nf 1 2 7\n";
+  run_case("obj_face_out_of_range", from_surface_mesh("bad_face.obj"));
+  std::ofstream("vertex_outside_facet.stl")
+    << "solid part\n\n  vertex 0 0 0\nendsolid part\n";
+  run_case("stl_vertex_outside_facet",
+           from_surface_mesh("vertex_outside_facet.stl"));
+  std::ofstream("bad_id.txt") << "# ids\n2 4 2\n\n"
+                              << "1 1 1 1 1 1 1 1 # first layer\n"
+                              << "1 1 1 1 1 x 1 1\n";
+  run_case("voxel_file_bad_id", from_voxel_file("bad_id.txt"));
   std::ofstream("damaged.h5.journal") << "not a journal\n";
   run_case("damaged_journal",
            cantilever,
