@@ -153,9 +153,8 @@ namespace ddfem::app
         pending_cells = changed.size();
       }
     {
-      // The solver's stiffness scale depends on the materials.
       TimerOutput::Scope scope(timer, "setup");
-      solver->setup();
+      solver->update_materials();
     }
     pending_time += total.wall_time();
   }

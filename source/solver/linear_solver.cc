@@ -7,6 +7,9 @@
 #include <ddfem/solver/linear_solver.h>
 #include <ddfem/solver/supports.h>
 
+#include <new>
+#include <string>
+
 namespace ddfem::solver
 {
   namespace
@@ -134,10 +137,8 @@ namespace ddfem::solver
     chosen                          = requested;
     if (requested == "auto")
       chosen = (n <= direct_limit) ? "cg-cholesky" : "cg-amg";
-    degree                 = dof_handler.get_fe().degree;
-    iterations_after_setup = 0;
-    direct_solves_left     = 0;
-    cholesky.clear();
+    degree = dof_handler.get_fe().degree;
+    reset();
     if (chosen != "cg-amg")
       return;
 
@@ -156,6 +157,16 @@ namespace ddfem::solver
         for (unsigned int m = 0; m < 6; ++m)
           rigid_body_modes[m * n + i] = modes[m];
       }
+  }
+
+
+
+  void
+  LinearSolver::reset()
+  {
+    iterations_after_setup = 0;
+    direct_solves_left     = 0;
+    cholesky.clear();
   }
 
 
@@ -185,8 +196,13 @@ namespace ddfem::solver
         TimerOutput::Scope scope(*timer, "linear solve");
         direct.vmult(x, b);
       }
-    catch (const std::exception &)
+    catch (const SparseDirectUMFPACK::ExcUMFPACKError &error)
       {
+        // Status -1 is UMFPACK_ERROR_out_of_memory, which no shift of the
+        // tangent cures; the other statuses mean a singular matrix.
+        if (std::string(error.what()).find("error status -1.") !=
+            std::string::npos)
+          throw std::bad_alloc();
         throw Failure("the direct solver failed (singular matrix?)");
       }
     for (const double v : x)

@@ -231,6 +231,24 @@ namespace ddfem::solver
 
 
   void
+  StaticSolver::update_materials()
+  {
+    // The scale of round-off in energy sums: sum of (mu + |lambda| + C) dV.
+    stiffness_volume = 0;
+    for (const auto &cell : discretization.dof_handler.active_cell_iterators())
+      for (unsigned int q = 0; q < discretization.quadrature.size(); ++q)
+        {
+          const auto &m = discretization.material(cell->active_cell_index(), q);
+          stiffness_volume += (m.mu + std::abs(m.lambda) + m.anisotropy) *
+                              discretization.quadrature.weight(q) *
+                              cell->measure();
+        }
+    linear_solver.reset();
+  }
+
+
+
+  void
   StaticSolver::setup()
   {
     const DoFHandler<3>          &dof_handler = discretization.dof_handler;
@@ -305,17 +323,7 @@ namespace ddfem::solver
     system_matrix.reinit(pattern);
     displacement.reinit(n);
     linear_solver.initialize(dof_handler, timer);
-
-    // The scale of round-off in energy sums: sum of (mu + |lambda| + C) dV.
-    stiffness_volume = 0;
-    for (const auto &cell : dof_handler.active_cell_iterators())
-      for (unsigned int q = 0; q < discretization.quadrature.size(); ++q)
-        {
-          const auto &m = discretization.material(cell->active_cell_index(), q);
-          stiffness_volume += (m.mu + std::abs(m.lambda) + m.anisotropy) *
-                              discretization.quadrature.weight(q) *
-                              cell->measure();
-        }
+    update_materials();
 
     // Dead external loads at t = 1: the body force over the fine solid's
     // voxels and the tractions over its boundary faces, weighted with the
@@ -799,6 +807,7 @@ namespace ddfem::solver
             if (!std::isfinite(energy(u, t_new)))
               u = displacement;
           }
+        const double accepted_min_J = statistics.min_J;
         if (newton(t_new, u, statistics))
           {
             // A state that turns a cell inside out at a vertex solves the
@@ -819,6 +828,8 @@ namespace ddfem::solver
                            "size and Geometry/Voxel size); the last "
                            "converged state is kept";
                 statistics.failure = message.str();
+                // min_J describes the state kept, not the one rejected.
+                statistics.min_J = accepted_min_J;
                 pcout << "  Stopped: " << statistics.failure << std::endl;
                 return statistics;
               }
@@ -923,9 +934,11 @@ namespace ddfem::solver
         cell->get_dof_values(u, local_u);
         deformation_gradients(fe_values, local_u, F);
         const unsigned int c = cell->active_cell_index();
+        // The cells are boxes, so the rule's weights give the averages.
         for (unsigned int q = 0; q < F.size(); ++q)
           {
-            fields.J(c) += determinant(F[q]) / F.size();
+            const double w = discretization.quadrature.weight(q);
+            fields.J(c) += w * determinant(F[q]);
             fields.strain(c) =
               std::max(fields.strain(c), material::principal_strain(F[q]));
             if (material::evaluate(F[q],
@@ -933,8 +946,8 @@ namespace ddfem::solver
                                    material::KernelOutput::stress,
                                    k))
               fields.von_mises(c) +=
-                material::von_mises(material::cauchy_stress(k.stress, F[q])) /
-                F.size();
+                w *
+                material::von_mises(material::cauchy_stress(k.stress, F[q]));
           }
       }
     return fields;
@@ -964,7 +977,7 @@ namespace ddfem::solver
       {
         VectorTools::point_value(mapping, dof_handler, u, p, value);
       }
-    catch (...)
+    catch (const ExceptionBase &) // no cell of the mesh holds the point
       {
         AssertThrow(false,
                     ExcMessage("Geometry/Probe points: the point " +

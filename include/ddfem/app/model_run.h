@@ -45,7 +45,8 @@ namespace ddfem::app
    * (level 0) or a coarse one (a Coarsener fills its material records),
    * with one Newton solver and linear solver. The model is set up once;
    * after a material edit only the touched cells get new materials
-   * (re-coarsening only the changed blocks) before the next solve.
+   * (re-coarsening only the changed blocks), and the solver takes them
+   * (StaticSolver::update_materials()) before the next solve.
    */
   class ModelRun
   {
@@ -60,7 +61,10 @@ namespace ddfem::app
       /// Wall time of coarsening (lookups) or, after an edit,
       /// re-coarsening (s); 0 for the fine model.
       double coarsening_time = 0;
-      /// Coarse blocks (fine cells) given new materials by an edit.
+      /// Cells given their materials for this solve: after an edit, the
+      /// coarse blocks (fine cells) it changed; in the base state, every
+      /// cell of a coarse model (its first coarsening) and 0 for the fine
+      /// model (whose materials come with its mesh).
       unsigned int cells_updated = 0;
       /// Wall time of setup, coarsening and solve, without output (s).
       double wall_time = 0;

@@ -68,6 +68,11 @@ namespace ddfem::solver
     void
     initialize(const DoFHandler<3> &dof_handler, TimerOutput &timer);
 
+    /// Forgets the factor and the multigrid hierarchy of earlier tangents,
+    /// as after a material edit: the next solve builds them anew.
+    void
+    reset();
+
     /**
      * Solves @p K x = @p b. The iterative solver stops when the residual
      * is reduced by the factor min(@p forcing, 'Tolerance') (the forcing

@@ -121,6 +121,16 @@ namespace ddfem::solver
     setup();
 
     /**
+     * Takes the materials of the discretization's points as they are now,
+     * after a material edit that keeps the solid's voxels (the Dirichlet
+     * nodes, the sparsity and the loads stay those of setup()): the scale
+     * of the energy's round-off, and a linear solver without the factors
+     * of the old materials' tangents.
+     */
+    void
+    update_materials();
+
+    /**
      * Steps the load factor from 0 to 1. After each accepted increment,
      * calls @p on_step with the increment's number (from 1) and its load
      * factor.
