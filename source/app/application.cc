@@ -251,6 +251,7 @@ namespace ddfem::app
         std::ofstream used = open_for_writing(directory + "/parameters.prm",
                                               "Output/Output directory");
         prm.print_parameters(used, ParameterHandler::ShortPRM);
+        used.close();
         AssertThrow(used,
                     ExcMessage("Cannot write \"" + directory +
                                "/parameters.prm\" (Output/Output directory)."));
@@ -622,6 +623,10 @@ namespace ddfem::app
       std::ofstream parameters =
         open_for_writing(used, "Output/Output directory");
       prm.print_parameters(parameters, ParameterHandler::ShortPRM);
+      parameters.close();
+      AssertThrow(parameters,
+                  ExcMessage("Cannot write \"" + used +
+                             "\" (Output/Output directory)."));
       if (status != 0)
         err << "Error: a model of the comparison did not converge (NOT "
                "CONVERGED in the table); its errors and times are not "

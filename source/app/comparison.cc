@@ -196,6 +196,7 @@ namespace ddfem::app
           csv << ',' << r.linear_solver << ','
               << (r.result.statistics.converged ? "true" : "false") << '\n';
         }
+      csv.close(); // a full disk shows when the buffer is written
       AssertThrow(csv, ExcMessage("Cannot write \"" + file + "\"."));
     }
 
@@ -255,7 +256,8 @@ namespace ddfem::app
           }
       std::map<unsigned int, double> grid_fits;
       for (const Row &r : rows)
-        if (r.state == rows.front().state && r.has_grid_fit())
+        if (r.state == rows.front().state && r.has_grid_fit() &&
+            r.grid_fit.mean > 0) // a log axis has no 0
           grid_fits[r.level] = r.grid_fit.mean;
       for (const auto &[level, error] : grid_fits)
         {
@@ -277,6 +279,10 @@ namespace ddfem::app
                  << ", graph " << 0.95 - 0.3 * (fine_runs++ % 3)
                  << " rotate by 90 right offset -1,0\n";
       dat.close();
+      AssertThrow(dat,
+                  ExcMessage(
+                    "Cannot write \"" + directory +
+                    "/error_vs_time.dat\" (Output/Output directory)."));
       // Labelled tics at 1, 2 and 5 times the powers of ten: the errors
       // often span less than a decade, where powers of ten alone would
       // leave one label or none.
@@ -301,6 +307,10 @@ namespace ddfem::app
         script << (c == 0 ? "" : ", \\\n     ") << curves[c];
       script << "\n";
       script.close();
+      AssertThrow(script,
+                  ExcMessage("Cannot write \"" + directory +
+                             "/error_vs_time.gnuplot\" (Output/Output "
+                             "directory)."));
       report::run_gnuplot(directory, "error_vs_time.gnuplot");
     }
   } // namespace
