@@ -45,13 +45,10 @@ namespace ddfem::scene
     /**
      * Throws ExcMessage naming @p p unless it lies in a solid voxel of
      * @p grid or on its surface (within 1e-9 voxel sizes), so that every
-     * model, fine or coarse, measures the same material point. @p state
-     * names the scene's state in the message.
+     * model, fine or coarse, measures the same material point.
      */
     void
-    check_probe(const VoxelGrid   &grid,
-                const Point<3>    &p,
-                const std::string &state)
+    check_probe(const VoxelGrid &grid, const Point<3> &p)
     {
       const double        h = grid.voxel_size();
       std::array<long, 3> lower, upper;
@@ -68,8 +65,8 @@ namespace ddfem::scene
             solid = solid || grid(i, j, k) != void_id;
       AssertThrow(solid,
                   ExcMessage("Geometry/Probe points: the point " +
-                             format_point(p) + " m does not lie in the solid" +
-                             state + "."));
+                             format_point(p) +
+                             " m does not lie in the solid."));
     }
   } // namespace
 
@@ -134,19 +131,14 @@ namespace ddfem::scene
     boundary_conditions.parse_parameters(prm, grid.extent(), h);
     layout.fill(grid);
     for (const Point<3> &p : probes)
-      check_probe(grid, p, "");
+      check_probe(grid, p);
     // Every edit is checked now, before anything is solved or written.
+    // Edits keep the solid's voxels, so the probes stay in the solid.
     if (n_edits() > 0)
       {
         VoxelGrid edited = grid;
         for (unsigned int e = 0; e < n_edits(); ++e)
-          {
-            layout.apply_edit(e, edited);
-            for (const Point<3> &p : probes)
-              check_probe(edited,
-                          p,
-                          " after material edit " + std::to_string(e + 1));
-          }
+          layout.apply_edit(e, edited);
       }
   }
 

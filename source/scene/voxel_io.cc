@@ -532,7 +532,7 @@ namespace ddfem::scene
 
 
 
-  std::size_t
+  void
   voxelize(const TriangleMesh &mesh, const MaterialId material, VoxelGrid &grid)
   {
     const auto  &n = grid.size();
@@ -574,7 +574,6 @@ namespace ddfem::scene
               t);
       }
 
-    std::size_t         n_set = 0;
     std::vector<double> crossings;
     for (unsigned int j = 0; j < n[1]; ++j)
       for (unsigned int i = 0; i < n[0]; ++i)
@@ -609,9 +608,7 @@ namespace ddfem::scene
               const unsigned int k_end   = k_index(crossings[m + 1]);
               for (unsigned int k = k_begin; k < k_end; ++k)
                 grid(i, j, k) = material;
-              n_set += k_end - k_begin;
             }
         }
-    return n_set;
   }
 } // namespace ddfem::scene

@@ -137,7 +137,8 @@ namespace ddfem::scene
     Tensor<1, 3>
     body_force(const Point<3> &p) const;
 
-    /// Whether the body force is non-zero anywhere (a non-empty expression).
+    /// Whether a component of the body force is given as other than "0"
+    /// (an expression that is zero everywhere counts as given).
     bool
     has_body_force() const
     {

@@ -16,10 +16,10 @@ namespace ddfem::scene
   /**
    * Reads material ids from a voxel file into @p grid.
    *
-   * The file is plain text. Lines starting with '#' are comments. The first
-   * non-comment line holds three integers "nx ny nz" which must equal the
-   * size of @p grid. Then follow nx*ny*nz integer material ids in
-   * lexicographic order (i fastest, then j, then k), separated by any white
+   * The file is plain text; a '#' starts a comment that runs to the end of
+   * its line. The first non-comment line holds three integers "nx ny nz" which
+   * must equal the size of @p grid. Then follow nx*ny*nz integer material ids
+   * in lexicographic order (i fastest, then j, then k), separated by any white
    * space. Every id must be less than @p n_materials (0 is void).
    *
    * Throws ExcMessage naming the file and the problem (unreadable file,
@@ -72,10 +72,9 @@ namespace ddfem::scene
    * surface @p mesh to @p material. Inside is decided by ray parity along
    * the z axis for each (i,j) column, robust against rays that graze edges
    * and vertices (the ray is perturbed deterministically by a tiny
-   * irrational offset). Voxels outside are left unchanged. Returns the
-   * number of voxels set.
+   * irrational offset). Voxels outside are left unchanged.
    */
-  std::size_t
+  void
   voxelize(const TriangleMesh &mesh,
            const MaterialId    material,
            VoxelGrid          &grid);
