@@ -14,6 +14,7 @@
 #include <iomanip>
 #include <mutex>
 #include <set>
+#include <system_error>
 #include <thread>
 
 namespace ddfem::coarsening
@@ -45,7 +46,7 @@ namespace ddfem::coarsening
                       "and appends them (lazy mode).");
     prm.declare_entry("Representatives",
                       "0",
-                      Patterns::Integer(0),
+                      Patterns::Integer(0, 999999999), // as files store it
                       "Compression: keep this many representative "
                       "metamaterials, chosen by farthest point sampling of "
                       "log-energy features, and map every combination to its "
@@ -167,9 +168,10 @@ namespace ddfem::coarsening
   {
     const unsigned int n_ids = palette.size() + (with_void ? 1 : 0);
     AssertThrow(n_ids <= 9,
-                ExcMessage("Metamaterial databases support palettes of at "
-                           "most 8 materials plus void (9^8 combinations); "
-                           "Materials has " +
+                ExcMessage("Metamaterial databases support at most 9 "
+                           "material ids (9^8 combinations): 8 materials "
+                           "plus void, or 9 with Database/Include void = "
+                           "false; Materials has " +
                            std::to_string(palette.size()) + "."));
     for (scene::MaterialId id = 1; id <= palette.size(); ++id)
       AssertThrow(palette[id].lambda >= 0,
@@ -472,9 +474,18 @@ namespace ddfem::coarsening
             next = n;
           }
     };
+    // Should the system refuse a thread, fewer workers do the job: the
+    // results do not depend on their number.
     std::vector<std::thread> threads;
     for (unsigned int t = 1; t < workers; ++t)
-      threads.emplace_back(work);
+      try
+        {
+          threads.emplace_back(work);
+        }
+      catch (const std::system_error &)
+        {
+          break;
+        }
     work();
     for (auto &t : threads)
       t.join();

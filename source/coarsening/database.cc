@@ -489,6 +489,11 @@ namespace ddfem::coarsening
                                " is unchanged, and its journal keeps the new "
                                "entries."));
       }
+    catch (...) // out of memory, say: no partial file either
+      {
+        std::filesystem::remove(temporary, ignored);
+        throw;
+      }
     std::error_code error;
     std::filesystem::rename(temporary, file, error);
     if (error)

@@ -40,8 +40,9 @@ namespace ddfem::coarsening
    * Builds, extends and resumes first-level metamaterial databases (the
    * offline half of DDFEM, paper section 4). Declared in the prm
    * subsection "Database" (with "Sampling", "Fitting" and "Level 2"
-   * inside it); it also reads "Discretization/Coarse point offset", the
-   * element the metamaterials are fitted for.
+   * inside it); it also reads "Discretization/Coarse point offset" and
+   * "Discretization/Level-2 point offset", the elements the metamaterials
+   * are fitted for.
    *
    * Every combination is fitted from its own seeded generator, so entries
    * do not depend on the number of threads or on the order they finish
@@ -90,7 +91,8 @@ namespace ddfem::coarsening
 
     /**
      * Throws ExcMessage if a database for @p palette cannot be built with
-     * these settings (more than 8 materials, lambda < 0) or Database/File's
+     * these settings (more than 9 material ids, void included; lambda < 0)
+     * or Database/File's
      * directory cannot be made. Writes nothing.
      */
     void

@@ -37,15 +37,17 @@ namespace ddfem::coarsening
   constexpr double child_point_offset = solver::gauss_point_offset;
 
   /**
-   * One fitted first-level metamaterial: the metamaterial of an orbit
-   * representative combination, with how it was sampled and how well it
-   * fits.
+   * One fitted metamaterial, with how it was sampled and how well it fits:
+   * at the first level that of an orbit representative combination (8
+   * points), at the second (Hierarchy) that of a representative 4x4x4
+   * block (64 points).
    */
   struct Entry
   {
-    /// The key (CombinationIndex) of the orbit representative fitted.
+    /// The key (CombinationIndex) of the orbit representative fitted, or at
+    /// the second level the representative's index.
     std::size_t key = 0;
-    /// Its metamaterial (8 points).
+    /// Its metamaterial (8 or 64 points).
     Metamaterial material;
     /// The fit of the same samples with FitSettings::child_regularization
     /// for the element with child_point_offset: the block as the second

@@ -136,9 +136,10 @@ namespace ddfem::coarsening
            const std::vector<BlockKeys>   &blocks) const;
 
     /**
-     * Keeps the entries of @p old (tables over the same level-1 entries)
-     * whose composition is a representative of these tables, under their
-     * new index: a representative's fit depends on its composition only.
+     * Keeps the entries of @p old (tables built before, possibly over
+     * fewer level-1 entries) whose composition is a representative of these
+     * tables, under their new index: a representative's fit depends on its
+     * composition only.
      */
     void
     keep_entries(const Database &level1, const Hierarchy &old);
@@ -188,7 +189,9 @@ namespace ddfem::coarsening
 
     /// The blocks picked first, sorted.
     std::vector<BlockKeys> required;
-    /// Per level-1 key, its class (n_classes for the all-void block).
+    /// Per level-1 key, its class; the number of classes picked
+    /// (class_key.size()) for the all-void block and keys without a
+    /// level-1 entry.
     std::vector<std::int32_t> class_of;
     /// The level-1 key representing each class.
     std::vector<std::int64_t> class_key;
