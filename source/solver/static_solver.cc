@@ -298,14 +298,13 @@ namespace ddfem::solver
         discretization.triangulation.begin_active()->extent_in_direction(0) /
           width,
         width);
-    boundary_conditions.check_regions(
-      discretization.triangulation.get_vertices(), face_centers);
-
-    // Dirichlet nodes: every support point a condition covers.
+    // Dirichlet nodes: every support point a condition covers (vertices,
+    // and at degree 2 edge, face and cell midpoints too).
     std::vector<Point<3>> points(n);
     DoFTools::map_dofs_to_support_points(discretization.mapping,
                                          dof_handler,
                                          points);
+    boundary_conditions.check_regions(points, face_centers);
     const std::vector<unsigned int> component = dof_components(dof_handler);
     dirichlet_dofs.clear();
     for (types::global_dof_index i = 0; i < n; ++i)
