@@ -537,9 +537,10 @@ namespace ddfem::coarsening
               "has an invalid 'with void' attribute '" + with_void + "'");
         settings.with_void             = with_void == "1";
         const unsigned int n_materials = count_materials(settings.palette);
-        check(n_materials + (settings.with_void ? 1 : 0) <= 9,
-              "has a palette of " + std::to_string(n_materials) +
-                " materials; databases hold at most 8 materials plus void");
+        check(
+          n_materials + (settings.with_void ? 1 : 0) <= 9,
+          "has a palette of " + std::to_string(n_materials) +
+            " materials; databases hold at most 9 material ids, void included");
         settings.point_offset =
           read_number_attribute(h5, "coarse point offset");
         const auto [low, high] = solver::point_offset_range(1);
