@@ -251,10 +251,9 @@ namespace ddfem::app
         std::ofstream used = open_for_writing(directory + "/parameters.prm",
                                               "Output/Output directory");
         prm.print_parameters(used, ParameterHandler::ShortPRM);
-        used.close();
-        AssertThrow(used,
-                    ExcMessage("Cannot write \"" + directory +
-                               "/parameters.prm\" (Output/Output directory)."));
+        close_written(used,
+                      directory + "/parameters.prm",
+                      "Output/Output directory");
       }
 
       /// Writes @p summary as summary.json.
@@ -263,9 +262,9 @@ namespace ddfem::app
       {
         std::ofstream json(directory + "/summary.json");
         json << summary.dump(2) << std::endl;
-        AssertThrow(json,
-                    ExcMessage("Cannot write \"" + directory +
-                               "/summary.json\" (Output/Output directory)."));
+        close_written(json,
+                      directory + "/summary.json",
+                      "Output/Output directory");
       }
 
       /// The DG method: linear or corotated elasticity, one solve.
@@ -623,10 +622,7 @@ namespace ddfem::app
       std::ofstream parameters =
         open_for_writing(used, "Output/Output directory");
       prm.print_parameters(parameters, ParameterHandler::ShortPRM);
-      parameters.close();
-      AssertThrow(parameters,
-                  ExcMessage("Cannot write \"" + used +
-                             "\" (Output/Output directory)."));
+      close_written(parameters, used, "Output/Output directory");
       if (status != 0)
         err << "Error: a model of the comparison did not converge (NOT "
                "CONVERGED in the table); its errors and times are not "

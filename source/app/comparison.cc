@@ -196,8 +196,7 @@ namespace ddfem::app
           csv << ',' << r.linear_solver << ','
               << (r.result.statistics.converged ? "true" : "false") << '\n';
         }
-      csv.close(); // a full disk shows when the buffer is written
-      AssertThrow(csv, ExcMessage("Cannot write \"" + file + "\"."));
+      close_written(csv, file, "Output/Output directory");
     }
 
     /**
@@ -278,11 +277,9 @@ namespace ddfem::app
                  << "set label '" << r.label() << "' at " << r.result.wall_time
                  << ", graph " << 0.95 - 0.3 * (fine_runs++ % 3)
                  << " rotate by 90 right offset -1,0\n";
-      dat.close();
-      AssertThrow(dat,
-                  ExcMessage(
-                    "Cannot write \"" + directory +
-                    "/error_vs_time.dat\" (Output/Output directory)."));
+      close_written(dat,
+                    directory + "/error_vs_time.dat",
+                    "Output/Output directory");
       // Labelled tics at 1, 2 and 5 times the powers of ten: the errors
       // often span less than a decade, where powers of ten alone would
       // leave one label or none.
@@ -306,11 +303,9 @@ namespace ddfem::app
       for (unsigned int c = 0; c < curves.size(); ++c)
         script << (c == 0 ? "" : ", \\\n     ") << curves[c];
       script << "\n";
-      script.close();
-      AssertThrow(script,
-                  ExcMessage("Cannot write \"" + directory +
-                             "/error_vs_time.gnuplot\" (Output/Output "
-                             "directory)."));
+      close_written(script,
+                    directory + "/error_vs_time.gnuplot",
+                    "Output/Output directory");
       report::run_gnuplot(directory, "error_vs_time.gnuplot");
     }
   } // namespace
@@ -659,9 +654,9 @@ namespace ddfem::app
     json["peak_memory_mb"]   = peak_memory;
     std::ofstream file(directory + "/comparison.json");
     file << json.dump(2) << std::endl;
-    AssertThrow(file,
-                ExcMessage("Cannot write \"" + directory +
-                           "/comparison.json\" (Output/Output directory)."));
+    close_written(file,
+                  directory + "/comparison.json",
+                  "Output/Output directory");
     write_csv(rows, directory + "/comparison.csv");
     plot(rows, scene_name, directory);
     if (screen_timings)

@@ -210,9 +210,7 @@ namespace ddfem::dg
     data_out.build_patches(dg->mapping, parameters.degree);
     std::ofstream out = open_for_writing(file, "Output/Output directory");
     data_out.write_vtu(out);
-    AssertThrow(out,
-                ExcMessage("Cannot write \"" + file +
-                           "\" (Output/Output directory)."));
+    close_written(out, file, "Output/Output directory");
   }
 
 

@@ -495,10 +495,8 @@ namespace ddfem::dg
       {
         std::ofstream file(directory + "/" + name);
         file << content;
-        file.close(); // flushed before gnuplot reads it
-        AssertThrow(file,
-                    ExcMessage("Cannot write \"" + directory + "/" + name +
-                               "\" (Output/Output directory)."));
+        // Flushed before gnuplot reads it.
+        close_written(file, directory + "/" + name, "Output/Output directory");
       }
     plot(directory, blocks);
   }
@@ -676,9 +674,7 @@ namespace ddfem::dg
     create_directories(directory, "Output/Output directory");
     std::ofstream text(directory + "/dg_cost.txt");
     text << file.str();
-    AssertThrow(text,
-                ExcMessage("Cannot write \"" + directory +
-                           "/dg_cost.txt\" (Output/Output directory)."));
+    close_written(text, directory + "/dg_cost.txt", "Output/Output directory");
   }
 
 

@@ -247,9 +247,7 @@ namespace ddfem::report
     std::ofstream vtu =
       open_for_writing(directory + "/" + name, "Output/Output directory");
     data_out.write_vtu(vtu);
-    AssertThrow(vtu,
-                ExcMessage("Could not write \"" + directory + "/" + name +
-                           "\"."));
+    close_written(vtu, directory + "/" + name, "Output/Output directory");
     records.emplace_back(t, name);
     std::ofstream pvd = open_for_writing(directory + "/" + basename + ".pvd",
                                          "Output/Output directory");

@@ -60,6 +60,22 @@ namespace ddfem
   }
 
   /**
+   * Closes @p stream, which wrote @p file, and throws ExcMessage naming
+   * @p file and the parameter @p where its directory comes from if a write
+   * failed (a full disk shows only once the buffer is written).
+   */
+  inline void
+  close_written(std::ofstream     &stream,
+                const std::string &file,
+                const std::string &where)
+  {
+    stream.close();
+    AssertThrow(stream,
+                dealii::ExcMessage("Cannot write \"" + file + "\" (" + where +
+                                   ")."));
+  }
+
+  /**
    * Throws like create_directories() if the directory @p path could not be
    * made. To find out it makes the missing directories of the path one by
    * one and removes them again (only those it made, only while empty), so
