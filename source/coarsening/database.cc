@@ -340,16 +340,39 @@ namespace ddfem::coarsening
     , settings_fingerprint(settings.fingerprint())
     , coarse_point_offset(settings.point_offset)
     , index(n_materials, settings.with_void)
-    , entry_of(index.size(), -1)
+    , entry_key_of(index.size(), -1)
     , symmetry_of(index.size(), 0)
-  {}
+  {
+    // At most 9 ids (Database::load checks files for it): 9^8 keys.
+    Assert(index.size() <=
+             std::size_t(std::numeric_limits<std::int32_t>::max()),
+           ExcInternalError());
+  }
+
+
+
+  const Entry &
+  Database::entry(const std::int32_t entry_key) const
+  {
+    const auto position =
+      std::lower_bound(fitted.begin(),
+                       fitted.end(),
+                       std::size_t(entry_key),
+                       [](const Entry &e, const std::size_t key) {
+                         return e.key < key;
+                       });
+    Assert(entry_key >= 0 && position != fitted.end() &&
+             position->key == std::size_t(entry_key),
+           ExcInternalError());
+    return *position;
+  }
 
 
 
   bool
   Database::contains(const Combination &c) const
   {
-    return index.contains(c) && entry_of[index.key(c)] >= 0;
+    return index.contains(c) && entry_key_of[index.key(c)] >= 0;
   }
 
 
@@ -368,7 +391,7 @@ namespace ddfem::coarsening
                            }() +
                            "(child 0 first)."));
     const std::size_t key   = index.key(c);
-    const Entry      &entry = fitted[entry_of[key]];
+    const Entry      &entry = this->entry(entry_key_of[key]);
     return transform(fit == Fit::coarse ? entry.material : entry.child_material,
                      group,
                      symmetry_of[key]);
@@ -406,29 +429,24 @@ namespace ddfem::coarsening
     const Combination representative = index.combination(entry.key);
     Assert(group.canonical(representative).first == representative,
            ExcInternalError());
-    if (entry_of[entry.key] >= 0)
+    if (entry_key_of[entry.key] >= 0)
       return;
     // Keep the entries sorted by key: the file does not depend on the
     // order in which threads finish.
-    const auto position =
-      std::lower_bound(fitted.begin(),
-                       fitted.end(),
-                       entry.key,
-                       [](const Entry &e, const std::size_t key) {
-                         return e.key < key;
-                       });
-    const int new_index = position - fitted.begin();
-    fitted.insert(position, entry);
-    for (auto &e : entry_of)
-      if (e >= new_index)
-        ++e;
+    fitted.insert(std::lower_bound(fitted.begin(),
+                                   fitted.end(),
+                                   entry.key,
+                                   [](const Entry &e, const std::size_t key) {
+                                     return e.key < key;
+                                   }),
+                  entry);
     for (unsigned int g = 0; g < CubeSymmetries::size; ++g)
       {
         const std::size_t key = index.key(group.apply(g, representative));
-        if (entry_of[key] < 0)
+        if (entry_key_of[key] < 0)
           {
-            entry_of[key]    = new_index;
-            symmetry_of[key] = g;
+            entry_key_of[key] = entry.key;
+            symmetry_of[key]  = g;
           }
       }
   }
@@ -470,7 +488,14 @@ namespace ddfem::coarsening
         write_attribute(h5, "representatives", std::to_string(representatives));
 
         write_entries(h5, "entries", fitted, 8, true);
-        write_dataset(h5, "lookup/entry", {hsize_t(index.size())}, entry_of);
+        {
+          // The file refers to entries by their position.
+          std::vector<std::int32_t> entry_of(entry_key_of.size(), -1);
+          for (std::size_t k = 0; k < entry_of.size(); ++k)
+            if (entry_key_of[k] >= 0)
+              entry_of[k] = &entry(entry_key_of[k]) - fitted.data();
+          write_dataset(h5, "lookup/entry", {hsize_t(index.size())}, entry_of);
+        }
         write_dataset(h5,
                       "lookup/symmetry",
                       {hsize_t(index.size())},
@@ -563,27 +588,34 @@ namespace ddfem::coarsening
 
         db.fitted            = read_entries(h5, "entries", 8, true);
         const hsize_t n_keys = db.index.size();
-        db.entry_of = read_dataset<std::int32_t>(h5, "lookup/entry", {n_keys});
+        db.entry_key_of =
+          read_dataset<std::int32_t>(h5, "lookup/entry", {n_keys});
         db.symmetry_of =
           read_dataset<std::uint8_t>(h5, "lookup/symmetry", {n_keys});
-        for (const Entry &e : db.fitted)
-          check(e.key < n_keys, "has an entry key beyond the palette");
+        for (unsigned int e = 0; e < db.fitted.size(); ++e)
+          check(db.fitted[e].key < n_keys &&
+                  (e == 0 || db.fitted[e - 1].key < db.fitted[e].key),
+                "has entry keys beyond the palette or out of order");
         const std::int64_t n = db.fitted.size();
+        // Positions in the file, entry keys in memory.
         for (std::size_t k = 0; k < n_keys; ++k)
-          check(db.entry_of[k] >= -1 && db.entry_of[k] < std::int64_t(n) &&
-                  db.symmetry_of[k] < CubeSymmetries::size,
-                "has an invalid lookup table at combination " +
-                  std::to_string(k));
+          {
+            std::int32_t &e = db.entry_key_of[k];
+            check(e >= -1 && e < n && db.symmetry_of[k] < CubeSymmetries::size,
+                  "has an invalid lookup table at combination " +
+                    std::to_string(k));
+            if (e >= 0)
+              e = db.fitted[e].key;
+          }
         // Uncompressed, a combination's entry is its orbit's, and its
         // symmetry maps that entry's block to it (a flipped value that
         // stays in range would rotate another block's material into it).
         if (db.representatives == 0)
           for (std::size_t k = 0; k < n_keys; ++k)
-            check(db.entry_of[k] < 0 ||
-                    db.index.key(
-                      db.group.apply(db.symmetry_of[k],
-                                     db.index.combination(
-                                       db.fitted[db.entry_of[k]].key))) == k,
+            check(db.entry_key_of[k] < 0 ||
+                    db.index.key(db.group.apply(db.symmetry_of[k],
+                                                db.index.combination(
+                                                  db.entry_key_of[k]))) == k,
                   "has a lookup table whose symmetry at combination " +
                     std::to_string(k) + " does not map its entry onto it");
         if (level2 != nullptr && !level2->load(h5, db))
@@ -697,7 +729,7 @@ namespace ddfem::coarsening
     for (std::size_t key = 0; key < index.size(); ++key)
       {
         const Combination c = index.combination(key);
-        if (entry_of[key] < 0 || all_void(c))
+        if (entry_key_of[key] < 0 || all_void(c))
           continue;
         result.push_back(log_energies(element, lookup(c, fit), deformations));
         keys.push_back(key);
@@ -782,36 +814,29 @@ namespace ddfem::coarsening
       cluster(features(element, deformations, keys), k, 20260101);
 
     // Redirect every combination to its nearest representative.
-    std::vector<std::int32_t> new_entry_of(index.size(), -1);
+    std::vector<std::int32_t> new_entry_key_of(index.size(), -1);
     std::vector<std::uint8_t> new_symmetry_of(index.size(), 0);
     for (unsigned int p = 0; p < keys.size(); ++p)
       {
         const std::size_t representative =
           keys[clusters.representatives[clusters.nearest[p]]];
-        new_entry_of[keys[p]]    = entry_of[representative];
-        new_symmetry_of[keys[p]] = symmetry_of[representative];
+        new_entry_key_of[keys[p]] = entry_key_of[representative];
+        new_symmetry_of[keys[p]]  = symmetry_of[representative];
       }
 
     // Drop the entries nobody uses.
-    std::vector<std::int32_t> renumber(fitted.size(), -1);
-    std::vector<Entry>        kept;
-    for (auto &e : new_entry_of)
+    std::vector<std::int32_t> used;
+    for (const std::int32_t e : new_entry_key_of)
       if (e >= 0)
-        {
-          if (renumber[e] < 0)
-            renumber[e] = 0;
-        }
-    for (unsigned int e = 0; e < fitted.size(); ++e)
-      if (renumber[e] == 0)
-        {
-          renumber[e] = kept.size();
-          kept.push_back(fitted[e]);
-        }
-    for (auto &e : new_entry_of)
-      if (e >= 0)
-        e = renumber[e];
+        used.push_back(e);
+    std::sort(used.begin(), used.end());
+    used.erase(std::unique(used.begin(), used.end()), used.end());
+    std::vector<Entry> kept;
+    for (const Entry &e : fitted)
+      if (std::binary_search(used.begin(), used.end(), std::int32_t(e.key)))
+        kept.push_back(e);
     fitted          = kept;
-    entry_of        = new_entry_of;
+    entry_key_of    = new_entry_key_of;
     symmetry_of     = new_symmetry_of;
     representatives = k;
     return clusters.representatives.size();

@@ -252,10 +252,17 @@ namespace ddfem::coarsening
     CombinationIndex   index;
     CubeSymmetries     group;
     std::vector<Entry> fitted;
-    /// Per combination key: entry index (-1: none) and symmetry.
-    std::vector<std::int32_t> entry_of;
+    /// Per combination key: the key of its entry (-1: none) and the
+    /// symmetry that maps the entry's block onto it. Entry keys, not
+    /// positions in @p fitted, so that add() need not renumber the table;
+    /// the file stores positions.
+    std::vector<std::int32_t> entry_key_of;
     std::vector<std::uint8_t> symmetry_of;
     unsigned int              representatives = 0;
+
+    /// The entry whose key is @p entry_key (it must exist).
+    const Entry &
+    entry(const std::int32_t entry_key) const;
   };
 
   /// A clustering of feature vectors around representatives.
