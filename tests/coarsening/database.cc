@@ -1176,6 +1176,16 @@ main()
                                });
     expect_error("table naming no entry",
                  [] { Database::load("bad_table.h5"); });
+    // Lookups search the entries by key, so they must stay sorted.
+    edit_dataset<std::int64_t>("small.h5",
+                               "unsorted_entries.h5",
+                               "entries/key",
+                               [](std::vector<std::int64_t> &values,
+                                  std::vector<hsize_t> &) {
+                                 std::swap(values[0], values[1]);
+                               });
+    expect_error("entries out of order",
+                 [] { Database::load("unsorted_entries.h5"); });
     {
       // A symmetry that stays in range but maps the block's entry onto
       // another combination.
