@@ -242,12 +242,23 @@ namespace ddfem::app
           vtu.check_writable(directory, state);
       }
 
-      /// Creates the output directory and writes parameters.prm into it
-      /// (after check_output()).
+      /**
+       * Creates the output directory, removes the results an earlier run
+       * left there (summary.json, the files @p files, every scene state's
+       * VTU files) and writes parameters.prm into it (after
+       * check_output() with the same @p files). A run that fails from
+       * here on leaves only results of its own.
+       */
       void
-      prepare_output(const ParameterHandler &prm) const
+      prepare_output(const ParameterHandler         &prm,
+                     const std::vector<std::string> &files) const
       {
         create_directories(directory, "Output/Output directory");
+        remove_earlier(directory + "/summary.json", "Output/Output directory");
+        for (const std::string &file : files)
+          remove_earlier(directory + "/" + file, "Output/Output directory");
+        for (unsigned int state = 0; state <= scene.n_edits(); ++state)
+          vtu.remove_earlier(directory, state);
         std::ofstream used = open_for_writing(directory + "/parameters.prm",
                                               "Output/Output directory");
         prm.print_parameters(used, ParameterHandler::ShortPRM);
@@ -294,10 +305,12 @@ namespace ddfem::app
 
         // All input is valid. One solve, then the results are written (a
         // corotated iteration that does not converge writes nothing).
-        check_output(vtu.enabled() ? std::vector<std::string>{"solution.vtu"} :
-                                     std::vector<std::string>());
+        const std::vector<std::string> files =
+          vtu.enabled() ? std::vector<std::string>{"solution.vtu"} :
+                          std::vector<std::string>();
+        check_output(files);
         const unsigned int solves = solver.solve();
-        prepare_output(prm);
+        prepare_output(prm, files);
         if (vtu.enabled())
           solver.write_vtu(directory + "/solution.vtu");
 
@@ -405,7 +418,7 @@ namespace ddfem::app
               << linear_solver.method() << std::endl;
 
         // All input is valid: from here on, results are written.
-        prepare_output(prm);
+        prepare_output(prm, {});
         nlohmann::json summary;
         summary["scene"]           = scene_name;
         summary["method"]          = method;
@@ -612,14 +625,13 @@ namespace ddfem::app
       const OutputSettings output(prm);
       Comparison           comparison;
       comparison.parse_parameters(prm);
-      const std::string used = output.directory + "/parameters.prm";
-      check_writable(used, "Output/Output directory");
-      const int     status = comparison.run(scene,
+      const std::string used   = output.directory + "/parameters.prm";
+      const int         status = comparison.run(scene,
                                         scene_name_of(prm, prm_file),
                                         output.directory,
                                         output.screen_timings,
                                         out);
-      std::ofstream parameters =
+      std::ofstream     parameters =
         open_for_writing(used, "Output/Output directory");
       prm.print_parameters(parameters, ParameterHandler::ShortPRM);
       close_written(parameters, used, "Output/Output directory");

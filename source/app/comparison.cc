@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
@@ -448,19 +449,20 @@ namespace ddfem::app
     // and their files (each model's VTU files of every state too) must be
     // writable before the database is prepared and anything runs.
     report::check_gnuplot();
-    for (const std::string file : {"comparison.json",
-                                   "comparison.csv",
-                                   "error_vs_time.dat",
-                                   "error_vs_time.gnuplot",
-                                   "error_vs_time.png"})
+    const std::array<std::string, 6> files = {{"comparison.json",
+                                               "comparison.csv",
+                                               "error_vs_time.dat",
+                                               "error_vs_time.gnuplot",
+                                               "error_vs_time.png",
+                                               "parameters.prm"}};
+    for (const std::string &file : files)
       check_writable(directory + "/" + file, "Output/Output directory");
-    for (unsigned int c = 0; c < configurations.size(); ++c)
-      if (models[c] || configurations[c].name == "ddfem")
-        for (unsigned int state = 0; state <= scene.n_edits(); ++state)
-          vtu.check_writable(model_directory(directory,
-                                             configurations[c].name,
-                                             configurations[c].level),
-                             state);
+    // Every model directory of the methods, also those skipped: a skipped
+    // model's VTU files of an earlier run would be taken for this one's.
+    for (const Configuration &config : configurations)
+      for (unsigned int state = 0; state <= scene.n_edits(); ++state)
+        vtu.check_writable(
+          model_directory(directory, config.name, config.level), state);
 
     // The database, completed lazily for this scene's blocks in every
     // state. A ddfem level without a baseline model on the same mesh is
@@ -499,7 +501,15 @@ namespace ddfem::app
 
     std::vector<Row> rows;
     bool             all_converged = true;
+    // From here on results are written; none of an earlier run may stay
+    // next to them if this one fails.
     create_directories(directory, "Output/Output directory");
+    for (const std::string &file : files)
+      remove_earlier(directory + "/" + file, "Output/Output directory");
+    for (const Configuration &config : configurations)
+      for (unsigned int state = 0; state <= scene.n_edits(); ++state)
+        vtu.remove_earlier(
+          model_directory(directory, config.name, config.level), state);
     for (unsigned int state = 0; state <= scene.n_edits(); ++state)
       {
         const std::string state_name =

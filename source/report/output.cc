@@ -163,19 +163,17 @@ namespace ddfem::report
 
 
 
-  void
-  VtuWriter::check_writable(const std::string &dir,
-                            const unsigned int state) const
+  std::vector<std::string>
+  VtuWriter::existing_files(const std::string &dir, const unsigned int state)
   {
-    if (!enabled())
-      return;
-    const std::string name  = state_name(state);
-    const std::string where = "Output/Output directory";
-    ddfem::check_writable(dir + "/" + name + ".pvd", where);
+    const std::string        name = state_name(state);
+    std::vector<std::string> files;
+    std::error_code          error;
+    if (std::filesystem::exists(dir + "/" + name + ".pvd", error))
+      files.push_back(dir + "/" + name + ".pvd");
     // The steps' files: NAME-<digits>.vtu, whatever the number of steps
     // (cut increments add steps).
     const std::string prefix = name + "-", suffix = ".vtu";
-    std::error_code   error;
     for (const auto &entry : std::filesystem::directory_iterator(dir, error))
       {
         const std::string file = entry.path().filename().string();
@@ -190,8 +188,36 @@ namespace ddfem::report
         if (std::all_of(step.begin(), step.end(), [](const char c) {
               return std::isdigit(static_cast<unsigned char>(c));
             }))
-          ddfem::check_writable(entry.path().string(), where);
+          files.push_back(entry.path().string());
       }
+    std::sort(files.begin(), files.end());
+    return files;
+  }
+
+
+
+  void
+  VtuWriter::check_writable(const std::string &dir,
+                            const unsigned int state) const
+  {
+    if (!enabled())
+      return;
+    const std::string where = "Output/Output directory";
+    ddfem::check_writable(dir + "/" + state_name(state) + ".pvd", where);
+    for (const std::string &file : existing_files(dir, state))
+      ddfem::check_writable(file, where);
+  }
+
+
+
+  void
+  VtuWriter::remove_earlier(const std::string &dir,
+                            const unsigned int state) const
+  {
+    if (!enabled())
+      return;
+    for (const std::string &file : existing_files(dir, state))
+      ddfem::remove_earlier(file, "Output/Output directory");
   }
 
 

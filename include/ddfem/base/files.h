@@ -141,6 +141,24 @@ namespace ddfem
                                    ")."));
   }
 
+  /**
+   * Removes the file @p file, left by an earlier run, if it exists, so
+   * that a run that fails after writing some of its results leaves no
+   * earlier result next to them. Throws ExcMessage naming @p file and the
+   * parameter @p where its directory comes from if it exists and cannot be
+   * removed.
+   */
+  inline void
+  remove_earlier(const std::string &file, const std::string &where)
+  {
+    std::error_code error;
+    std::filesystem::remove(file, error);
+    AssertThrow(!error,
+                dealii::ExcMessage("Cannot remove \"" + file +
+                                   "\", a result of an earlier run (" + where +
+                                   "): " + error.message() + "."));
+  }
+
   /// The extension of the file name @p file in lower case (".stl").
   inline std::string
   lowercase_extension(const std::string &file)

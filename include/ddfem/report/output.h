@@ -103,6 +103,15 @@ namespace ddfem::report
                    const unsigned int state) const;
 
     /**
+     * Removes the files of scene state @p state that an earlier run left
+     * in @p directory (NAME.pvd and every NAME-<step>.vtu), if files are
+     * written: after check_writable(), before the first result is written.
+     */
+    void
+    remove_earlier(const std::string &directory,
+                   const unsigned int state) const;
+
+    /**
      * Writes the state @p u with @p fields at load step @p step and load
      * factor @p t, if the "Write VTU" setting asks for it (@p last tells
      * whether this is the final state).
@@ -136,6 +145,11 @@ namespace ddfem::report
     /// "solution" for scene state 0, "edit-k" after material edit k.
     static std::string
     state_name(const unsigned int state);
+
+    /// The files of scene state @p state in @p directory that an earlier
+    /// run may have written: NAME.pvd and NAME-<digits>.vtu, sorted.
+    static std::vector<std::string>
+    existing_files(const std::string &directory, const unsigned int state);
 
     /// Where and under which name files are written.
     std::string directory, basename;
