@@ -79,13 +79,14 @@ namespace ddfem::dg
     prm.declare_entry(
       "Definiteness check limit",
       "5e7",
-      Patterns::Double(0),
+      Patterns::Double(0, 1e9),
       "Positive definiteness of K is checked by a banded Cholesky "
-      "factorization (LAPACK dpbtrf) after a Cuthill-McKee renumbering, "
-      "exact, in n (b + 1) entries of memory (8 bytes each) and about "
-      "n b^2 operations for n DoFs and bandwidth b. Larger systems are not "
-      "checked: 'Penalty = automatic' then stops with a message, a fixed "
-      "penalty is solved unchecked and reported as such.");
+      "factorization (LAPACK dpbtrf, in floating point) after a "
+      "Cuthill-McKee renumbering, in n (b + 1) entries of memory (8 bytes "
+      "each) and about n b^2 operations for n DoFs and bandwidth b. Larger "
+      "systems are not checked: 'Penalty = automatic' then stops with a "
+      "message, a fixed penalty is solved unchecked and reported as such. "
+      "At most 1e9 entries (8 GB).");
     prm.leave_subsection();
   }
 

@@ -209,9 +209,13 @@ namespace ddfem::dg
         return true;
       };
 
-      Parameters parameters = dg;
-      parameters.flux       = method.flux;
-      parameters.degree     = method.degree;
+      // The study is of linear elasticity (or Poisson) with weak
+      // Dirichlet data for DG, whatever DG/Formulation and DG/Dirichlet say.
+      Parameters parameters  = dg;
+      parameters.flux        = method.flux;
+      parameters.degree      = method.degree;
+      parameters.dirichlet   = Parameters::Dirichlet::weak;
+      parameters.formulation = Parameters::Formulation::linear;
       std::unique_ptr<FiniteElement<dim>> scalar =
         method.continuous ?
           std::unique_ptr<FiniteElement<dim>>(new FE_Q<dim>(method.degree)) :
@@ -221,34 +225,26 @@ namespace ddfem::dg
       system.solve();
 
       Result r;
-      r.cells       = tria.n_active_cells();
-      r.dofs        = system.dof_handler.n_dofs();
-      r.nonzeros    = system.matrix.n_nonzero_elements();
-      r.eta         = system.penalty();
-      r.integration = system.integration_time;
-      r.assembly    = system.assembly_time;
-      r.solve       = system.solve_time;
-      Vector<float>     cellwise(tria.n_active_cells());
-      const QGauss<dim> quadrature(method.degree + 2);
-      VectorTools::integrate_difference(system.mapping,
-                                        system.dof_handler,
-                                        system.solution,
-                                        exact,
-                                        cellwise,
-                                        quadrature,
-                                        VectorTools::L2_norm);
-      r.l2 =
-        VectorTools::compute_global_error(tria, cellwise, VectorTools::L2_norm);
-      VectorTools::integrate_difference(system.mapping,
-                                        system.dof_handler,
-                                        system.solution,
-                                        exact,
-                                        cellwise,
-                                        quadrature,
-                                        VectorTools::H1_seminorm);
-      r.h1 = VectorTools::compute_global_error(tria,
-                                               cellwise,
-                                               VectorTools::H1_seminorm);
+      r.cells          = tria.n_active_cells();
+      r.dofs           = system.dof_handler.n_dofs();
+      r.nonzeros       = system.matrix.n_nonzero_elements();
+      r.eta            = system.penalty();
+      r.integration    = system.integration_time;
+      r.assembly       = system.assembly_time;
+      r.solve          = system.solve_time;
+      const auto error = [&](const VectorTools::NormType norm) {
+        Vector<float> cellwise(tria.n_active_cells());
+        VectorTools::integrate_difference(system.mapping,
+                                          system.dof_handler,
+                                          system.solution,
+                                          exact,
+                                          cellwise,
+                                          QGauss<dim>(method.degree + 2),
+                                          norm);
+        return VectorTools::compute_global_error(tria, cellwise, norm);
+      };
+      r.l2 = error(VectorTools::L2_norm);
+      r.h1 = error(VectorTools::H1_seminorm);
 
       if (r.dofs <= condition_limit)
         {

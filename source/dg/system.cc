@@ -815,7 +815,10 @@ namespace ddfem::dg
                       "DG/Penalty = " + eta.str() +
                       " is too small: the stiffness matrix is not positive "
                       "definite (or the Dirichlet conditions do not prevent "
-                      "rigid motions). Use a larger penalty or 'automatic'."));
+                      "rigid motions). Use a larger penalty" +
+                      (parameters.flux == Parameters::Flux::babuska_zlamal ?
+                         std::string(".") :
+                         std::string(" or 'automatic'."))));
         return d;
       }
     double eta = 1;
@@ -1016,6 +1019,10 @@ namespace ddfem::dg
   double
   System<dim>::jump_norm(const Vector<double> &u) const
   {
+    // A shared DoF has the same value on both sides: FE_Q has no jumps
+    // (the loop below would measure traces).
+    if (is_continuous)
+      return 0;
     using Iterator = typename DoFHandler<dim>::active_cell_iterator;
     MeshWorker::ScratchData<dim> scratch(mapping,
                                          fe,

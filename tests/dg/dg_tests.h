@@ -1,11 +1,13 @@
 #ifndef ddfem_tests_dg_h
 #define ddfem_tests_dg_h
 
-// Helpers shared by the DG tests: small meshes and problem data.
+// Helpers shared by the DG tests: small meshes, problem data and dense
+// eigenvalues.
 
 #include <deal.II/base/function.h>
 #include <deal.II/grid/grid_generator.h>
 #include <deal.II/grid/tria.h>
+#include <deal.II/lac/lapack_full_matrix.h>
 #include <deal.II/numerics/vector_tools.h>
 
 #include <ddfem/dg/parameters.h>
@@ -29,6 +31,20 @@ namespace ddfem::testing
   constexpr std::array<dg::Parameters::Flux, 2> dg_fluxes = {
     {dg::Parameters::Flux::interior_penalty,
      dg::Parameters::Flux::babuska_zlamal}};
+
+  /// The eigenvalues, ascending, of the symmetric matrix @p K (overwritten)
+  /// whose infinity norm is at most @p norm: by Gershgorin they all lie in
+  /// [-norm, norm], the interval LAPACK searches (with a margin).
+  inline Vector<double>
+  symmetric_eigenvalues(LAPACKFullMatrix<double> &K, const double norm)
+  {
+    K.set_property(LAPACKSupport::symmetric);
+    Vector<double>     eigenvalues;
+    FullMatrix<double> eigenvectors;
+    K.compute_eigenvalues_symmetric(
+      -2 * norm, 2 * norm, 0., eigenvalues, eigenvectors);
+    return eigenvalues;
+  }
 
   /// The unit cube as 2 x 2 x 2 cells with the first one refined once, so
   /// that the mesh has hanging faces.

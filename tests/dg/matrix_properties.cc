@@ -41,13 +41,8 @@ namespace
     const SparseMatrix<double> &K = system.matrix;
     LAPACKFullMatrix<double>    dense(K.m());
     dense = K;
-    dense.set_property(LAPACKSupport::symmetric);
-    // Every eigenvalue lies in [-|K|_inf, |K|_inf] (Gershgorin).
-    const double       bound = 2 * K.linfty_norm();
-    Vector<double>     eigenvalues;
-    FullMatrix<double> eigenvectors;
-    dense.compute_eigenvalues_symmetric(
-      -bound, bound, 0., eigenvalues, eigenvectors);
+    const Vector<double> eigenvalues =
+      testing::symmetric_eigenvalues(dense, K.linfty_norm());
     const dg::Definiteness verdict  = system.check_definiteness();
     const bool             positive = eigenvalues(0) > 0;
     const bool             agrees =

@@ -80,7 +80,9 @@ namespace ddfem::dg
    * Convergence of CG and DG (paper figure 4): the manufactured solution
    * on 2^l x 2^l squares (Poisson) and 2^l x 2^l x 2^l cubes (linear
    * elasticity, mu = 1, lambda = 1.5, i.e. nu = 0.3) with Dirichlet data
-   * on the whole boundary (weak for DG, strong for CG). For each method a
+   * on the whole boundary (weak for DG, strong for CG, whatever
+   * DG/Dirichlet says; the linear formulation whatever DG/Formulation
+   * says). For each method a
    * ConvergenceTable of the L2 error, the broken H1 seminorm error and an
    * estimate of the condition number of K (column "cond est": the Lanczos
    * estimate of one unpreconditioned CG solve, with the load vector as its
@@ -147,7 +149,8 @@ namespace ddfem::dg
    * sparsity and the wall times of integration (local matrices), assembly
    * (adding into K) and solve (UMFPACK), on one thread, and the ratios
    * DG/CG measured in the same run, all DG methods with the fixed penalty
-   * of subsection "DG" (BZ needs a fixed one, see
+   * of subsection "DG" (weak Dirichlet data and the linear formulation, as
+   * in ConvergenceStudy; BZ needs a fixed one, see
    * Parameters::check_penalty()). Declared in "DG cost".
    */
   class CostStudy

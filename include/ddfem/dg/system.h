@@ -202,7 +202,8 @@ namespace ddfem::dg
     std::vector<Tensor<2, dim>>
     rotations(const Vector<double> &u) const;
 
-    /// The L2 norm over all interior faces of the jump of @p u.
+    /// The L2 norm over all interior faces of the jump of @p u (0 for a
+    /// continuous element).
     double
     jump_norm(const Vector<double> &u) const;
 
