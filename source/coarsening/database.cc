@@ -354,13 +354,7 @@ namespace ddfem::coarsening
   const Entry &
   Database::entry(const std::int32_t entry_key) const
   {
-    const auto position =
-      std::lower_bound(fitted.begin(),
-                       fitted.end(),
-                       std::size_t(entry_key),
-                       [](const Entry &e, const std::size_t key) {
-                         return e.key < key;
-                       });
+    const auto position = find_key(fitted, entry_key);
     Assert(entry_key >= 0 && position != fitted.end() &&
              position->key == std::size_t(entry_key),
            ExcInternalError());
@@ -433,13 +427,7 @@ namespace ddfem::coarsening
       return;
     // Keep the entries sorted by key: the file does not depend on the
     // order in which threads finish.
-    fitted.insert(std::lower_bound(fitted.begin(),
-                                   fitted.end(),
-                                   entry.key,
-                                   [](const Entry &e, const std::size_t key) {
-                                     return e.key < key;
-                                   }),
-                  entry);
+    fitted.insert(find_key(fitted, entry.key), entry);
     for (unsigned int g = 0; g < CubeSymmetries::size; ++g)
       {
         const std::size_t key = index.key(group.apply(g, representative));

@@ -390,13 +390,7 @@ namespace ddfem::coarsening
   {
     const int r = find(level1, blocks);
     AssertThrow(r >= 0, ExcMessage("A void 4x4x4 block has no metamaterial."));
-    const auto entry =
-      std::lower_bound(entries.begin(),
-                       entries.end(),
-                       std::size_t(r),
-                       [](const Entry &e, const std::size_t key) {
-                         return e.key < key;
-                       });
+    const auto entry = find_key(entries, r);
     AssertThrow(entry != entries.end() && entry->key == std::size_t(r),
                 ExcMessage("The second-level metamaterial " +
                            std::to_string(r) + " has not been fitted."));

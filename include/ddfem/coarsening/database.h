@@ -6,6 +6,7 @@
 #include <ddfem/coarsening/symmetry.h>
 #include <ddfem/scene/palette.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstdio>
 #include <string>
@@ -60,6 +61,21 @@ namespace ddfem::coarsening
     /// Samples kept and dropped (failed solves).
     unsigned int n_samples = 0, n_dropped = 0;
   };
+
+  /**
+   * The first of @p entries (sorted by key) whose key is not below @p key:
+   * the entry of @p key if there is one, else where it would go.
+   */
+  inline std::vector<Entry>::const_iterator
+  find_key(const std::vector<Entry> &entries, const std::size_t key)
+  {
+    return std::lower_bound(entries.begin(),
+                            entries.end(),
+                            key,
+                            [](const Entry &e, const std::size_t k) {
+                              return e.key < k;
+                            });
+  }
 
   /// Which of a first-level entry's two fits of the same samples.
   enum class Fit
