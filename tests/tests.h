@@ -215,16 +215,36 @@ namespace ddfem::testing
     return result;
   }
 
+  /**
+   * The positive number @p bound as "m x 10^e", or "10^e" where m = 1. The
+   * harness's numdiff splits it at '^' and compares the exponent e as a
+   * number of its own: a bound like 1e-14, printed as such, would pass as
+   * equal to any other below numdiff's absolute tolerance of 1e-6.
+   */
+  inline std::string
+  power_of_ten(const double bound)
+  {
+    const int    e = static_cast<int>(std::floor(std::log10(bound) + 1e-9));
+    const double m = bound / std::pow(10., e);
+    std::ostringstream text;
+    if (std::abs(m - 1) > 1e-9)
+      text << std::setprecision(3) << m << " x ";
+    text << "10^" << e;
+    return text.str();
+  }
+
   /// Prints "name: below bound" if @p value < @p bound, else "FAILED" with
-  /// the value and bound (also for a NaN value).
+  /// the value and bound (also for a NaN value); the bound as
+  /// power_of_ten() writes it.
   inline void
   check_below(const std::string &name, const double value, const double bound)
   {
     std::cout << name << ": ";
     if (value < bound)
-      std::cout << "below " << bound << std::endl;
+      std::cout << "below " << power_of_ten(bound) << std::endl;
     else
-      std::cout << "FAILED, " << value << " >= " << bound << std::endl;
+      std::cout << "FAILED, " << value << " >= " << power_of_ten(bound)
+                << std::endl;
   }
 } // namespace ddfem::testing
 

@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <set>
 
 #include "../tests.h"
@@ -372,6 +373,16 @@ main(int argc, char **argv)
   run_case("output_directory_under_a_file",
            cantilever,
            {"--set", "Output/Output directory=a_file/out"});
+  {
+    std::ifstream     file("a_file");
+    const std::string text((std::istreambuf_iterator<char>(file)),
+                           std::istreambuf_iterator<char>());
+    std::cout << "  a_file unchanged: " << std::boolalpha
+              << (std::filesystem::is_regular_file("a_file") &&
+                  text == "not a directory\n")
+              << "\n"
+              << std::endl;
+  }
   std::filesystem::create_directories("directory.prm");
   {
     std::ostringstream out, err;
@@ -379,7 +390,6 @@ main(int argc, char **argv)
     std::cout << "* parameter_file_is_a_directory: exit code " << code << "\n  "
               << err.str() << std::endl;
   }
-  // A closed tetrahedron whose corners coincide.
   std::ofstream("malformed.xml") << "<ParameterHandler><Method>";
   {
     std::ostringstream out, err;
@@ -387,6 +397,7 @@ main(int argc, char **argv)
     std::cout << "* malformed_xml: exit code " << code << "\n  " << err.str()
               << std::endl;
   }
+  // A closed tetrahedron whose corners coincide.
   std::ofstream("degenerate.obj") << "v 0 0 0\nv 0 0 0\nv 0 0 0\nv 0 0 0\n"
                                      "f 1 2 3\nf 1 3 4\nf 1 4 2\nf 2 4 3\n";
   run_case("degenerate_mesh", from_surface_mesh("degenerate.obj"));
@@ -432,6 +443,10 @@ main(int argc, char **argv)
   run_case("damaged_journal",
            cantilever,
            {"--set", "Method=ddfem", "--set", "Database/File=damaged.h5"});
+  std::cout << "  database written: " << std::filesystem::exists("damaged.h5")
+            << ", journal kept: "
+            << std::filesystem::exists("damaged.h5.journal") << "\n"
+            << std::endl;
 
   // Not an error: white space between words is free.
   run_case(

@@ -15,6 +15,7 @@
 #include <atomic>
 #include <chrono>
 #include <csignal>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -75,7 +76,8 @@ namespace
   /// Runs @p job (which writes to the given stream) in a thread while
   /// another process holds the lock: reports whether it said that it waits
   /// and whether it finished while the other held the lock (half a second
-  /// after it said so), and after @p release whether it finished then.
+  /// after it said so), and after @p release whether it finished within a
+  /// minute (if not, the test ends with exit code 1).
   /// Returns what the job wrote.
   std::string
   while_locked(const std::function<void(std::ostream &)> &job,
@@ -95,8 +97,13 @@ namespace
               << ", finished while the other holds the lock: " << finished
               << std::endl;
     release();
+    for (unsigned int i = 0; i < 6000 && !finished; ++i)
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    std::cout << "  finished within a minute of the release: " << finished
+              << std::endl;
+    if (!finished)
+      std::_Exit(1); // the waiter cannot be joined
     waiter.join();
-    std::cout << "  finished after the release: " << finished << std::endl;
     return buffer.str();
   }
 

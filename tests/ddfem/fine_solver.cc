@@ -1,7 +1,8 @@
 // Verification of the fine solver against known answers:
 // 1. the assembled tangent against finite differences of the residual, and
 //    the residual against finite differences of the energy, on a random
-//    heterogeneous block; symmetry of the tangent;
+//    heterogeneous block (the kernel fills the lower triangle of a cell
+//    matrix from its upper one, so these columns check both);
 // 2. a homogeneous block in uniaxial stretch with free lateral faces
 //    against the analytic compressible Neo-Hookean solution;
 // 3. the patch test: an affine boundary displacement is reproduced
@@ -63,7 +64,7 @@ namespace
     SparseMatrix<double> tangent;
     problem.solver->residual_and_tangent(u, 1., residual, tangent);
 
-    double       tangent_error = 0, residual_error = 0, asymmetry = 0;
+    double       tangent_error = 0, residual_error = 0;
     const double eps = 1e-8;
     for (unsigned int trial = 0; trial < 30; ++trial)
       {
@@ -90,11 +91,6 @@ namespace
           testing::worst(residual_error,
                          std::abs(dE - residual(j)) / residual.linfty_norm());
       }
-    for (unsigned int i = 0; i < n; ++i)
-      for (auto entry = tangent.begin(i); entry != tangent.end(i); ++entry)
-        asymmetry = testing::worst(asymmetry,
-                                   std::abs(entry->value() -
-                                            tangent.el(entry->column(), i)));
     std::cout << "Random heterogeneous block, " << n << " DoFs" << std::endl;
     testing::check_below("  tangent vs finite difference of residual, relative",
                          tangent_error,
@@ -102,9 +98,6 @@ namespace
     testing::check_below("  residual vs finite difference of energy, relative",
                          residual_error,
                          1e-6);
-    testing::check_below("  tangent asymmetry, relative",
-                         asymmetry / tangent.linfty_norm(),
-                         1e-14);
   }
 
   void
@@ -360,6 +353,7 @@ namespace
         std::cout << std::endl;
         previous = difference;
       }
+    std::cout << std::setprecision(6);
   }
 
   /// A cantilever loaded in one step of at most @p max_iterations Newton
@@ -475,8 +469,8 @@ namespace
    * than the @p needed ones, with cuts down to 1/64 of the step, halves its
    * step until one converges, goes on, and reaches the state of the uncut solve
    * (the equilibrium does not depend on the path) up to the Newton
-   * tolerance: 2e-8 of the largest displacement, against about 0.5 for a
-   * solve that stopped at the cut.
+   * tolerance: below 1e-7 of the largest displacement, against about 0.5
+   * for a solve that stopped at the cut.
    */
   void
   load_cuts(const unsigned int needed)
@@ -543,6 +537,9 @@ namespace
                     "admissible" :
                     "not admissible")
               << std::endl;
+    testing::check_below("  |smallest vertex det F - det F|, affine",
+                         std::abs(affine_J - determinant(F)),
+                         1e-12);
   }
 } // namespace
 

@@ -1,5 +1,8 @@
 // Coarse models on the stiff and extreme cases of the fine solver's
-// stability tests: stiffness contrast 1e6, nu = 0.49, 50 % compression and
+// stability tests: stiffness contrast 1e6 (compressed by 25 %, where the
+// fine test, contrast_1e6.prm, compresses by 15 %: at 25 % the fine model's
+// soft voxels fold, tests/stability/inverted.cc, while a coarse model has
+// no nodes inside a block to fold them), nu = 0.49, 50 % compression and
 // a 180 degree twist, each solved with the ddfem and the naive coarse
 // model at level 1 (the compression and the twist also with the level-1
 // point offset 0.45, which softens the element in bending), the twist and a
