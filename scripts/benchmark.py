@@ -30,28 +30,46 @@ BENCHMARKS = {
 # force, Newton to 1e-8): a plain deal.II solver with Trilinos ML AMG-CG,
 # measured on this machine class (issue #2).
 REFERENCE = {"bar": 2.0, "bar-32": 17.7}
+BINARY = os.path.join(ROOT, "build", "ddfem")
 
 
 def run(name):
+    """Runs benchmark @p name; its summary.json, or exits with a message."""
     prm, overrides = BENCHMARKS[name]
     out = os.path.join(ROOT, "benchmark-output", name)
     os.makedirs(out, exist_ok=True)
-    command = [os.path.join(ROOT, "build", "ddfem"),
-               os.path.join(ROOT, "prm", prm + ".prm"),
+    summary_file = os.path.join(out, "summary.json")
+    # A run that stops on its input checks writes nothing: the summary of an
+    # earlier run must not stand in for it.
+    if os.path.exists(summary_file):
+        os.remove(summary_file)
+    command = [BINARY, os.path.join(ROOT, "prm", prm + ".prm"),
                "--set", "Output/Output directory=" + out,
                "--set", "Output/Write VTU=none"]
     for o in overrides:
         command += ["--set", o]
     with open(out + ".log", "w") as log:
         code = subprocess.call(command, stdout=log, stderr=subprocess.STDOUT)
-    with open(os.path.join(out, "summary.json")) as f:
-        summary = json.load(f)
+    # Exit code 1 with a summary: a solve that did not converge, which the
+    # table shows.
+    try:
+        with open(summary_file) as f:
+            summary = json.load(f)
+    except (OSError, ValueError) as error:
+        sys.exit(f"Error: benchmark {name} (exit code {code}) wrote no readable "
+                 f"{summary_file} ({error}); see {out}.log.")
     summary["exit_code"] = code
     return summary
 
 
 def main():
     names = sys.argv[1:] or list(BENCHMARKS)
+    unknown = [n for n in names if n not in BENCHMARKS]
+    if unknown:
+        sys.exit(f"Error: unknown benchmark {', '.join(unknown)}; the benchmarks "
+                 f"are {', '.join(BENCHMARKS)}.")
+    if not os.access(BINARY, os.X_OK):
+        sys.exit(f"Error: no {BINARY}; build first (bash scripts/setup.sh).")
     rows = []
     print("| scene | grid | DoFs | solver | load steps | Newton its | s / Newton it "
           "| total s | peak MB | reference s / it |")
@@ -59,11 +77,12 @@ def main():
     for name in names:
         s = run(name)
         ref = REFERENCE.get(name)
-        ref_text = "%.1f (ratio %.2f)" % (ref, s["time_per_iteration_s"] / ref) if ref else ""
+        per_iteration = s["time_per_iteration_s"] or float("nan")
+        ref_text = "%.1f (ratio %.2f)" % (ref, per_iteration / ref) if ref else ""
         print("| %s%s | %s | %d | %s | %d | %d | %.3f | %.1f | %.0f | %s |" % (
             name, "" if s["converged"] else " (NOT converged)",
             "x".join(str(n) for n in s["grid"]), s["dofs"], s["linear_solver"],
-            s["load_steps"], s["newton_iterations"], s["time_per_iteration_s"],
+            s["load_steps"], s["newton_iterations"], per_iteration,
             s["wall_time_s"], s["peak_memory_mb"], ref_text), flush=True)
 
 

@@ -49,13 +49,34 @@ TARGETS = [L1_SPEED, TABLE_1, HALF_NAIVE, L2_SPEED, L2_ERROR, COARSENING]
 L2_SPEEDUP = {"buckling": 30., "fibers": 30.}
 
 
+# The keys the table reads from every run of a comparison.json.
+RUN_KEYS = ["state", "method", "level", "dofs", "converged", "wall_time_s",
+            "linear_solver", "newton_iterations", "speedup_vs_fine",
+            "speedup_vs_fine_direct", "mean_vertex_error", "grid_fit_lower_bound",
+            "coarsening_time_s"]
+
+
 def load_states(directory, scene):
-    """The runs of DIR/scene/comparison.json grouped by state, in file order."""
-    with open(os.path.join(directory, scene, "comparison.json")) as f:
-        data = json.load(f)
-    states = {}
-    for run in data["runs"]:
-        states.setdefault(run["state"], []).append(run)
+    """The runs of DIR/scene/comparison.json grouped by state, in file order.
+
+    Exits with a message naming the file if it cannot be read or lacks what a
+    compare run writes (a run killed while writing it, say)."""
+    file = os.path.join(directory, scene, "comparison.json")
+    try:
+        with open(file) as f:
+            data = json.load(f)
+        if not isinstance(data.get("peak_memory_mb"), (int, float)) or \
+                not isinstance(data.get("runs"), list) or not data["runs"]:
+            raise ValueError("no runs or no peak_memory_mb")
+        states = {}
+        for run in data["runs"]:
+            missing = [k for k in RUN_KEYS if k not in run]
+            if missing:
+                raise ValueError(f"a run has no {', '.join(missing)}")
+            states.setdefault(run["state"], []).append(run)
+    except (OSError, ValueError, AttributeError, TypeError) as error:
+        sys.exit(f"Error: {file} is not a compare run's comparison.json ({error}); "
+                 "run the scene's compare run again.")
     return data, states
 
 
@@ -95,6 +116,7 @@ def main(argv):
         if not os.path.exists(file):
             sys.exit(f"Error: no {file}. The scenes are named {', '.join(SCENES)}, "
                      "and each needs a compare run (scripts/compare_scenes.sh).")
+    loaded = {scene: load_states(directory, scene) for scene in scenes}
 
     print("| scene, state | fine / L1 / L2 DoFs | fastest fine run (solver, Newton)"
           " | fine-direct | ddfem L1 speedup (vs direct) | L1 mean error ddfem /"
@@ -110,7 +132,7 @@ def main(argv):
         targets[name][0 if met else 1].append(state)
 
     for scene in scenes:
-        data, states = load_states(directory, scene)
+        data, states = loaded[scene]
         for index, (state, runs) in enumerate(states.items()):
             label = scene if len(states) == 1 else f"{scene}, {state}"
             fines = [r for r in runs if r["level"] == 0 and r["converged"]]
