@@ -12,6 +12,7 @@
 #include <array>
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <iomanip>
 #include <map>
 #include <optional>
@@ -455,14 +456,20 @@ namespace ddfem::app
                                                "error_vs_time.gnuplot",
                                                "error_vs_time.png",
                                                "parameters.prm"}};
+    // @p f of every model directory and scene state, also of the models
+    // skipped: their VTU files of an earlier run would be taken for this
+    // run's.
+    const auto for_each_model_state =
+      [&](const std::function<void(const std::string &, unsigned int)> &f) {
+        for (const Configuration &config : configurations)
+          for (unsigned int state = 0; state <= scene.n_edits(); ++state)
+            f(model_directory(directory, config.name, config.level), state);
+      };
     for (const std::string &file : files)
       check_writable(directory + "/" + file, "Output/Output directory");
-    // Every model directory of the methods, also those skipped: a skipped
-    // model's VTU files of an earlier run would be taken for this one's.
-    for (const Configuration &config : configurations)
-      for (unsigned int state = 0; state <= scene.n_edits(); ++state)
-        vtu.check_writable(
-          model_directory(directory, config.name, config.level), state);
+    for_each_model_state([&](const std::string &d, const unsigned int state) {
+      vtu.check_writable(d, state);
+    });
 
     // The database, completed lazily for this scene's blocks in every
     // state. A ddfem level without a baseline model on the same mesh is
@@ -506,10 +513,9 @@ namespace ddfem::app
     create_directories(directory, "Output/Output directory");
     for (const std::string &file : files)
       remove_earlier(directory + "/" + file, "Output/Output directory");
-    for (const Configuration &config : configurations)
-      for (unsigned int state = 0; state <= scene.n_edits(); ++state)
-        vtu.remove_earlier(
-          model_directory(directory, config.name, config.level), state);
+    for_each_model_state([&](const std::string &d, const unsigned int state) {
+      vtu.remove_earlier(d, state);
+    });
     for (unsigned int state = 0; state <= scene.n_edits(); ++state)
       {
         const std::string state_name =
