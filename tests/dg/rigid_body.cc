@@ -1,6 +1,6 @@
 // Rigid body motions (a translation plus an infinitesimal rotation) lie in
 // the local spaces of FE_DGQ(k) and FE_DGP(k), k >= 1: they must give zero
-// strain energy u^T K u and zero jumps for both fluxes, also across hanging
+// strain energy u^T K u for both fluxes and zero jumps, also across hanging
 // faces. A stretch must give positive energy, so the check can fail.
 
 #include <deal.II/base/function.h>
@@ -64,10 +64,14 @@ main(int argc, char **argv)
                                system.matrix.matrix_norm_square(u) /
                                  (scale * u.norm_sqr()),
                                1e-13);
-          std::cout << "  ";
-          testing::check_below("rigid jump / |u|",
-                               system.jump_norm(u) / u.l2_norm(),
-                               1e-13);
+          // The jumps do not depend on the flux: checked once.
+          if (flux == testing::dg_fluxes[0])
+            {
+              std::cout << "  ";
+              testing::check_below("rigid jump / |u|",
+                                   system.jump_norm(u) / u.l2_norm(),
+                                   1e-13);
+            }
           system.project_locally(Motion(true), u);
           std::cout << "  stretch energy / (|K| |u|^2) > 1e-6: "
                     << (system.matrix.matrix_norm_square(u) /
