@@ -224,10 +224,16 @@ namespace ddfem::testing
   inline std::string
   power_of_ten(const double bound)
   {
-    const int    e = static_cast<int>(std::floor(std::log10(bound) + 1e-9));
-    const double m = bound / std::pow(10., e);
+    AssertThrow(bound > 0, dealii::ExcMessage("A bound must be positive."));
+    int    e = static_cast<int>(std::floor(std::log10(bound) + 1e-9));
+    double m = std::round(bound / std::pow(10., e) * 100) / 100; // 3 digits
+    if (m >= 10)
+      {
+        m /= 10;
+        ++e;
+      }
     std::ostringstream text;
-    if (std::abs(m - 1) > 1e-9)
+    if (m != 1)
       text << std::setprecision(3) << m << " x ";
     text << "10^" << e;
     return text.str();

@@ -244,10 +244,11 @@ namespace ddfem::app
 
       /**
        * Creates the output directory, removes the results an earlier run
-       * left there (summary.json, the files @p files, every scene state's
-       * VTU files) and writes parameters.prm into it (after
-       * check_output() with the same @p files). A run that fails from
-       * here on leaves only results of its own.
+       * left there under the names this run writes (summary.json, the
+       * files @p files and, for the continuous models, every scene state's
+       * VTU files) and writes parameters.prm into it (after check_output()
+       * with the same @p files). A run that fails from here on leaves only
+       * results of its own.
        */
       void
       prepare_output(const ParameterHandler         &prm,
@@ -257,8 +258,9 @@ namespace ddfem::app
         remove_earlier(directory + "/summary.json", "Output/Output directory");
         for (const std::string &file : files)
           remove_earlier(directory + "/" + file, "Output/Output directory");
-        for (unsigned int state = 0; state <= scene.n_edits(); ++state)
-          vtu.remove_earlier(directory, state);
+        if (method != "dg")
+          for (unsigned int state = 0; state <= scene.n_edits(); ++state)
+            vtu.remove_earlier(directory, state);
         std::ofstream used = open_for_writing(directory + "/parameters.prm",
                                               "Output/Output directory");
         prm.print_parameters(used, ParameterHandler::ShortPRM);
@@ -625,13 +627,16 @@ namespace ddfem::app
       const OutputSettings output(prm);
       Comparison           comparison;
       comparison.parse_parameters(prm);
-      const std::string used   = output.directory + "/parameters.prm";
-      const int         status = comparison.run(scene,
+      // Written once the comparison is done: a rerun from this directory's
+      // parameters.prm keeps it should the run fail.
+      const std::string used = output.directory + "/parameters.prm";
+      check_writable(used, "Output/Output directory");
+      const int     status = comparison.run(scene,
                                         scene_name_of(prm, prm_file),
                                         output.directory,
                                         output.screen_timings,
                                         out);
-      std::ofstream     parameters =
+      std::ofstream parameters =
         open_for_writing(used, "Output/Output directory");
       prm.print_parameters(parameters, ParameterHandler::ShortPRM);
       close_written(parameters, used, "Output/Output directory");

@@ -450,12 +450,11 @@ namespace ddfem::app
     // and their files (each model's VTU files of every state too) must be
     // writable before the database is prepared and anything runs.
     report::check_gnuplot();
-    const std::array<std::string, 6> files = {{"comparison.json",
+    const std::array<std::string, 5> files = {{"comparison.json",
                                                "comparison.csv",
                                                "error_vs_time.dat",
                                                "error_vs_time.gnuplot",
-                                               "error_vs_time.png",
-                                               "parameters.prm"}};
+                                               "error_vs_time.png"}};
     // @p f of every model directory and scene state, also of the models
     // skipped: their VTU files of an earlier run would be taken for this
     // run's.

@@ -3,6 +3,8 @@
 
 #include <deal.II/base/exceptions.h>
 
+#include <unistd.h>
+
 #include <cctype>
 #include <filesystem>
 #include <fstream>
@@ -110,8 +112,9 @@ namespace ddfem
   /**
    * Throws ExcMessage naming @p file and the parameter @p where its
    * directory comes from if the file could not be written: something
-   * other than a regular file is in the way (a directory of that name), or
-   * it cannot be opened for writing. Leaves an existing file as it is and
+   * other than a regular file is in the way (a directory of that name), it
+   * cannot be opened for writing, or it exists in a directory that does
+   * not let remove_earlier() remove it. Leaves an existing file as it is and
    * creates none (a missing directory is check_creatable()'s to check):
    * for checks before a long run.
    */
@@ -125,7 +128,14 @@ namespace ddfem
                                          path.parent_path(),
                                        error))
       return;
-    const bool existed = std::filesystem::exists(path, error);
+    const bool        existed = std::filesystem::exists(path, error);
+    const std::string directory =
+      path.parent_path().empty() ? "." : path.parent_path().string();
+    AssertThrow(!existed || access(directory.c_str(), W_OK) == 0,
+                dealii::ExcMessage("Cannot replace \"" + file + "\" (" + where +
+                                   "): its directory is not "
+                                   "writable, so the file of an "
+                                   "earlier run cannot be removed."));
     AssertThrow(!existed || std::filesystem::is_regular_file(path, error),
                 dealii::ExcMessage("Cannot write \"" + file + "\" (" + where +
                                    "): a " +
