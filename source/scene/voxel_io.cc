@@ -40,10 +40,31 @@ namespace ddfem::scene
 
 
 
-    // Calls f(tokens, line, where) for every line of @p in that has a
-    // token: tokens are the line's white-space separated words (those
-    // before a '#' where @p comments), where is the prefix "<file>, line
-    // <n>: " of a message about the line.
+    /// A line of a text file that has a token, as for_each_line() passes it.
+    struct Line
+    {
+      /// Its white-space separated words (with comments, those before a
+      /// '#').
+      std::vector<std::string_view> tokens;
+      /// The whole line.
+      const std::string &text;
+      /// The file and the line's number in it, counted from 1.
+      const std::string &file;
+      unsigned int       number;
+
+      /// "<file>, line <n>: ", the prefix of a message about the line
+      /// (built only for a message).
+      std::string
+      where() const
+      {
+        return file + ", line " + std::to_string(number) + ": ";
+      }
+    };
+
+
+
+    // Calls f(line) for every Line of @p in (read from @p file) that has a
+    // token; words after a '#' are left out where @p comments.
     template <typename Function>
     void
     for_each_line(std::istream      &in,
@@ -51,14 +72,16 @@ namespace ddfem::scene
                   const bool         comments,
                   const Function    &f)
     {
-      std::string line;
-      for (unsigned int line_no = 1; std::getline(in, line); ++line_no)
+      std::string text;
+      for (unsigned int number = 1; std::getline(in, text); ++number)
         {
-          const std::string_view text(line);
-          const auto             tokens =
-            split(comments ? text.substr(0, text.find('#')) : text);
-          if (!tokens.empty())
-            f(tokens, line, file + ", line " + std::to_string(line_no) + ": ");
+          const std::string_view view(text);
+          Line line{split(comments ? view.substr(0, view.find('#')) : view),
+                    text,
+                    file,
+                    number};
+          if (!line.tokens.empty())
+            f(line);
         }
     }
 
@@ -188,48 +211,43 @@ namespace ddfem::scene
       bool               in_facet        = false;
       bool               ended           = false;
       unsigned int       n_facet_corners = 0;
-      for_each_line(
-        in,
-        file,
-        false,
-        [&](const auto        &tokens,
-            const std::string &line,
-            const std::string &where) {
-          const auto check = [&](const bool ok, const std::string &problem) {
-            AssertThrow(ok,
-                        ExcMessage(where + problem + " in \"" + line + "\"."));
-          };
-          const std::string_view keyword = tokens[0];
-          Point<3>               p;
-          if (keyword == "facet")
-            {
-              check(!in_facet, "previous facet not closed by \"endfacet\"");
-              in_facet        = true;
-              n_facet_corners = 0;
-            }
-          else if (keyword == "vertex")
-            {
-              check(in_facet && n_facet_corners < 3,
-                    "vertex outside a facet or beyond its third vertex");
-              check(tokens.size() == 4 && parse_point(tokens, 1, p),
-                    "expected \"vertex x y z\" with finite coordinates");
-              corners.push_back(p);
-              ++n_facet_corners;
-            }
-          else if (keyword == "endfacet")
-            {
-              check(in_facet && n_facet_corners == 3,
-                    "facet without exactly 3 vertices");
-              in_facet = false;
-            }
-          else
-            {
-              check(keyword == "solid" || keyword == "outer" ||
-                      keyword == "endloop" || keyword == "endsolid",
-                    "unexpected keyword \"" + std::string(keyword) + "\"");
-              ended = ended || keyword == "endsolid";
-            }
-        });
+      for_each_line(in, file, false, [&](const Line &line) {
+        const auto check = [&](const bool ok, const std::string &problem) {
+          AssertThrow(ok,
+                      ExcMessage(line.where() + problem + " in \"" + line.text +
+                                 "\"."));
+        };
+        const std::string_view keyword = line.tokens[0];
+        Point<3>               p;
+        if (keyword == "facet")
+          {
+            check(!in_facet, "previous facet not closed by \"endfacet\"");
+            in_facet        = true;
+            n_facet_corners = 0;
+          }
+        else if (keyword == "vertex")
+          {
+            check(in_facet && n_facet_corners < 3,
+                  "vertex outside a facet or beyond its third vertex");
+            check(line.tokens.size() == 4 && parse_point(line.tokens, 1, p),
+                  "expected \"vertex x y z\" with finite coordinates");
+            corners.push_back(p);
+            ++n_facet_corners;
+          }
+        else if (keyword == "endfacet")
+          {
+            check(in_facet && n_facet_corners == 3,
+                  "facet without exactly 3 vertices");
+            in_facet = false;
+          }
+        else
+          {
+            check(keyword == "solid" || keyword == "outer" ||
+                    keyword == "endloop" || keyword == "endsolid",
+                  "unexpected keyword \"" + std::string(keyword) + "\"");
+            ended = ended || keyword == "endsolid";
+          }
+      });
       AssertThrow(!in_facet,
                   ExcMessage(file +
                              ": ends inside a facet (missing \"endfacet\")."));
@@ -255,54 +273,48 @@ namespace ddfem::scene
     {
       std::vector<Point<3>> vertices, corners;
       std::istringstream    in(content);
-      for_each_line(
-        in,
-        file,
-        true,
-        [&](const auto        &tokens,
-            const std::string &line,
-            const std::string &where) {
-          if (tokens[0] == "v")
-            {
-              Point<3> p;
-              AssertThrow(parse_point(tokens, 1, p),
-                          ExcMessage(where + "malformed vertex line \"" + line +
-                                     "\"."));
-              vertices.push_back(p);
-            }
-          else if (tokens[0] == "f")
-            {
-              AssertThrow(tokens.size() >= 4,
-                          ExcMessage(where +
-                                     "a face needs at least 3 "
-                                     "vertices: \"" +
-                                     line + "\"."));
-              // Vertex indices are 1-based, negative ones count from the
-              // last vertex read; "a/b/c" forms carry the vertex index first.
-              std::vector<unsigned int> face;
-              for (std::size_t t = 1; t < tokens.size(); ++t)
-                {
-                  const std::string_view token = tokens[t];
-                  long long              index = 0;
-                  AssertThrow(parse(token.substr(0, token.find('/')), index),
-                              ExcMessage(where + "malformed face vertex \"" +
-                                         std::string(token) + "\"."));
-                  const long long n_vertices = vertices.size();
-                  const long long v =
-                    index > 0 ? index - 1 : n_vertices + index;
-                  AssertThrow(index != 0 && v >= 0 && v < n_vertices,
-                              ExcMessage(where + "vertex index " +
-                                         std::to_string(index) +
-                                         " is out of range (" +
-                                         std::to_string(n_vertices) +
-                                         " vertices defined so far)."));
-                  face.push_back(static_cast<unsigned int>(v));
-                }
-              for (std::size_t c = 1; c + 1 < face.size(); ++c)
-                for (const unsigned int v : {face[0], face[c], face[c + 1]})
-                  corners.push_back(vertices[v]);
-            }
-        });
+      for_each_line(in, file, true, [&](const Line &line) {
+        if (line.tokens[0] == "v")
+          {
+            Point<3> p;
+            AssertThrow(parse_point(line.tokens, 1, p),
+                        ExcMessage(line.where() + "malformed vertex line \"" +
+                                   line.text + "\"."));
+            vertices.push_back(p);
+          }
+        else if (line.tokens[0] == "f")
+          {
+            AssertThrow(line.tokens.size() >= 4,
+                        ExcMessage(line.where() +
+                                   "a face needs at least 3 "
+                                   "vertices: \"" +
+                                   line.text + "\"."));
+            // Vertex indices are 1-based, negative ones count from the
+            // last vertex read; "a/b/c" forms carry the vertex index first.
+            std::vector<unsigned int> face;
+            for (std::size_t t = 1; t < line.tokens.size(); ++t)
+              {
+                const std::string_view token = line.tokens[t];
+                long long              index = 0;
+                AssertThrow(parse(token.substr(0, token.find('/')), index),
+                            ExcMessage(line.where() +
+                                       "malformed face vertex \"" +
+                                       std::string(token) + "\"."));
+                const long long n_vertices = vertices.size();
+                const long long v = index > 0 ? index - 1 : n_vertices + index;
+                AssertThrow(index != 0 && v >= 0 && v < n_vertices,
+                            ExcMessage(line.where() + "vertex index " +
+                                       std::to_string(index) +
+                                       " is out of range (" +
+                                       std::to_string(n_vertices) +
+                                       " vertices defined so far)."));
+                face.push_back(static_cast<unsigned int>(v));
+              }
+            for (std::size_t c = 1; c + 1 < face.size(); ++c)
+              for (const unsigned int v : {face[0], face[c], face[c + 1]})
+                corners.push_back(vertices[v]);
+          }
+      });
       // As an STL file's corners: vertices at the same place become one
       // (a mesh written as a triangle soup is closed), and vertices no face
       // uses do not count toward 'Fit to grid'.
@@ -360,54 +372,49 @@ namespace ddfem::scene
     ids.reserve(grid.n_voxels());
     std::size_t n_found     = 0;
     bool        have_header = false;
-    for_each_line(
-      in,
-      file,
-      true,
-      [&](const auto        &tokens,
-          const std::string &line,
-          const std::string &where) {
-        if (!have_header)
-          {
-            std::array<unsigned int, 3> m;
-            AssertThrow(tokens.size() == 3 && parse(tokens[0], m[0]) &&
-                          parse(tokens[1], m[1]) && parse(tokens[2], m[2]),
-                        ExcMessage(where +
-                                   "expected the header \"nx ny nz\", "
-                                   "found \"" +
-                                   line + "\"."));
-            AssertThrow(m == n,
-                        ExcMessage(where + "the header \"" + size_string(m) +
-                                   "\" does not match the grid size \"" +
-                                   header + "\"."));
-            have_header = true;
-            return;
-          }
+    for_each_line(in, file, true, [&](const Line &line) {
+      if (!have_header)
+        {
+          std::array<unsigned int, 3> m;
+          AssertThrow(line.tokens.size() == 3 && parse(line.tokens[0], m[0]) &&
+                        parse(line.tokens[1], m[1]) &&
+                        parse(line.tokens[2], m[2]),
+                      ExcMessage(line.where() +
+                                 "expected the header \"nx ny nz\", "
+                                 "found \"" +
+                                 line.text + "\"."));
+          AssertThrow(m == n,
+                      ExcMessage(
+                        line.where() + "the header \"" + size_string(m) +
+                        "\" does not match the grid size \"" + header + "\"."));
+          have_header = true;
+          return;
+        }
 
-        for (const std::string_view token : tokens)
-          {
-            unsigned long id = 0;
-            AssertThrow(parse(token, id),
-                        ExcMessage(where + "\"" + std::string(token) +
-                                   "\" is not a non-negative integer "
-                                   "material id."));
-            if (ids.size() < grid.n_voxels())
-              {
-                const auto ijk = grid.coordinates(ids.size());
-                AssertThrow(id < id_bound,
-                            ExcMessage(where + "material id " +
-                                       std::to_string(id) + " of voxel (" +
-                                       std::to_string(ijk[0]) + "," +
-                                       std::to_string(ijk[1]) + "," +
-                                       std::to_string(ijk[2]) +
-                                       ") is out of range: ids must be less "
-                                       "than " +
-                                       std::to_string(id_bound) + "."));
-                ids.push_back(static_cast<MaterialId>(id));
-              }
-            ++n_found;
-          }
-      });
+      for (const std::string_view token : line.tokens)
+        {
+          unsigned long id = 0;
+          AssertThrow(parse(token, id),
+                      ExcMessage(line.where() + "\"" + std::string(token) +
+                                 "\" is not a non-negative integer "
+                                 "material id."));
+          if (ids.size() < grid.n_voxels())
+            {
+              const auto ijk = grid.coordinates(ids.size());
+              AssertThrow(id < id_bound,
+                          ExcMessage(line.where() + "material id " +
+                                     std::to_string(id) + " of voxel (" +
+                                     std::to_string(ijk[0]) + "," +
+                                     std::to_string(ijk[1]) + "," +
+                                     std::to_string(ijk[2]) +
+                                     ") is out of range: ids must be less "
+                                     "than " +
+                                     std::to_string(id_bound) + "."));
+              ids.push_back(static_cast<MaterialId>(id));
+            }
+          ++n_found;
+        }
+    });
 
     AssertThrow(have_header,
                 ExcMessage(file + ": no header \"nx ny nz\" found."));
