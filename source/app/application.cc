@@ -244,11 +244,11 @@ namespace ddfem::app
 
       /**
        * Creates the output directory, removes the results an earlier run
-       * left there under the names this run writes (summary.json, the
-       * files @p files and, for the continuous models, every scene state's
-       * VTU files) and writes parameters.prm into it (after check_output()
-       * with the same @p files). A run that fails from here on leaves only
-       * results of its own.
+       * left there under the names this run writes (summary.json and the
+       * files @p files; the continuous models' VTU files are VtuWriter's)
+       * and writes parameters.prm into it (after check_output() with the
+       * same @p files). A run that fails from here on leaves only results
+       * of its own.
        */
       void
       prepare_output(const ParameterHandler         &prm,
@@ -258,9 +258,6 @@ namespace ddfem::app
         remove_earlier(directory + "/summary.json", "Output/Output directory");
         for (const std::string &file : files)
           remove_earlier(directory + "/" + file, "Output/Output directory");
-        if (method != "dg")
-          for (unsigned int state = 0; state <= scene.n_edits(); ++state)
-            vtu.remove_earlier(directory, state);
         std::ofstream used = open_for_writing(directory + "/parameters.prm",
                                               "Output/Output directory");
         prm.print_parameters(used, ParameterHandler::ShortPRM);
@@ -421,6 +418,8 @@ namespace ddfem::app
 
         // All input is valid: from here on, results are written.
         prepare_output(prm, {});
+        for (unsigned int state = 0; state <= scene.n_edits(); ++state)
+          vtu.remove_earlier(directory, state);
         nlohmann::json summary;
         summary["scene"]           = scene_name;
         summary["method"]          = method;
