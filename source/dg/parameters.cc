@@ -124,10 +124,6 @@ namespace ddfem::dg
     corotation_tolerance     = prm.get_double("Corotation tolerance");
     definiteness_check_limit = prm.get_double("Definiteness check limit");
     prm.leave_subsection();
-    AssertThrow(!(dirichlet == Dirichlet::strong && element == Element::dgp),
-                ExcMessage("DG/Dirichlet = strong needs nodes on the "
-                           "boundary: use DG/Element = FE_DGQ, or "
-                           "DG/Dirichlet = weak with FE_DGP."));
   }
 
 

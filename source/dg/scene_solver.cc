@@ -17,7 +17,15 @@ namespace ddfem::dg
                            const Parameters   &parameters)
     : scene(scene)
     , parameters(parameters)
-  {}
+  {
+    // Checked here, not when parsing: the DG studies impose their
+    // conditions weakly whatever DG/Dirichlet says.
+    AssertThrow(!(parameters.dirichlet == Parameters::Dirichlet::strong &&
+                  parameters.element == Parameters::Element::dgp),
+                ExcMessage("DG/Dirichlet = strong needs nodes on the "
+                           "boundary: use DG/Element = FE_DGQ, or "
+                           "DG/Dirichlet = weak with FE_DGP."));
+  }
 
 
 

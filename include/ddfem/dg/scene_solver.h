@@ -28,7 +28,11 @@ namespace ddfem::dg
   class SceneSolver
   {
   public:
-    /// A solver for @p scene with @p parameters (both must outlive it).
+    /**
+     * A solver for @p scene with @p parameters (both must outlive it).
+     * Throws ExcMessage if DG/Dirichlet = strong is combined with FE_DGP,
+     * which has no nodes on the boundary to constrain.
+     */
     SceneSolver(const scene::Scene &scene, const Parameters &parameters);
 
     /**
