@@ -8,6 +8,7 @@
 #include <deal.II/lac/solver_control.h>
 #include <deal.II/numerics/vector_tools.h>
 
+#include <ddfem/base/exceptions.h>
 #include <ddfem/base/files.h>
 #include <ddfem/base/parsing.h>
 #include <ddfem/dg/studies.h>
@@ -438,11 +439,32 @@ namespace ddfem::dg
           blocks.push_back({problem, method.name, false});
           for (unsigned int l = lo; l <= hi; ++l)
             {
-              const Result r = poisson ?
-                                 solve_manufactured<2>(
-                                   1u << l, 1, method, fixed, condition_limit) :
-                                 solve_manufactured<3>(
-                                   1u << l, 3, method, fixed, condition_limit);
+              Result r;
+              try
+                {
+                  r = poisson ? solve_manufactured<2>(
+                                  1u << l, 1, method, fixed, condition_limit) :
+                                solve_manufactured<3>(
+                                  1u << l, 3, method, fixed, condition_limit);
+                }
+              catch (const ExceptionBase &e)
+                {
+                  // The message names the settled penalty as if the user
+                  // had fixed it; say where it came from.
+                  std::ostringstream eta;
+                  eta << fixed.penalty;
+                  AssertThrow(fixed.penalty == dg.penalty,
+                              ExcMessage(
+                                "DG/Penalty = automatic was settled at eta = " +
+                                eta.str() + " on the " +
+                                std::to_string(1u << lo) + "^" +
+                                (poisson ? "2" : "3") + " grid of " + problem +
+                                ", " + method.name +
+                                ", and kept on the finer "
+                                "grids: " +
+                                message_of(e)));
+                  throw;
+                }
               results.push_back(r);
               table.add_value("cells", r.cells);
               table.add_value("dofs", r.dofs);

@@ -7,7 +7,10 @@
 // is rejected (it would always stop at eta = 1). A cube clamped weakly on
 // its x- face, with hanging faces. Every definiteness verdict of
 // System::check_definiteness() (banded Cholesky) is compared with the sign
-// of the smallest eigenvalue of the dense matrix (LAPACK dsyevx).
+// of the smallest eigenvalue of the dense matrix (LAPACK dsyevx). A matrix
+// that is singular in exact arithmetic can pass Cholesky in floating point
+// with a pivot at round-off level; the check must reject it (one square of
+// the 2D Poisson problem at eta = 1).
 
 #include <deal.II/base/function.h>
 #include <deal.II/lac/lapack_full_matrix.h>
@@ -128,4 +131,38 @@ main(int argc, char **argv)
         system.assemble(system.penalty() / 2, 1);
         std::cout << "  half of it: K " << definiteness(system) << std::endl;
       }
+
+  // One square of the Poisson problem, weak Dirichlet data on its four
+  // sides: at eta = 1 the interior penalty matrix is singular in exact
+  // arithmetic (smallest eigenvalue at round-off level).
+  Triangulation<2> square;
+  GridGenerator::hyper_cube(square);
+  dg::ProblemData<2> poisson;
+  poisson.materials = {{1, 0}};
+  poisson.dirichlet = [](const Point<2> &, unsigned int, double, double &v) {
+    v = 0;
+    return true;
+  };
+  const dg::Parameters p =
+    testing::dg_parameters(dg::Parameters::Element::dgq,
+                           1,
+                           dg::Parameters::Flux::interior_penalty);
+  const auto    fe = p.make_element<2>();
+  dg::System<2> system(square, *fe, 1, p, poisson);
+  for (const double eta : {1., 2.})
+    {
+      system.assemble(eta, 1);
+      LAPACKFullMatrix<double> dense(system.matrix.m());
+      dense = system.matrix;
+      const Vector<double> eigenvalues =
+        testing::symmetric_eigenvalues(dense, system.matrix.linfty_norm());
+      std::cout << "Poisson on one square, IP FE_DGQ(1), eta = " << eta
+                << ": K " << dg::to_string(system.check_definiteness())
+                << ", smallest eigenvalue / largest "
+                << (eigenvalues(0) / eigenvalues(eigenvalues.size() - 1) <
+                        1e-12 ?
+                      "below 10^-12" :
+                      "above 10^-12")
+                << std::endl;
+    }
 }

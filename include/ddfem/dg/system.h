@@ -84,12 +84,21 @@ namespace ddfem::dg
       dirichlet;
   };
 
+  /**
+   * The smallest ratio of a Cholesky pivot L_jj^2 to the diagonal entry
+   * K_jj it came from that counts as positive; below it the matrix is
+   * taken as singular.
+   */
+  constexpr double singular_pivot_ratio = 1e-12;
+
   /// The outcome of a positive definiteness check of the stiffness matrix.
   enum class Definiteness
   {
-    /// The Cholesky factorization succeeded.
+    /// The Cholesky factorization succeeded with every pivot ratio above
+    /// singular_pivot_ratio.
     positive_definite,
-    /// The Cholesky factorization failed.
+    /// The Cholesky factorization failed, or a pivot ratio fell below
+    /// singular_pivot_ratio.
     not_positive_definite,
     /// The band is larger than 'Definiteness check limit'.
     not_checked
@@ -150,7 +159,8 @@ namespace ddfem::dg
     /**
      * Checks the assembled matrix for positive definiteness by a banded
      * Cholesky factorization after a Cuthill-McKee renumbering, if the band
-     * holds at most 'Definiteness check limit' entries.
+     * holds at most 'Definiteness check limit' entries. A pivot at
+     * round-off level (singular_pivot_ratio) counts as a failure.
      */
     Definiteness
     check_definiteness() const;
