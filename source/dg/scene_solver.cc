@@ -25,6 +25,9 @@ namespace ddfem::dg
                 ExcMessage("DG/Dirichlet = strong needs nodes on the "
                            "boundary: use DG/Element = FE_DGQ, or "
                            "DG/Dirichlet = weak with FE_DGP."));
+    if (parameters.formulation == Parameters::Formulation::corotated)
+      scene.boundary_conditions.check_rotation_steps(parameters.load_steps,
+                                                     "DG/Load steps");
   }
 
 

@@ -285,10 +285,21 @@ namespace ddfem::scene
                     (condition.region->face_normal()[d] != 0);
               }
             else if (condition.type == "displacement")
-              condition.value = make_parser(prm.get("Value"),
-                                            3,
-                                            where + "/Value",
-                                            &condition.constrained);
+              {
+                condition.value = make_parser(prm.get("Value"),
+                                              3,
+                                              where + "/Value",
+                                              &condition.constrained);
+                AssertThrow(std::count(condition.constrained.begin(),
+                                       condition.constrained.end(),
+                                       true) > 0,
+                            ExcMessage(where + "/Value = \"" +
+                                       prm.get("Value") +
+                                       "\" leaves every component free, so "
+                                       "the condition would do nothing: "
+                                       "prescribe at least one component, or "
+                                       "set its Type to none."));
+              }
             else if (condition.type == "traction")
               condition.value =
                 make_parser(prm.get("Value"), 3, where + "/Value");
@@ -422,6 +433,29 @@ namespace ddfem::scene
                                (load ? "boundary face" : "node") +
                                " of the solid: its region misses the solid."));
       }
+  }
+
+
+
+  void
+  BoundaryConditions::check_rotation_steps(const unsigned int load_steps,
+                                           const std::string &parameter) const
+  {
+    for (const Condition &condition : conditions)
+      if (condition.type == "rotation")
+        {
+          const double degrees = std::abs(condition.angle) * 180. / numbers::PI;
+          std::ostringstream message;
+          message << condition.where << "/Angle turns by " << degrees
+                  << " degrees in " << parameter << " = " << load_steps
+                  << " equal steps, " << degrees / load_steps
+                  << " degrees per step: a step must turn by less than 180 "
+                     "degrees, since it prescribes only where each node "
+                     "ends (360 degrees look like none). Use at least "
+                  << static_cast<unsigned int>(degrees / 180.) + 1
+                  << " load steps.";
+          AssertThrow(degrees / load_steps < 180., ExcMessage(message.str()));
+        }
   }
 
 

@@ -226,7 +226,10 @@ namespace ddfem::solver
     , linear_solver(linear_solver)
     , timer(timer)
     , pcout(pcout)
-  {}
+  {
+    boundary_conditions.check_rotation_steps(parameters.load_steps,
+                                             "Nonlinear solver/Load steps");
+  }
 
 
 

@@ -107,14 +107,22 @@ main(int argc, char **argv)
   run_case("infinite_body_force",
            cantilever + "subsection Loads\n  set Body force = 0; 0; 1/0\nend\n",
            "");
-  // Not bad input but a corotated iteration that cannot converge (a 720
-  // degree turn in one load step): a message, and nothing written.
+  // Not bad input but a corotated iteration that cannot converge (a 90
+  // degree turn in one load step with one iteration): a message, and
+  // nothing written.
   run_case("corotated_not_converging",
+           cantilever +
+             "subsection Boundary conditions\n  subsection Condition 2\n"
+             "    set Type = rotation\n    set Angle = 90\n  end\nend\n",
+           "set Penalty = 10\nset Formulation = corotated\n"
+           "set Load steps = 1\nset Corotation iterations = 1\n");
+  // A turn of 720 degrees in one load step would prescribe no motion.
+  run_case("rotation_step_too_large",
            cantilever +
              "subsection Boundary conditions\n  subsection Condition 2\n"
              "    set Type = rotation\n    set Angle = 720\n  end\nend\n",
            "set Penalty = 10\nset Formulation = corotated\n"
-           "set Load steps = 1\n");
+           "set Load steps = 4\n");
   run_case("nan_traction",
            cantilever +
              "subsection Boundary conditions\n  subsection Condition 2\n"

@@ -31,7 +31,9 @@ namespace ddfem::dg
     /**
      * A solver for @p scene with @p parameters (both must outlive it).
      * Throws ExcMessage if DG/Dirichlet = strong is combined with FE_DGP,
-     * which has no nodes on the boundary to constrain.
+     * which has no nodes on the boundary to constrain, or if the corotated
+     * formulation turns a rotation by 180 degrees or more per load step
+     * (BoundaryConditions::check_rotation_steps()).
      */
     SceneSolver(const scene::Scene &scene, const Parameters &parameters);
 

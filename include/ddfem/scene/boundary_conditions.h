@@ -115,6 +115,17 @@ namespace ddfem::scene
                   const std::vector<Point<3>> &boundary_face_centers) const;
 
     /**
+     * Throws ExcMessage naming the condition and @p parameter if a rotation
+     * turns by 180 degrees or more in one of @p load_steps equal load
+     * steps. A step prescribes only where each node ends, which carries no
+     * winding: a turn of 360 degrees looks like none, one of 270 degrees
+     * like -90, and one of 180 degrees leaves the direction open.
+     */
+    void
+    check_rotation_steps(const unsigned int load_steps,
+                         const std::string &parameter) const;
+
+    /**
      * For a coarse model whose blocks span @p width voxels of size @p h per
      * direction, in a grid with the far corner @p extent: throws
      * ExcMessage naming the condition and the bounds to move if a

@@ -101,6 +101,8 @@ namespace ddfem::solver
      * A solver for @p discretization under @p boundary_conditions. The
      * objects passed must outlive the solver. @p timer receives the
      * sections "assembly" and "line search" (and the linear solver's).
+     * Throws ExcMessage if a rotation turns by 180 degrees or more per
+     * load step (BoundaryConditions::check_rotation_steps()).
      */
     StaticSolver(const Discretization            &discretization,
                  const scene::BoundaryConditions &boundary_conditions,
