@@ -21,6 +21,7 @@
 #include <ddfem/solver/supports.h>
 #include <nlohmann/json.hpp>
 
+#include <cctype>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -602,12 +603,27 @@ namespace ddfem::app
                             lowercase_extension(file) == ".json"))
         return;
       chain.emplace_back(file, path);
-      std::string line;
+      // Lines as ParameterHandler reads them: trimmed, those ending in '\'
+      // joined to the next, then without their comment; an include
+      // statement is "include" or "INCLUDE" and white space (a space or a
+      // tab) before the file name.
+      std::string line, statement;
       while (std::getline(input, line))
         {
-          line = Utilities::trim(line.substr(0, line.find('#')));
-          if (line.rfind("include ", 0) == 0 || line.rfind("INCLUDE ", 0) == 0)
-            check_include_cycles(Utilities::trim(line.substr(8)), chain);
+          line = Utilities::trim(line);
+          if (!line.empty() && line.back() == '\\')
+            {
+              statement += line.substr(0, line.size() - 1);
+              continue;
+            }
+          statement = Utilities::trim(statement + line);
+          statement = Utilities::trim(statement.substr(0, statement.find('#')));
+          if ((statement.rfind("include", 0) == 0 ||
+               statement.rfind("INCLUDE", 0) == 0) &&
+              statement.size() > 7 &&
+              std::isspace(static_cast<unsigned char>(statement[7])))
+            check_include_cycles(Utilities::trim(statement.substr(7)), chain);
+          statement.clear();
         }
       chain.pop_back();
     }

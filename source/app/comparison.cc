@@ -467,6 +467,8 @@ namespace ddfem::app
     for (const std::string &file : files)
       check_writable(directory + "/" + file, "Output/Output directory");
     for_each_model_state([&](const std::string &d, const unsigned int state) {
+      if (vtu.enabled() && state == 0)
+        check_creatable(d, "Output/Output directory");
       vtu.check_writable(d, state);
     });
 

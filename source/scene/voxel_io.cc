@@ -476,8 +476,19 @@ namespace ddfem::scene
 
     TriangleMesh mesh =
       extension == ".stl" ? read_stl(file, content) : read_obj(file, content);
-    AssertThrow(!mesh.triangles.empty(),
-                ExcMessage(file + ": contains no triangles."));
+    // A triangle with two corners at one point (a sliver of an STL export,
+    // an OBJ polygon that repeats a vertex) bounds nothing, and its edge
+    // from a corner to itself would fail the closedness check below.
+    mesh.triangles.erase(
+      std::remove_if(mesh.triangles.begin(),
+                     mesh.triangles.end(),
+                     [](const std::array<unsigned int, 3> &t) {
+                       return t[0] == t[1] || t[1] == t[2] || t[2] == t[0];
+                     }),
+      mesh.triangles.end());
+    AssertThrow(
+      !mesh.triangles.empty(),
+      ExcMessage(file + ": contains no triangle with three distinct corners."));
     // voxelize() tells inside from outside by counting crossings, which
     // needs a closed surface: every edge on an even number of triangles.
     std::map<std::pair<unsigned int, unsigned int>, unsigned int> edges;

@@ -152,6 +152,12 @@ main(int argc, char **argv)
   // stack overflows), and two that include each other (an included file
   // is read as PRM text whatever its name).
   run_case("include_cycle", "include include_cycle.prm\n" + cantilever);
+  // ParameterHandler also takes a tab after "include", and joins a line
+  // that ends in a backslash to the next.
+  run_case("include_cycle_tab",
+           "include\tinclude_cycle_tab.prm\n" + cantilever);
+  run_case("include_cycle_continued",
+           "include include_cycle_\\\n  continued.prm\n" + cantilever);
   std::ofstream("include_other.inc") << "include include_each_other.prm\n";
   run_case("include_each_other", "include include_other.inc\n" + cantilever);
   // 1e308 degrees overflowed to an infinite angle in radians, whose NaN
@@ -240,6 +246,17 @@ main(int argc, char **argv)
     cantilever +
       "subsection Boundary conditions\n  subsection Condition 2\n"
       "    set Type = rotation\n    set Center = 0.01, middle\n  end\nend\n");
+  // A step prescribes where the nodes end: 360 degrees per step would
+  // prescribe no motion at all.
+  run_case("rotation_step_too_large",
+           cantilever +
+             "subsection Boundary conditions\n  subsection Condition 2\n"
+             "    set Type = rotation\n    set Angle = -3600\n  end\nend\n");
+  run_case("displacement_all_free",
+           cantilever +
+             "subsection Boundary conditions\n  subsection Condition 2\n"
+             "    set Type = displacement\n    set Value = free; free; free\n"
+             "  end\nend\n");
   run_case("minimum_step_zero",
            cantilever +
              "subsection Nonlinear solver\n  set Minimum load step = 0\nend\n");
@@ -617,6 +634,14 @@ end
   compare_vtu.insert(compare_vtu.end(), every_step.begin(), every_step.end());
   run_in_existing_directory("compare_vtu_blocked",
                             "naive-L1/solution-0001.vtu",
+                            cantilever,
+                            compare_vtu);
+  // So is a file in the way of a model's VTU directory: the fine models,
+  // solved first, would leave their directories.
+  std::filesystem::create_directories("out_compare_vtu_directory_blocked");
+  std::ofstream("out_compare_vtu_directory_blocked/naive-L1");
+  run_in_existing_directory("compare_vtu_directory_blocked",
+                            "",
                             cantilever,
                             compare_vtu);
   // A gnuplot that does not work is found before anything runs too.

@@ -1,7 +1,8 @@
 // Scene layouts against counts known by construction: layers, skin,
 // helical fibers, seeded random layouts, primitive shapes, a voxel file
 // round trip, and a closed surface mesh (an octahedron the test writes as
-// OBJ, ASCII STL and binary STL) voxelized into the grid. Also the voxel
+// OBJ, ASCII STL and binary STL, and as OBJ with degenerate faces)
+// voxelized into the grid. Also the voxel
 // mesh: one cell per solid voxel or per non-void 2x2x2 block, in
 // lexicographic order.
 
@@ -171,6 +172,9 @@ main()
   }
   std::ofstream("octahedron_stray.obj")
     << std::ifstream("octahedron.obj").rdbuf() << "v 1 1 1\n";
+  // Faces that repeat a vertex bound nothing and are dropped.
+  std::ofstream("octahedron_degenerate.obj")
+    << std::ifstream("octahedron.obj").rdbuf() << "f 1 2 1\nf 3 3 3 4\n";
   unsigned int inside = 0;
   for (unsigned int k = 0; k < 16; ++k)
     for (unsigned int j = 0; j < 16; ++j)
@@ -192,7 +196,8 @@ main()
                                  "octahedron_ascii.stl",
                                  "octahedron_binary.stl",
                                  "octahedron_soup.obj",
-                                 "octahedron_stray.obj"})
+                                 "octahedron_stray.obj",
+                                 "octahedron_degenerate.obj"})
     std::cout << "  " << file << ": " << voxels(file, "false") << " voxels"
               << std::endl;
   std::cout << "  fitted to the grid: octahedron.obj "
