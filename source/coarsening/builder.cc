@@ -607,11 +607,12 @@ namespace ddfem::coarsening
                          Hierarchy *level2_result) const
   {
     Timer timer;
-    // A grid that level 2 cannot coarsen is an error before anything is
-    // fitted (and journaled).
+    // A grid that level 2 cannot coarsen, or a block it cannot represent,
+    // is an error before anything is fitted (and journaled).
     if (scene_grids != nullptr && levels == 2)
       for (const scene::VoxelGrid &grid : *scene_grids)
-        scene::check_coarsenable(grid, 2);
+        for (const auto &block : scene_blocks(grid))
+          Hierarchy::check_representable(database, block);
     std::vector<Combination> wanted;
     // The blocks of the scene's base state (its edits repaint some of them).
     std::vector<Combination> base_blocks;

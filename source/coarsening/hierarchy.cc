@@ -3,6 +3,7 @@
 #include <ddfem/coarsening/hierarchy.h>
 #include <ddfem/material/kernel.h>
 
+#include <algorithm>
 #include <iomanip>
 #include <map>
 #include <sstream>
@@ -361,10 +362,26 @@ namespace ddfem::coarsening
 
 
 
+  void
+  Hierarchy::check_representable(const Database                   &level1,
+                                 const std::array<Combination, 8> &blocks)
+  {
+    const auto n_void = std::count_if(blocks.begin(), blocks.end(), all_void);
+    AssertThrow(level1.combinations().with_void() || n_void == 0 || n_void == 8,
+                ExcMessage("A 4x4x4 block holds void 2x2x2 blocks next to "
+                           "solid ones, and the metamaterial database was "
+                           "built with Database/Include void = false, so it "
+                           "has no level-2 metamaterial for that block. Use "
+                           "a database with void, or coarsening level 1."));
+  }
+
+
+
   int
   Hierarchy::find(const Database                   &level1,
                   const std::array<Combination, 8> &blocks) const
   {
+    check_representable(level1, blocks);
     const BlockKeys             block = keys(level1, blocks);
     std::array<std::int32_t, 8> c;
     for (unsigned int p = 0; p < 8; ++p)

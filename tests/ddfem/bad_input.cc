@@ -611,6 +611,19 @@ end
             << ", database written: "
             << std::filesystem::exists("level2_grid.h5") << "\n"
             << std::endl;
+  // So is a 4x4x4 block with void and solid 2x2x2 blocks in a database
+  // without void: level 1 has all its blocks, level 2 none for it.
+  run_case("database_level2_void_without_void",
+           testing::cantilever("4, 8, 4", "0; 0; -100") +
+             "set Run type = database\n" +
+             testing::cheap_lazy_database("level2_void.h5") +
+             "subsection Database\n  set Levels = 2\n"
+             "  set Include void = false\nend\n"
+             "subsection Layout\n  set Shapes = box 0 0.04 0.02 0.04 0.08 "
+             "0.04 : 0\nend\n");
+  std::cout << "  database written: "
+            << std::filesystem::exists("level2_void.h5") << "\n"
+            << std::endl;
   // So are VTU files of any load step (the message names the file; deal.II's
   // writers would throw a generic input/output error), of an edited state,
   // of a DG solve and of a compare run's model.

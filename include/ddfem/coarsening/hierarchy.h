@@ -145,9 +145,19 @@ namespace ddfem::coarsening
     keep_entries(const Database &level1, const Hierarchy &old);
 
     /**
+     * Throws ExcMessage if the 4x4x4 block given as its eight 2x2x2
+     * sub-blocks has void sub-blocks next to solid ones while @p level1 has
+     * no void: the tables of such a database have no void halves.
+     */
+    static void
+    check_representable(const Database                   &level1,
+                        const std::array<Combination, 8> &blocks);
+
+    /**
      * The representative of a 4x4x4 block given as its eight 2x2x2
      * sub-blocks (child order), or -1 if all are void. Throws ExcMessage if
-     * a sub-block is not covered() by the tables.
+     * a sub-block is not covered() by the tables, or the block is not
+     * check_representable().
      */
     int
     find(const Database                   &level1,
