@@ -605,6 +605,17 @@ namespace ddfem::coarsening
                                                   db.entry_key_of[k]))) == k,
                   "has a lookup table whose symmetry at combination " +
                     std::to_string(k) + " does not map its entry onto it");
+        // ... and every member of an entry's orbit is looked up there (a
+        // member left out would be fitted again, as a second entry).
+        if (db.representatives == 0)
+          for (const Entry &e : db.fitted)
+            for (unsigned int g = 0; g < CubeSymmetries::size; ++g)
+              check(db.entry_key_of[db.index.key(
+                      db.group.apply(g, db.index.combination(e.key)))] ==
+                      std::int32_t(e.key),
+                    "has a lookup table that leaves out a combination of "
+                    "the orbit of entry key " +
+                      std::to_string(e.key));
         if (level2 != nullptr && !level2->load(h5, db))
           *level2 = Hierarchy();
         return db;

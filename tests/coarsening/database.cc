@@ -1204,6 +1204,17 @@ main()
                                  });
       expect_error("table with a wrong symmetry",
                    [] { Database::load("wrong_symmetry.h5"); });
+      // A member of a fitted orbit marked as not fitted: a lazy build would
+      // fit the orbit again, as a second entry of the same key.
+      edit_dataset<std::int32_t>("small.h5",
+                                 "orbit_member_left_out.h5",
+                                 "lookup/entry",
+                                 [&](std::vector<std::int32_t> &values,
+                                     std::vector<hsize_t> &) {
+                                   values[small.combinations().key(c)] = -1;
+                                 });
+      expect_error("table that leaves out a member of a fitted orbit",
+                   [] { Database::load("orbit_member_left_out.h5"); });
     }
     edit_dataset<double>("small.h5",
                          "negative_mu.h5",
