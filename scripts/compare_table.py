@@ -49,11 +49,20 @@ TARGETS = [L1_SPEED, TABLE_1, HALF_NAIVE, L2_SPEED, L2_ERROR, COARSENING]
 L2_SPEEDUP = {"buckling": 30., "fibers": 30.}
 
 
-# The keys the table reads from every run of a comparison.json.
-RUN_KEYS = ["state", "method", "level", "dofs", "converged", "wall_time_s",
-            "linear_solver", "newton_iterations", "speedup_vs_fine",
-            "speedup_vs_fine_direct", "mean_vertex_error", "grid_fit_lower_bound",
-            "coarsening_time_s"]
+# The keys the table reads from every run of a comparison.json, with the types
+# a compare run writes for them (None where it may leave a value null).
+NUMBER = (int, float)
+OR_NULL = (int, float, type(None))
+RUN_KEYS = {"state": (str,), "method": (str,), "level": (int,), "dofs": (int,),
+            "converged": (bool,), "wall_time_s": NUMBER, "linear_solver": (str,),
+            "newton_iterations": (int,), "speedup_vs_fine": OR_NULL,
+            "speedup_vs_fine_direct": OR_NULL, "mean_vertex_error": OR_NULL,
+            "grid_fit_lower_bound": OR_NULL, "coarsening_time_s": OR_NULL}
+
+
+def well_typed(x, types):
+    """Whether @p x has one of @p types (a bool is no number here)."""
+    return isinstance(x, types) and (bool in types or not isinstance(x, bool))
 
 
 def load_states(directory, scene):
@@ -65,7 +74,7 @@ def load_states(directory, scene):
     try:
         with open(file) as f:
             data = json.load(f)
-        if not isinstance(data.get("peak_memory_mb"), (int, float)) or \
+        if not well_typed(data.get("peak_memory_mb"), NUMBER) or \
                 not isinstance(data.get("runs"), list) or not data["runs"]:
             raise ValueError("no runs or no peak_memory_mb")
         states = {}
@@ -73,6 +82,11 @@ def load_states(directory, scene):
             missing = [k for k in RUN_KEYS if k not in run]
             if missing:
                 raise ValueError(f"a run has no {', '.join(missing)}")
+            wrong = [k for k, types in RUN_KEYS.items()
+                     if not well_typed(run[k], types)]
+            if wrong:
+                raise ValueError(f"a run's {', '.join(wrong)} is not of the "
+                                 "type a compare run writes")
             states.setdefault(run["state"], []).append(run)
     except (OSError, ValueError, AttributeError, TypeError) as error:
         sys.exit(f"Error: {file} is not a compare run's comparison.json ({error}); "
