@@ -408,12 +408,48 @@ namespace ddfem::dg
 
 
 
+  namespace
+  {
+    /// The figure of the convergence study's @p problem.
+    std::string
+    plot_file(std::string problem)
+    {
+      std::replace(problem.begin(), problem.end(), ' ', '_');
+      return "dg_convergence_" + problem + ".png";
+    }
+
+    /**
+     * Throws if a file of @p files in @p directory could not be written;
+     * otherwise removes those an earlier run left, so that a study that
+     * fails leaves none of them, and one of other problems no figure of
+     * another study.
+     */
+    void
+    replace_earlier(const std::string              &directory,
+                    const std::vector<std::string> &files)
+    {
+      check_creatable(directory, "Output/Output directory");
+      for (const std::string &file : files)
+        check_writable(directory + "/" + file, "Output/Output directory");
+      for (const std::string &file : files)
+        remove_earlier(directory + "/" + file, "Output/Output directory");
+    }
+  } // namespace
+
+
+
   void
   ConvergenceStudy::run(const std::string &directory, std::ostream &out) const
   {
     // The tables are written once the study is complete: a study that
     // fails (out of memory, say) leaves no partial files.
-    check_creatable(directory, "Output/Output directory");
+    replace_earlier(directory,
+                    {"dg_convergence.txt",
+                     "dg_convergence.csv",
+                     "dg_convergence.dat",
+                     "dg_convergence.gnuplot",
+                     plot_file("2D Poisson"),
+                     plot_file("3D elasticity")});
     std::ostringstream text, csv;
     csv << "problem,method,cells,dofs,L2,H1,condition_estimate,eta\n";
     csv << std::setprecision(6);
@@ -545,8 +581,7 @@ namespace ddfem::dg
               return b.problem == problem && b.has_condition;
             }))
           panels.emplace_back("condition number estimate", "5");
-        std::string file = "dg_convergence_" + problem + ".png";
-        std::replace(file.begin(), file.end(), ' ', '_');
+        const std::string file = plot_file(problem);
         script << "set terminal pngcairo size " << 750 * panels.size()
                << ",500\nset output '" << file << "'\n"
                << "set multiplot layout 1," << panels.size() << " title '"
@@ -622,7 +657,7 @@ namespace ddfem::dg
                  const bool         timings,
                  std::ostream      &out) const
   {
-    check_creatable(directory, "Output/Output directory");
+    replace_earlier(directory, {"dg_cost.txt"});
     // One thread, as the paper's timings and so that integration and
     // assembly times are separable; the default limit again afterwards,
     // also when a solve throws.

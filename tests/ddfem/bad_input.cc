@@ -657,6 +657,17 @@ end
                             "",
                             cantilever,
                             compare_vtu);
+  // A DG study of one problem removes an earlier study's figure of the
+  // other.
+  std::filesystem::create_directories("out_dg_study_stale");
+  std::ofstream("out_dg_study_stale/dg_convergence_3D_elasticity.png");
+  run_in_existing_directory(
+    "dg_study_stale",
+    "",
+    "set Run type = dg convergence\nsubsection DG convergence\n"
+    "  set Problems = 2D Poisson\n  set Methods = IP lin\n"
+    "  set 2D refinements = 1, 2\nend\n",
+    {});
   // A gnuplot that does not work is found before anything runs too.
   {
     std::filesystem::create_directories("broken_bin");
