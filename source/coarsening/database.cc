@@ -393,18 +393,26 @@ namespace ddfem::coarsening
 
 
 
+  void
+  Database::check_covered(const Combination &c) const
+  {
+    // All-void blocks get no element, and a database without void does
+    // not index them.
+    AssertThrow(all_void(c) || index.contains(c),
+                ExcMessage("A block has a material id the metamaterial "
+                           "database does not cover (void, with a database "
+                           "built with Database/Include void = false, or "
+                           "an id above the palette's size)."));
+  }
+
+
+
   std::vector<Combination>
   Database::missing(const std::vector<Combination> &combinations) const
   {
     std::vector<Combination> result;
-    // All-void blocks get no element, and a database without void does
-    // not index them.
     for (const Combination &c : combinations)
-      AssertThrow(all_void(c) || index.contains(c),
-                  ExcMessage("A block has a material id the metamaterial "
-                             "database does not cover (void, with a database "
-                             "built with Database/Include void = false, or "
-                             "an id above the palette's size)."));
+      check_covered(c);
     for (const Combination &c : combinations)
       if (!all_void(c) && !contains(c))
         result.push_back(group.canonical(c).first);

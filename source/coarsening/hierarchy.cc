@@ -109,6 +109,7 @@ namespace ddfem::coarsening
   Hierarchy::keys(const Database                   &level1,
                   const std::array<Combination, 8> &blocks)
   {
+    check_representable(level1, blocks);
     BlockKeys result;
     for (unsigned int p = 0; p < 8; ++p)
       result[p] = all_void(blocks[p]) ?
@@ -366,6 +367,8 @@ namespace ddfem::coarsening
   Hierarchy::check_representable(const Database                   &level1,
                                  const std::array<Combination, 8> &blocks)
   {
+    for (const Combination &c : blocks)
+      level1.check_covered(c);
     const auto n_void = std::count_if(blocks.begin(), blocks.end(), all_void);
     AssertThrow(level1.combinations().with_void() || n_void == 0 || n_void == 8,
                 ExcMessage("A 4x4x4 block holds void 2x2x2 blocks next to "
@@ -381,7 +384,6 @@ namespace ddfem::coarsening
   Hierarchy::find(const Database                   &level1,
                   const std::array<Combination, 8> &blocks) const
   {
-    check_representable(level1, blocks);
     const BlockKeys             block = keys(level1, blocks);
     std::array<std::int32_t, 8> c;
     for (unsigned int p = 0; p < 8; ++p)

@@ -215,8 +215,17 @@ namespace ddfem::coarsening
     Metamaterial
     lookup(const Combination &c, const Fit fit = Fit::coarse) const;
 
+    /**
+     * Throws ExcMessage if @p c is neither all void nor a combination of
+     * this database's palette (a void voxel in a database without void, or
+     * a material id above the palette's size).
+     */
+    void
+    check_covered(const Combination &c) const;
+
     /// The orbit representatives of @p combinations that have no entry yet,
-    /// sorted and without repetitions (all-void blocks excluded).
+    /// sorted and without repetitions (all-void blocks excluded). Throws
+    /// like check_covered().
     std::vector<Combination>
     missing(const std::vector<Combination> &combinations) const;
 

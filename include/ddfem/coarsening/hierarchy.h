@@ -112,6 +112,7 @@ namespace ddfem::coarsening
     }
 
     /// The keys of a 4x4x4 block given as its eight 2x2x2 sub-blocks.
+    /// Throws unless the block is check_representable().
     static BlockKeys
     keys(const Database &level1, const std::array<Combination, 8> &blocks);
 
@@ -145,9 +146,11 @@ namespace ddfem::coarsening
     keep_entries(const Database &level1, const Hierarchy &old);
 
     /**
-     * Throws ExcMessage if the 4x4x4 block given as its eight 2x2x2
-     * sub-blocks has void sub-blocks next to solid ones while @p level1 has
-     * no void: the tables of such a database have no void halves.
+     * Throws ExcMessage if a sub-block of the 4x4x4 block given as its
+     * eight 2x2x2 sub-blocks is not Database::check_covered() by
+     * @p level1, or if the block has void sub-blocks next to solid ones
+     * while @p level1 has no void: the tables of such a database have no
+     * void halves.
      */
     static void
     check_representable(const Database                   &level1,
