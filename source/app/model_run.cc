@@ -147,13 +147,14 @@ namespace ddfem::app
         pending_cells      = coarsener->recoarsen(scene.grid, changed, *model);
         pending_coarsening = lookups.wall_time();
       }
-    else
-      {
-        model->update_voxel_materials(scene, changed);
-        pending_cells = changed.size();
-      }
     {
+      // The fine model's new materials are setup, as its first ones were.
       TimerOutput::Scope scope(timer, "setup");
+      if (coarsener == nullptr)
+        {
+          model->update_voxel_materials(scene, changed);
+          pending_cells = changed.size();
+        }
       solver->update_materials();
     }
     pending_time += total.wall_time();
