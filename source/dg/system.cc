@@ -14,6 +14,7 @@
 #include <ddfem/dg/system.h>
 #include <ddfem/material/kernel.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <sstream>
@@ -817,6 +818,19 @@ namespace ddfem::dg
         return check_definiteness();
       }
     parameters.check_penalty(parameters.flux, "DG/Flux = babuska-zlamal");
+    // Nearly incompressible materials are a cause of their own: their
+    // divergence-free modes are lost in round-off (prm/default.prm of one
+    // material passes at lambda/mu = 5e10, nu = 0.49999999999, and fails at
+    // 5e12).
+    double ratio = 0;
+    for (const CellMaterial &m : data.materials)
+      ratio = std::max(ratio, m.lambda / m.mu);
+    std::ostringstream incompressible;
+    if (ratio > 5e10)
+      incompressible << " Or the material is too close to incompressible "
+                        "for the check in floating point (lambda/mu up to "
+                     << ratio << "; 5e10 still passes): use a smaller "
+                     << "Poisson ratio.";
     if (!parameters.automatic_penalty())
       {
         assemble(parameters.penalty, t);
@@ -831,7 +845,8 @@ namespace ddfem::dg
                       "rigid motions). Use a larger penalty" +
                       (parameters.flux == Parameters::Flux::babuska_zlamal ?
                          std::string(".") :
-                         std::string(" or 'automatic'."))));
+                         std::string(" or 'automatic'.")) +
+                      incompressible.str()));
         return d;
       }
     double eta = 1;
@@ -857,7 +872,8 @@ namespace ddfem::dg
     AssertThrow(false,
                 ExcMessage("DG/Penalty = automatic: no penalty up to 2^30 "
                            "gives a positive definite stiffness matrix; do "
-                           "the Dirichlet conditions prevent rigid motions?"));
+                           "the Dirichlet conditions prevent rigid motions?" +
+                           incompressible.str()));
     return Definiteness::not_positive_definite;
   }
 
@@ -883,6 +899,13 @@ namespace ddfem::dg
       }
     direct.vmult(solution, rhs);
     constraints.distribute(solution);
+    AssertThrow(std::all_of(solution.begin(),
+                            solution.end(),
+                            [](const double u) { return std::isfinite(u); }),
+                ExcMessage("The DG solution is not finite: the loads, the "
+                           "prescribed displacements or the materials are "
+                           "beyond the range of double precision (a load "
+                           "far too large for a material far too soft, say)."));
     solve_time = timer.wall_time();
   }
 

@@ -4,7 +4,8 @@
 // range, an automatic penalty with the Babuska-Zlamal flux, conditions
 // that leave rigid motions free (of the whole solid, or of a part joined to
 // the rest by an edge only), loads that are not finite, a study method
-// named twice.
+// named twice, a rotation of 180 degrees or more per load step, a material
+// too close to incompressible for the definiteness check.
 
 #include <ddfem/app/application.h>
 
@@ -123,6 +124,20 @@ main(int argc, char **argv)
              "    set Type = rotation\n    set Angle = 720\n  end\nend\n",
            "set Penalty = 10\nset Formulation = corotated\n"
            "set Load steps = 4\n");
+  // A material so close to incompressible that the check in floating
+  // point cannot tell K from singular: the message says so.
+  run_case("nearly_incompressible",
+           cantilever + "subsection Materials\n  set Palette = "
+                        "E=1e5 nu=0.4999999999999; E=1e5 nu=0.4999999999999; "
+                        "E=1e5 nu=0.4999999999999\nend\n",
+           "");
+  // Loads beyond double precision for the material: the solution is not
+  // finite, which is an error, not a result.
+  run_case("infinite_solution",
+           testing::cantilever("2, 4, 2", "0; 0; -1e300") +
+             "set Method = dg\nsubsection Materials\n  set Palette = "
+             "E=1e-19 nu=0.3; E=1e-19 nu=0.3; E=1e-19 nu=0.3\nend\n",
+           "set Penalty = 10\n");
   run_case("nan_traction",
            cantilever +
              "subsection Boundary conditions\n  subsection Condition 2\n"
