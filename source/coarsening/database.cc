@@ -893,7 +893,11 @@ namespace ddfem::coarsening
                  std::uintmax_t    &valid_end)
     {
       std::vector<Entry> entries;
-      valid_end     = 0;
+      valid_end = 0;
+      AssertThrow(!std::filesystem::is_directory(name),
+                  ExcMessage("The build journal " + name +
+                             " is a directory. Remove it or choose another "
+                             "Database/File."));
       std::FILE *in = std::fopen(name.c_str(), "rb");
       if (in == nullptr)
         return entries;

@@ -331,6 +331,11 @@ main()
     expect_error("journal with a record of a combination that is not its "
                  "orbit's representative",
                  [&] { builder("forged.h5", true).open(palette(), log); });
+    std::filesystem::remove("forged.h5.journal");
+    std::filesystem::create_directory("forged.h5.journal");
+    expect_error("journal that is a directory",
+                 [&] { builder("forged.h5", true).open(palette(), log); });
+    std::filesystem::remove("forged.h5.journal");
     // A build killed while appending leaves a torn record; a resumed
     // build cuts it off, so the records it appends can be read.
     std::filesystem::remove("forged.h5.journal");
