@@ -111,10 +111,17 @@ namespace ddfem::app
       const auto value = Utilities::trim(text.substr(equal + 1));
       AssertThrow(!path.empty(),
                   ExcMessage("--set \"" + text + "\": no parameter name."));
-      // The run's parameters.prm could not be read back.
+      // The run's parameters.prm could not be read back: a parameter file
+      // has no way to write these in a value ('#' starts a comment, a '\'
+      // at the end continues the line).
       AssertThrow(text.find_first_of("\n\r") == std::string::npos,
                   ExcMessage("--set \"" + text +
                              "\": a value must not contain a line break."));
+      AssertThrow(value.find('#') == std::string::npos &&
+                    (value.empty() || value.back() != '\\'),
+                  ExcMessage("--set \"" + text +
+                             "\": a value must not contain '#' or end in "
+                             "'\\', which a parameter file cannot hold."));
       // A misspelt subsection or parameter is named as such (deal.II would
       // create the misspelt subsection and then report a missing entry).
       const std::string name     = text.substr(0, equal);
@@ -596,6 +603,10 @@ namespace ddfem::app
                         ExcMessage("its include statements form a cycle: " +
                                    cycle + "\"" + file + "\" again."));
           }
+      // ParameterHandler would read nothing from a directory.
+      AssertThrow(chain.empty() || !fs::is_directory(file, error),
+                  ExcMessage("\"" + chain.back().first + "\" includes \"" +
+                             file + "\", which is a directory."));
       std::ifstream input(file);
       if (!input)
         return; // ParameterHandler reports it

@@ -199,7 +199,9 @@ namespace ddfem::scene
           "about 'Axis' through 'Center'. traction: force per reference "
           "area 'Value'. pressure: pressure 'Value' on the reference "
           "normal (positive pushes into the body). All are dead loads "
-          "scaled by the load factor.");
+          "scaled by the load factor. Where Dirichlet conditions overlap, "
+          "a displacement component takes the value of the highest-numbered "
+          "condition that prescribes it.");
         prm.declare_entry(
           "Region",
           "y-",

@@ -503,6 +503,20 @@ namespace ddfem::scene
               "radius' of a fiber's axis (check 'Helix radius' "
               "against the grid's cross-section): the fibers "
               "would be empty."));
+        // So would layers thinner than a voxel, or more materials than the
+        // grid has layers.
+        if (type == "layers")
+          for (const MaterialId m : layer_materials)
+            AssertThrow(
+              std::count(grid.data().begin(), grid.data().end(), m) > 0,
+              ExcMessage("Layout/Layers: material " + std::to_string(m) +
+                         " of 'Materials' lies at no voxel center: the "
+                         "layers of 'Thickness' = " +
+                         format_number(layer_thickness) +
+                         " m are thinner than a voxel (" +
+                         format_number(grid.voxel_size()) +
+                         " m), or the grid holds fewer layers than "
+                         "'Materials' lists."));
       }
 
     paint(shapes, grid);

@@ -9,6 +9,9 @@ namespace ddfem::scene
   {
     /// The largest |mu| and |lambda| of a palette material (Pa).
     constexpr double max_modulus = 1e20;
+    /// The smallest mu of a palette material (Pa): far smaller moduli are
+    /// subnormal or make displacements overflow.
+    constexpr double min_modulus = 1e-20;
   } // namespace
 
 
@@ -36,7 +39,8 @@ namespace ddfem::scene
       "';'. Voxel id 0 is void, id m >= 1 is the m-th material here. Each "
       "material is either 'E=<Young's modulus in Pa> nu=<Poisson ratio>' "
       "with E > 0 and -1 < nu < 0.5, or 'mu=<Pa> lambda=<Pa>' with mu > 0 "
-      "and lambda > -2/3 mu; mu and |lambda| at most 1e20 Pa. The default "
+      "and lambda > -2/3 mu; mu at least 1e-20 Pa, mu and |lambda| at most "
+      "1e20 Pa. The default "
       "is the paper's palette.");
     prm.leave_subsection();
   }
@@ -108,6 +112,9 @@ namespace ddfem::scene
         AssertThrow(m.mu <= max_modulus && std::abs(m.lambda) <= max_modulus,
                     ExcMessage(where + ": mu and lambda must be at most 1e20 "
                                        "Pa (E at most about 1e20 Pa)."));
+        AssertThrow(m.mu >= min_modulus,
+                    ExcMessage(where + ": mu must be at least 1e-20 Pa (E of "
+                                       "3e-20 Pa or more)."));
         result.push_back(m);
       }
     AssertThrow(!result.empty() && result.size() < 255,

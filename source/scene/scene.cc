@@ -65,7 +65,7 @@ namespace ddfem::scene
             solid = solid || grid(i, j, k) != void_id;
       AssertThrow(solid,
                   ExcMessage("Geometry/Probe points: the point " +
-                             format_point(p) +
+                             format_point(p, 12) +
                              " m does not lie in the solid."));
     }
   } // namespace

@@ -983,7 +983,7 @@ namespace ddfem::solver
       {
         AssertThrow(false,
                     ExcMessage("Geometry/Probe points: the point " +
-                               format_point(p) +
+                               format_point(p, 12) +
                                " m does not lie in the solid."));
       }
     return Tensor<1, 3>({value(0), value(1), value(2)});

@@ -75,18 +75,21 @@ namespace
 
   /**
    * Runs ddfem on @p prm_text (plus @p extra arguments) with a directory
-   * named @p blocked in the way of a result file (none if empty) in an
-   * existing output directory, and lists what that directory holds after
-   * the run.
+   * named @p blocked in the way of a result file (none if empty) and a
+   * regular file named @p earlier (none if empty) in an existing output
+   * directory, and lists what that directory holds after the run.
    */
   void
   run_in_existing_directory(const std::string              &name,
                             const std::string              &blocked,
                             const std::string              &prm_text,
-                            const std::vector<std::string> &extra)
+                            const std::vector<std::string> &extra,
+                            const std::string              &earlier = "")
   {
     const std::string directory = "out_" + name;
     std::filesystem::create_directories(directory + "/" + blocked);
+    if (!earlier.empty())
+      std::ofstream(directory + "/" + earlier);
     std::ofstream(name + ".prm")
       << prm_text
       << "\nsubsection Output\n  set Output directory = " << directory
@@ -156,6 +159,7 @@ main(int argc, char **argv)
   // that ends in a backslash to the next.
   run_case("include_cycle_tab",
            "include\tinclude_cycle_tab.prm\n" + cantilever);
+  run_case("include_directory", "include .\n" + cantilever);
   run_case("include_cycle_continued",
            "include include_cycle_\\\n  continued.prm\n" + cantilever);
   std::ofstream("include_other.inc") << "include include_each_other.prm\n";
@@ -174,6 +178,10 @@ main(int argc, char **argv)
            cantilever +
              "subsection Layout\n  set Shapes = box 1 1 1 2 2 2 : 2\n"
              "end\n");
+  run_case("layers_thinner_than_a_voxel",
+           cantilever + "subsection Layout\n  set Type = layers\n"
+                        "  subsection Layers\n    set Materials = 1, 2\n"
+                        "    set Thickness = 0.005\n  end\nend\n");
   run_case("skin_thinner_than_half_a_voxel",
            cantilever + "subsection Layout\n  set Type = skin\n"
                         "  subsection Skin\n    set Thickness = 0.004\n  end\n"
@@ -192,6 +200,9 @@ main(int argc, char **argv)
            {"--set", "Nonlinear solver/Load steps=-3"});
   run_case("unknown_override", cantilever, {"--set", "Solver/Load steps=3"});
   run_case("line_break_in_override", cantilever, {"--set", "Scene name=a\nb"});
+  // Nor could a '#' or a final '\\' be read back from parameters.prm.
+  run_case("hash_in_override", cantilever, {"--set", "Scene name=Run #3"});
+  run_case("backslash_in_override", cantilever, {"--set", "Scene name=a\\"});
   run_case("zero_linear_tolerance",
            cantilever,
            {"--set", "Linear solver/Tolerance=0"});
@@ -234,6 +245,10 @@ main(int argc, char **argv)
     "probe_outside",
     cantilever +
       "subsection Geometry\n  set Probe points = 0.01, 0.02, 0.5\nend\n");
+  // The message shows the point to more digits than the default four.
+  run_case("probe_just_outside",
+           cantilever + "subsection Geometry\n  set Probe points = "
+                        "0.02000000001, 0.04, 0.02\nend\n");
   run_case(
     "zero_radius",
     cantilever +
@@ -651,23 +666,18 @@ end
                             compare_vtu);
   // So is a file in the way of a model's VTU directory: the fine models,
   // solved first, would leave their directories.
-  std::filesystem::create_directories("out_compare_vtu_directory_blocked");
-  std::ofstream("out_compare_vtu_directory_blocked/naive-L1");
-  run_in_existing_directory("compare_vtu_directory_blocked",
-                            "",
-                            cantilever,
-                            compare_vtu);
+  run_in_existing_directory(
+    "compare_vtu_directory_blocked", "", cantilever, compare_vtu, "naive-L1");
   // A DG study of one problem removes an earlier study's figure of the
   // other.
-  std::filesystem::create_directories("out_dg_study_stale");
-  std::ofstream("out_dg_study_stale/dg_convergence_3D_elasticity.png");
   run_in_existing_directory(
     "dg_study_stale",
     "",
     "set Run type = dg convergence\nsubsection DG convergence\n"
     "  set Problems = 2D Poisson\n  set Methods = IP lin\n"
     "  set 2D refinements = 1, 2\nend\n",
-    {});
+    {},
+    "dg_convergence_3D_elasticity.png");
   // A gnuplot that does not work is found before anything runs too.
   {
     std::filesystem::create_directories("broken_bin");

@@ -82,21 +82,22 @@ namespace ddfem
                     parameter);
   }
 
-  /// @p x with 4 significant digits, for messages.
+  /// @p x with @p digits significant digits, for messages.
   inline std::string
-  format_number(const double x)
+  format_number(const double x, const int digits = 4)
   {
     std::ostringstream s;
-    s << std::setprecision(4) << x;
+    s << std::setprecision(digits) << x;
     return s.str();
   }
 
-  /// "(x, y, z)" with 4 significant digits, for messages.
+  /// "(x, y, z)" with @p digits significant digits, for messages.
   inline std::string
-  format_point(const dealii::Point<3> &p)
+  format_point(const dealii::Point<3> &p, const int digits = 4)
   {
-    return "(" + format_number(p[0]) + ", " + format_number(p[1]) + ", " +
-           format_number(p[2]) + ")";
+    return "(" + format_number(p[0], digits) + ", " +
+           format_number(p[1], digits) + ", " + format_number(p[2], digits) +
+           ")";
   }
 } // namespace ddfem
 
