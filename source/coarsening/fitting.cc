@@ -350,9 +350,7 @@ namespace ddfem::coarsening
     const Vector<double> x = nonnegative_least_squares(A, b);
     // Without regularization, too few samples can leave the normal
     // equations singular.
-    AssertThrow(std::all_of(x.begin(),
-                            x.end(),
-                            [](const double v) { return std::isfinite(v); }),
+    AssertThrow(all_finite(x),
                 ExcMessage("A metamaterial fit is singular: its samples do "
                            "not determine the parameters. Give the "
                            "regularization weights (Database/Fitting/"

@@ -11,10 +11,10 @@
 #include <deal.II/meshworker/scratch_data.h>
 
 #include <ddfem/base/cell_values.h>
+#include <ddfem/base/statistics.h>
 #include <ddfem/dg/system.h>
 #include <ddfem/material/kernel.h>
 
-#include <algorithm>
 #include <array>
 #include <cmath>
 #include <sstream>
@@ -899,9 +899,7 @@ namespace ddfem::dg
       }
     direct.vmult(solution, rhs);
     constraints.distribute(solution);
-    AssertThrow(std::all_of(solution.begin(),
-                            solution.end(),
-                            [](const double u) { return std::isfinite(u); }),
+    AssertThrow(all_finite(solution),
                 ExcMessage("The DG solution is not finite: the loads, the "
                            "prescribed displacements or the materials are "
                            "beyond the range of double precision (a load "

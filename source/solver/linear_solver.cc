@@ -4,6 +4,7 @@
 #include <deal.II/lac/solver_control.h>
 
 #include <Teuchos_ParameterList.hpp>
+#include <ddfem/base/statistics.h>
 #include <ddfem/solver/linear_solver.h>
 #include <ddfem/solver/supports.h>
 
@@ -205,10 +206,9 @@ namespace ddfem::solver
           throw std::bad_alloc();
         throw Failure("the direct solver failed (singular matrix?)");
       }
-    for (const double v : x)
-      if (!std::isfinite(v))
-        throw Failure(
-          "the direct solver returned non-finite values (singular matrix)");
+    if (!all_finite(x))
+      throw Failure(
+        "the direct solver returned non-finite values (singular matrix)");
     return 1;
   }
 

@@ -4,6 +4,7 @@
 #include <deal.II/base/exceptions.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <vector>
 
@@ -20,6 +21,16 @@ namespace ddfem
   {
     Assert(!sorted.empty(), dealii::ExcEmptyObject());
     return sorted[std::min<std::size_t>(sorted.size() - 1, q * sorted.size())];
+  }
+
+  /// Whether every value of @p values (a vector of doubles) is finite.
+  template <typename Container>
+  inline bool
+  all_finite(const Container &values)
+  {
+    return std::all_of(values.begin(), values.end(), [](const double v) {
+      return std::isfinite(v);
+    });
   }
 } // namespace ddfem
 
