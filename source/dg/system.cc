@@ -796,8 +796,10 @@ namespace ddfem::dg
     // A matrix that is singular in exact arithmetic (a penalty at the
     // threshold, a free rigid motion) can factorize in floating point with a
     // pivot at round-off level: 12 digits of a diagonal entry cancelled are
-    // taken as a zero pivot. Legitimate systems stay far above (the thin
-    // elements of tests/dg/thin_elements.cc reach 3e-10).
+    // taken as a zero pivot. The DG tests stay above 3e-10 (thin elements),
+    // a stiffness contrast of 1e6 above 8.9e-11 at any eta; contrasts of
+    // 1e12 and more fall below, where the factorization itself fails at
+    // some penalties and passes at others.
     for (unsigned int j = 0; j < n; ++j)
       if (std::pow(ab[static_cast<std::size_t>(j) * ldab], 2) <
           singular_pivot_ratio * diagonal[j])
@@ -818,19 +820,30 @@ namespace ddfem::dg
         return check_definiteness();
       }
     parameters.check_penalty(parameters.flux, "DG/Flux = babuska-zlamal");
-    // Nearly incompressible materials are a cause of their own: their
-    // divergence-free modes are lost in round-off (prm/default.prm of one
-    // material passes at lambda/mu = 5e10, nu = 0.49999999999, and fails at
-    // 5e12).
-    double ratio = 0;
+    // Materials beyond what the check resolves in floating point are a
+    // cause of their own (measured on prm/default.prm with Method = dg): a
+    // nearly incompressible one loses its divergence-free modes in
+    // round-off (one material passes at lambda/mu = 5e10, nu =
+    // 0.49999999999, and fails at 5e12), and a stiffness contrast of 1e11
+    // or more fails at eta >= 100 (1e10 passes up to eta = 1e4).
+    double incompressibility = 0, softest = data.materials[0].mu, stiffest = 0;
     for (const CellMaterial &m : data.materials)
-      ratio = std::max(ratio, m.lambda / m.mu);
-    std::ostringstream incompressible;
-    if (ratio > 5e10)
-      incompressible << " Or the material is too close to incompressible "
-                        "for the check in floating point (lambda/mu up to "
-                     << ratio << "; 5e10 still passes): use a smaller "
-                     << "Poisson ratio.";
+      {
+        incompressibility = std::max(incompressibility, m.lambda / m.mu);
+        softest           = std::min(softest, m.mu);
+        stiffest          = std::max(stiffest, m.mu);
+      }
+    std::ostringstream limits;
+    if (incompressibility > 5e10)
+      limits << " Or the material is too close to incompressible for the "
+                "check in floating point (lambda/mu up to "
+             << incompressibility << "; 5e10 still passes): use a smaller "
+             << "Poisson ratio.";
+    if (stiffest / softest > 1e10)
+      limits << " Or the shear moduli, which span a factor of "
+             << stiffest / softest
+             << ", differ too much for the check in floating point (1e10 "
+                "passes up to eta = 1e4; a larger penalty makes it worse).";
     if (!parameters.automatic_penalty())
       {
         assemble(parameters.penalty, t);
@@ -846,7 +859,7 @@ namespace ddfem::dg
                       (parameters.flux == Parameters::Flux::babuska_zlamal ?
                          std::string(".") :
                          std::string(" or 'automatic'.")) +
-                      incompressible.str()));
+                      limits.str()));
         return d;
       }
     double eta = 1;
@@ -873,7 +886,7 @@ namespace ddfem::dg
                 ExcMessage("DG/Penalty = automatic: no penalty up to 2^30 "
                            "gives a positive definite stiffness matrix; do "
                            "the Dirichlet conditions prevent rigid motions?" +
-                           incompressible.str()));
+                           limits.str()));
     return Definiteness::not_positive_definite;
   }
 
