@@ -446,6 +446,10 @@ namespace ddfem::scene
     for (const Condition &condition : conditions)
       if (condition.type == "rotation")
         {
+          // Half turns, with a margin for round-off: 1620 degrees read
+          // back from radians as 1619.9999999999998.
+          const double half_turns =
+            std::abs(condition.angle) / (numbers::PI * (1 - 1e-12));
           const double degrees = std::abs(condition.angle) * 180. / numbers::PI;
           std::ostringstream message;
           message << condition.where << "/Angle turns by " << degrees
@@ -454,9 +458,9 @@ namespace ddfem::scene
                   << " degrees per step: a step must turn by less than 180 "
                      "degrees, since it prescribes only where each node "
                      "ends (360 degrees look like none). Use at least "
-                  << static_cast<unsigned int>(degrees / 180.) + 1
+                  << static_cast<unsigned int>(half_turns) + 1
                   << " load steps.";
-          AssertThrow(degrees / load_steps < 180., ExcMessage(message.str()));
+          AssertThrow(half_turns < load_steps, ExcMessage(message.str()));
         }
   }
 

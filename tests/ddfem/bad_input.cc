@@ -267,6 +267,13 @@ main(int argc, char **argv)
            cantilever +
              "subsection Boundary conditions\n  subsection Condition 2\n"
              "    set Type = rotation\n    set Angle = -3600\n  end\nend\n");
+  // Exactly 180 degrees per step leaves the direction open (1620 degrees
+  // read back from radians as a hair less).
+  run_case("rotation_step_exactly_180",
+           cantilever +
+             "subsection Boundary conditions\n  subsection Condition 2\n"
+             "    set Type = rotation\n    set Angle = 1620\n  end\nend\n"
+             "subsection Nonlinear solver\n  set Load steps = 9\nend\n");
   run_case("displacement_all_free",
            cantilever +
              "subsection Boundary conditions\n  subsection Condition 2\n"
