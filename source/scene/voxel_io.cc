@@ -126,25 +126,35 @@ namespace ddfem::scene
 
 
     // Builds an indexed mesh from triangle corners (three per triangle),
-    // merging corners with identical coordinates.
+    // merging corners with identical coordinates. A triangle with two
+    // corners at one point (a sliver of an STL export, an OBJ polygon that
+    // repeats a vertex) bounds nothing and is left out, with its corners
+    // unless another triangle uses them: its edge from a corner to itself
+    // would fail the closedness check, and its corners would count toward
+    // 'Fit to grid'.
     TriangleMesh
     merge_corners(const std::vector<Point<3>> &corners)
     {
       TriangleMesh                                  mesh;
       std::map<std::array<double, 3>, unsigned int> index_of;
-      std::array<unsigned int, 3>                   triangle;
-      for (std::size_t c = 0; c < corners.size(); ++c)
+      for (std::size_t t = 0; t + 2 < corners.size(); t += 3)
         {
-          const std::array<double, 3> key = {
-            {corners[c][0], corners[c][1], corners[c][2]}};
-          const auto inserted =
-            index_of.emplace(key,
-                             static_cast<unsigned int>(mesh.vertices.size()));
-          if (inserted.second)
-            mesh.vertices.push_back(corners[c]);
-          triangle[c % 3] = inserted.first->second;
-          if (c % 3 == 2)
-            mesh.triangles.push_back(triangle);
+          std::array<std::array<double, 3>, 3> keys;
+          for (unsigned int c = 0; c < 3; ++c)
+            keys[c] = {
+              {corners[t + c][0], corners[t + c][1], corners[t + c][2]}};
+          if (keys[0] == keys[1] || keys[1] == keys[2] || keys[2] == keys[0])
+            continue;
+          std::array<unsigned int, 3> triangle;
+          for (unsigned int c = 0; c < 3; ++c)
+            {
+              const auto inserted = index_of.emplace(
+                keys[c], static_cast<unsigned int>(mesh.vertices.size()));
+              if (inserted.second)
+                mesh.vertices.push_back(corners[t + c]);
+              triangle[c] = inserted.first->second;
+            }
+          mesh.triangles.push_back(triangle);
         }
       return mesh;
     }
@@ -476,16 +486,6 @@ namespace ddfem::scene
 
     TriangleMesh mesh =
       extension == ".stl" ? read_stl(file, content) : read_obj(file, content);
-    // A triangle with two corners at one point (a sliver of an STL export,
-    // an OBJ polygon that repeats a vertex) bounds nothing, and its edge
-    // from a corner to itself would fail the closedness check below.
-    mesh.triangles.erase(
-      std::remove_if(mesh.triangles.begin(),
-                     mesh.triangles.end(),
-                     [](const std::array<unsigned int, 3> &t) {
-                       return t[0] == t[1] || t[1] == t[2] || t[2] == t[0];
-                     }),
-      mesh.triangles.end());
     AssertThrow(
       !mesh.triangles.empty(),
       ExcMessage(file + ": contains no triangle with three distinct corners."));

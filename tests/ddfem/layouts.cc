@@ -172,9 +172,11 @@ main()
   }
   std::ofstream("octahedron_stray.obj")
     << std::ifstream("octahedron.obj").rdbuf() << "v 1 1 1\n";
-  // Faces that repeat a vertex bound nothing and are dropped.
+  // Faces that repeat a vertex bound nothing and are dropped, also with a
+  // vertex of their own (which must not count toward 'Fit to grid').
   std::ofstream("octahedron_degenerate.obj")
-    << std::ifstream("octahedron.obj").rdbuf() << "f 1 2 1\nf 3 3 3 4\n";
+    << std::ifstream("octahedron.obj").rdbuf()
+    << "v 1 1 1\nf 1 2 1\nf 3 3 3 4\nf 7 7 1\n";
   unsigned int inside = 0;
   for (unsigned int k = 0; k < 16; ++k)
     for (unsigned int j = 0; j < 16; ++j)
@@ -203,7 +205,8 @@ main()
   std::cout << "  fitted to the grid: octahedron.obj "
             << voxels("octahedron.obj", "true") << " voxels, with a vertex "
             << "that no face uses " << voxels("octahedron_stray.obj", "true")
-            << std::endl;
+            << ", with degenerate faces "
+            << voxels("octahedron_degenerate.obj", "true") << std::endl;
 
   // Voxel meshes of the sphere scene: fine and one level coarser.
   const auto sphere =
