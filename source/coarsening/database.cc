@@ -894,7 +894,8 @@ namespace ddfem::coarsening
     {
       std::vector<Entry> entries;
       valid_end = 0;
-      AssertThrow(!std::filesystem::is_directory(name),
+      std::error_code error;
+      AssertThrow(!std::filesystem::is_directory(name, error),
                   ExcMessage("The build journal " + name +
                              " is a directory. Remove it or choose another "
                              "Database/File."));
