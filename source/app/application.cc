@@ -230,14 +230,10 @@ namespace ddfem::app
        * directory).
        */
       void
-      check_output(const std::vector<std::string> &files) const
+      check_output(std::vector<std::string> files) const
       {
-        check_creatable(directory, "Output/Output directory");
-        check_writable(directory + "/summary.json", "Output/Output directory");
-        check_writable(directory + "/parameters.prm",
-                       "Output/Output directory");
-        for (const std::string &file : files)
-          check_writable(directory + "/" + file, "Output/Output directory");
+        files.insert(files.end(), {"summary.json", "parameters.prm"});
+        check_writable_in(directory, files, "Output/Output directory");
       }
 
       /// check_output() for a simulation of the continuous models, whose
@@ -264,8 +260,7 @@ namespace ddfem::app
       {
         create_directories(directory, "Output/Output directory");
         remove_earlier(directory + "/summary.json", "Output/Output directory");
-        for (const std::string &file : files)
-          remove_earlier(directory + "/" + file, "Output/Output directory");
+        remove_earlier_in(directory, files, "Output/Output directory");
         std::ofstream used = open_for_writing(directory + "/parameters.prm",
                                               "Output/Output directory");
         prm.print_parameters(used, ParameterHandler::ShortPRM);

@@ -9,7 +9,6 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <fstream>
 #include <functional>
@@ -450,11 +449,11 @@ namespace ddfem::app
     // and their files (each model's VTU files of every state too) must be
     // writable before the database is prepared and anything runs.
     report::check_gnuplot();
-    const std::array<std::string, 5> files = {{"comparison.json",
-                                               "comparison.csv",
-                                               "error_vs_time.dat",
-                                               "error_vs_time.gnuplot",
-                                               "error_vs_time.png"}};
+    const std::vector<std::string> files = {"comparison.json",
+                                            "comparison.csv",
+                                            "error_vs_time.dat",
+                                            "error_vs_time.gnuplot",
+                                            "error_vs_time.png"};
     // @p f of every model directory and scene state, also of the models
     // skipped: their VTU files of an earlier run would be taken for this
     // run's.
@@ -464,8 +463,7 @@ namespace ddfem::app
           for (unsigned int state = 0; state <= scene.n_edits(); ++state)
             f(model_directory(directory, config.name, config.level), state);
       };
-    for (const std::string &file : files)
-      check_writable(directory + "/" + file, "Output/Output directory");
+    check_writable_in(directory, files, "Output/Output directory");
     for_each_model_state([&](const std::string &d, const unsigned int state) {
       if (vtu.enabled() && state == 0)
         check_creatable(d, "Output/Output directory");
@@ -495,7 +493,6 @@ namespace ddfem::app
         }
     if (ddfem_level > 0)
       {
-        check_creatable(directory, "Output/Output directory");
         Timer preparation;
         level1.emplace(database.prepare(
           scene.palette, scene.states(), ddfem_level, level2, out));
@@ -512,8 +509,7 @@ namespace ddfem::app
     // From here on results are written; none of an earlier run may stay
     // next to them if this one fails.
     create_directories(directory, "Output/Output directory");
-    for (const std::string &file : files)
-      remove_earlier(directory + "/" + file, "Output/Output directory");
+    remove_earlier_in(directory, files, "Output/Output directory");
     for_each_model_state([&](const std::string &d, const unsigned int state) {
       vtu.remove_earlier(d, state);
     });

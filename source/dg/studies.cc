@@ -428,11 +428,8 @@ namespace ddfem::dg
     replace_earlier(const std::string              &directory,
                     const std::vector<std::string> &files)
     {
-      check_creatable(directory, "Output/Output directory");
-      for (const std::string &file : files)
-        check_writable(directory + "/" + file, "Output/Output directory");
-      for (const std::string &file : files)
-        remove_earlier(directory + "/" + file, "Output/Output directory");
+      check_writable_in(directory, files, "Output/Output directory");
+      remove_earlier_in(directory, files, "Output/Output directory");
     }
   } // namespace
 
@@ -485,20 +482,17 @@ namespace ddfem::dg
                 }
               catch (const ExceptionBase &e)
                 {
-                  // The message names the settled penalty as if the user
-                  // had fixed it; say where it came from.
-                  std::ostringstream eta;
-                  eta << fixed.penalty;
-                  AssertThrow(fixed.penalty == dg.penalty,
-                              ExcMessage(
-                                "DG/Penalty = automatic was settled at eta = " +
-                                eta.str() + " on the " +
-                                std::to_string(1u << lo) + "^" +
-                                (poisson ? "2" : "3") + " grid of " + problem +
-                                ", " + method.name +
-                                ", and kept on the finer "
-                                "grids: " +
-                                message_of(e)));
+                  // On a finer grid the penalty is the one settled on the
+                  // coarsest, which a message would name as if fixed.
+                  std::ostringstream context;
+                  context << "On the " << (1u << l) << "^" << (poisson ? 2 : 3)
+                          << " grid of " << problem << ", " << method.name
+                          << ", with eta = " << fixed.penalty
+                          << " (DG/Penalty = automatic, settled on the "
+                          << (1u << lo) << "^" << (poisson ? 2 : 3)
+                          << " grid): ";
+                  AssertThrow(fixed.penalty == dg.penalty || l == lo,
+                              ExcMessage(context.str() + message_of(e)));
                   throw;
                 }
               results.push_back(r);

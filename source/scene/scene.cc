@@ -63,10 +63,7 @@ namespace ddfem::scene
         for (long j = lower[1]; j <= upper[1]; ++j)
           for (long i = lower[0]; i <= upper[0]; ++i)
             solid = solid || grid(i, j, k) != void_id;
-      AssertThrow(solid,
-                  ExcMessage("Geometry/Probe points: the point " +
-                             format_point(p, 12) +
-                             " m does not lie in the solid."));
+      AssertThrow(solid, probe_outside(p));
     }
   } // namespace
 
@@ -140,6 +137,15 @@ namespace ddfem::scene
         for (unsigned int e = 0; e < n_edits(); ++e)
           layout.apply_edit(e, edited);
       }
+  }
+
+
+
+  ExcMessage
+  probe_outside(const Point<3> &p)
+  {
+    return ExcMessage("Geometry/Probe points: the point " +
+                      format_point(p, 12) + " m does not lie in the solid.");
   }
 
 

@@ -8,6 +8,7 @@
 #include <ddfem/base/cell_values.h>
 #include <ddfem/base/parsing.h>
 #include <ddfem/material/kernel.h>
+#include <ddfem/scene/scene.h>
 #include <ddfem/solver/cell_kernel.h>
 #include <ddfem/solver/probe.h>
 #include <ddfem/solver/static_solver.h>
@@ -981,10 +982,7 @@ namespace ddfem::solver
       }
     catch (const ExceptionBase &) // no cell of the mesh holds the point
       {
-        AssertThrow(false,
-                    ExcMessage("Geometry/Probe points: the point " +
-                               format_point(p, 12) +
-                               " m does not lie in the solid."));
+        AssertThrow(false, scene::probe_outside(p));
       }
     return Tensor<1, 3>({value(0), value(1), value(2)});
   }

@@ -169,6 +169,31 @@ namespace ddfem
                                    "): " + error.message() + "."));
   }
 
+  /**
+   * check_creatable() of @p directory and check_writable() of each of
+   * @p files (names in it); @p where names the parameter the directory
+   * comes from.
+   */
+  inline void
+  check_writable_in(const std::string              &directory,
+                    const std::vector<std::string> &files,
+                    const std::string              &where)
+  {
+    check_creatable(directory, where);
+    for (const std::string &file : files)
+      check_writable(directory + "/" + file, where);
+  }
+
+  /// remove_earlier() of each of @p files (names in @p directory).
+  inline void
+  remove_earlier_in(const std::string              &directory,
+                    const std::vector<std::string> &files,
+                    const std::string              &where)
+  {
+    for (const std::string &file : files)
+      remove_earlier(directory + "/" + file, where);
+  }
+
   /// The extension of the file name @p file in lower case (".stl").
   inline std::string
   lowercase_extension(const std::string &file)

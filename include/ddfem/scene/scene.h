@@ -82,6 +82,14 @@ namespace ddfem::scene
   };
 
   /**
+   * The error that the probe point @p p (m) lies outside the solid, naming
+   * Geometry/Probe points (12 digits: a point just outside must not read
+   * like one on the boundary).
+   */
+  ExcMessage
+  probe_outside(const Point<3> &p);
+
+  /**
    * Throws ExcMessage, naming Geometry/Grid size, unless every size of
    * @p grid is divisible by 2^@p level, the block size of coarsening level
    * @p level.
