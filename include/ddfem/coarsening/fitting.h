@@ -73,7 +73,8 @@ namespace ddfem::coarsening
    *   1/n sum_s ((E_s - E(p; u_s)) / E_s)^2
    *     + regularization * sum_j ((p_j - p0_j) / s_j)^2
    *
-   * subject to mu >= max(stiffness_floor * s_mu, point_floor * mu0),
+   * subject to mu >= max(min(stiffness_floor * s_mu, smallest solid mu0),
+   * point_floor * mu0) (Metamaterial::stiffness_floor()),
    * lambda >= point_floor * lambda0 and C >= 0, with
    * p0 the fine parameters in @p prior (C0 = 0), s_j the block's largest
    * fine value of p_j's kind (largest mu for mu and C, largest lambda for
