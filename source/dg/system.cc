@@ -796,10 +796,10 @@ namespace ddfem::dg
     // A matrix that is singular in exact arithmetic (a penalty at the
     // threshold, a free rigid motion) can factorize in floating point with a
     // pivot at round-off level: 12 digits of a diagonal entry cancelled are
-    // taken as a zero pivot. The DG tests stay above 3e-10 (thin elements),
-    // a stiffness contrast of 1e6 above 8.9e-11 at any eta; contrasts of
-    // 1e12 and more fall below, where the factorization itself fails at
-    // some penalties and passes at others.
+    // taken as a zero pivot. The smallest ratio in the DG tests is 3e-10
+    // (thin elements), and a stiffness contrast of 1e6 stays above 8.9e-11
+    // up to eta = 2^30; beyond a contrast of 1e10 the check is unreliable in
+    // floating point either way (settle_penalty() names that cause).
     for (unsigned int j = 0; j < n; ++j)
       if (std::pow(ab[static_cast<std::size_t>(j) * ldab], 2) <
           singular_pivot_ratio * diagonal[j])
