@@ -255,11 +255,11 @@ namespace ddfem::app
        * of its own.
        */
       void
-      prepare_output(const ParameterHandler         &prm,
-                     const std::vector<std::string> &files) const
+      prepare_output(const ParameterHandler  &prm,
+                     std::vector<std::string> files) const
       {
         create_directories(directory, "Output/Output directory");
-        remove_earlier(directory + "/summary.json", "Output/Output directory");
+        files.push_back("summary.json");
         remove_earlier_in(directory, files, "Output/Output directory");
         std::ofstream used = open_for_writing(directory + "/parameters.prm",
                                               "Output/Output directory");

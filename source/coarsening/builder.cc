@@ -607,12 +607,19 @@ namespace ddfem::coarsening
                          Hierarchy *level2_result) const
   {
     Timer timer;
-    // A grid that level 2 cannot coarsen, or a block it cannot represent,
-    // is an error before anything is fitted (and journaled).
+    // The scene's 4x4x4 blocks and their keys, for the level-2 tables. A
+    // grid that level 2 cannot coarsen, or a block it cannot represent
+    // (Hierarchy::keys() checks), is an error before anything is fitted
+    // (and journaled).
+    std::vector<std::array<Combination, 8>> level2_blocks;
+    std::vector<BlockKeys>                  block_keys;
     if (scene_grids != nullptr && levels == 2)
       for (const scene::VoxelGrid &grid : *scene_grids)
-        for (const auto &block : scene_blocks(grid))
-          Hierarchy::check_representable(database, block);
+        for (const auto &b : scene_blocks(grid))
+          {
+            level2_blocks.push_back(b);
+            block_keys.push_back(Hierarchy::keys(database, b));
+          }
     std::vector<Combination> wanted;
     // The blocks of the scene's base state (its edits repaint some of them).
     std::vector<Combination> base_blocks;
@@ -698,10 +705,8 @@ namespace ddfem::coarsening
     // it is. Tables that predate a level-1 entry or a block this build
     // needs (lazy mode) are built anew; they keep the blocks required
     // before, and the fits of compositions they still represent.
-    Hierarchy                               level2;
-    bool                                    new_tables = false;
-    std::vector<std::array<Combination, 8>> blocks;
-    std::vector<BlockKeys>                  block_keys;
+    Hierarchy level2;
+    bool      new_tables = false;
     // The file's level 2 is kept by a level-1 build too: its tables and
     // fits are keyed by combination, so new level-1 entries leave them
     // valid (a level-2 build renews tables that do not cover them).
@@ -713,13 +718,6 @@ namespace ddfem::coarsening
       database.fingerprint() + " | " + hierarchy.fingerprint();
     if (levels == 2)
       {
-        if (scene_grids != nullptr)
-          for (const scene::VoxelGrid &grid : *scene_grids)
-            for (const auto &b : scene_blocks(grid))
-              {
-                blocks.push_back(b);
-                block_keys.push_back(Hierarchy::keys(database, b));
-              }
         if (level2.empty() ||
             level2.settings.fingerprint() != hierarchy.fingerprint() ||
             !level2.covers(database, wanted, block_keys))
@@ -768,7 +766,7 @@ namespace ddfem::coarsening
           for (unsigned int r = 0; r < level2.n_representatives(); ++r)
             needed.push_back(r);
         else
-          for (const auto &block : blocks)
+          for (const auto &block : level2_blocks)
             if (const int r = level2.find(database, block); r >= 0)
               {
                 needed.push_back(r);

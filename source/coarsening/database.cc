@@ -412,10 +412,11 @@ namespace ddfem::coarsening
   {
     std::vector<Combination> result;
     for (const Combination &c : combinations)
-      check_covered(c);
-    for (const Combination &c : combinations)
-      if (!all_void(c) && !contains(c))
-        result.push_back(group.canonical(c).first);
+      {
+        check_covered(c);
+        if (!all_void(c) && !contains(c))
+          result.push_back(group.canonical(c).first);
+      }
     std::sort(result.begin(), result.end());
     result.erase(std::unique(result.begin(), result.end()), result.end());
     return result;
