@@ -242,8 +242,7 @@ namespace ddfem::app
       check_simulation_output() const
       {
         check_output({});
-        for (unsigned int state = 0; state <= scene.n_edits(); ++state)
-          vtu.check_writable(directory, state);
+        vtu.check_writable(directory, scene.n_edits() + 1);
       }
 
       /**
@@ -311,8 +310,12 @@ namespace ddfem::app
           vtu.enabled() ? std::vector<std::string>{"solution.vtu"} :
                           std::vector<std::string>();
         check_output(files);
+        // The continuous models' VTU files of an earlier run are removed:
+        // none of their states is written.
+        vtu.check_writable(directory, 0);
         const unsigned int solves = solver.solve();
         prepare_output(prm, files);
+        report::VtuWriter::remove_earlier(directory);
         if (vtu.enabled())
           solver.write_vtu(directory + "/solution.vtu");
 
@@ -421,8 +424,7 @@ namespace ddfem::app
 
         // All input is valid: from here on, results are written.
         prepare_output(prm, {});
-        for (unsigned int state = 0; state <= scene.n_edits(); ++state)
-          vtu.remove_earlier(directory, state);
+        report::VtuWriter::remove_earlier(directory);
         nlohmann::json summary;
         summary["scene"]           = scene_name;
         summary["method"]          = method;

@@ -11,7 +11,6 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
-#include <functional>
 #include <iomanip>
 #include <map>
 #include <optional>
@@ -454,21 +453,31 @@ namespace ddfem::app
                                             "error_vs_time.dat",
                                             "error_vs_time.gnuplot",
                                             "error_vs_time.png"};
-    // @p f of every model directory and scene state, also of the models
-    // skipped: their VTU files of an earlier run would be taken for this
-    // run's.
-    const auto for_each_model_state =
-      [&](const std::function<void(const std::string &, unsigned int)> &f) {
-        for (const Configuration &config : configurations)
-          for (unsigned int state = 0; state <= scene.n_edits(); ++state)
-            f(model_directory(directory, config.name, config.level), state);
-      };
+    // Every model directory a compare run may write, also of the models
+    // skipped or not compared: their VTU files of an earlier run would be
+    // taken for this run's.
+    std::vector<std::string> model_directories;
+    for (const Configuration &config : configurations)
+      if (config.level == 0)
+        model_directories.push_back(
+          model_directory(directory, config.name, config.level));
+    for (const auto method : {coarsening::CoarseningMethod::ddfem,
+                              coarsening::CoarseningMethod::naive,
+                              coarsening::CoarseningMethod::average})
+      for (const unsigned int level : {1u, 2u})
+        model_directories.push_back(
+          model_directory(directory, coarsening::to_string(method), level));
     check_writable_in(directory, files, "Output/Output directory");
-    for_each_model_state([&](const std::string &d, const unsigned int state) {
-      if (vtu.enabled() && state == 0)
-        check_creatable(d, "Output/Output directory");
-      vtu.check_writable(d, state);
-    });
+    for (const Configuration &config : configurations)
+      {
+        const std::string d =
+          model_directory(directory, config.name, config.level);
+        if (vtu.enabled())
+          check_creatable(d, "Output/Output directory");
+        vtu.check_writable(d, scene.n_edits() + 1);
+      }
+    for (const std::string &d : model_directories)
+      vtu.check_writable(d, 0);
 
     // The database, completed lazily for this scene's blocks in every
     // state. A ddfem level without a baseline model on the same mesh is
@@ -510,9 +519,8 @@ namespace ddfem::app
     // next to them if this one fails.
     create_directories(directory, "Output/Output directory");
     remove_earlier_in(directory, files, "Output/Output directory");
-    for_each_model_state([&](const std::string &d, const unsigned int state) {
-      vtu.remove_earlier(d, state);
-    });
+    for (const std::string &d : model_directories)
+      report::VtuWriter::remove_earlier(d);
     for (unsigned int state = 0; state <= scene.n_edits(); ++state)
       {
         const std::string state_name =

@@ -2,7 +2,6 @@
 #include <deal.II/numerics/data_out.h>
 
 #include <ddfem/base/exceptions.h>
-#include <ddfem/base/files.h>
 #include <ddfem/dg/scene_solver.h>
 #include <ddfem/report/output.h>
 #include <ddfem/solver/probe.h>
@@ -219,9 +218,7 @@ namespace ddfem::dg
                                            dg->solution,
                                            material_id);
     data_out.build_patches(dg->mapping, parameters.degree);
-    std::ofstream out = open_for_writing(file, "Output/Output directory");
-    data_out.write_vtu(out);
-    close_written(out, file, "Output/Output directory");
+    report::write_vtu_file(data_out, file);
   }
 
 

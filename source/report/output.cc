@@ -163,33 +163,61 @@ namespace ddfem::report
 
 
 
-  std::vector<std::string>
-  VtuWriter::existing_files(const std::string &dir, const unsigned int state)
+  namespace
   {
-    const std::string        name = state_name(state);
+    /// Whether @p text is a nonempty string of decimal digits.
+    bool
+    is_number(const std::string &text)
+    {
+      return !text.empty() &&
+             std::all_of(text.begin(), text.end(), [](const char c) {
+               return std::isdigit(static_cast<unsigned char>(c));
+             });
+    }
+
+    /// Whether @p name is a scene state's (VtuWriter::state_name()).
+    bool
+    is_state_name(const std::string &name)
+    {
+      return name == "solution" ||
+             (name.rfind("edit-", 0) == 0 && is_number(name.substr(5)));
+    }
+
+    /// Whether @p file is NAME.pvd, NAME.vtu or NAME-<digits>.vtu of a
+    /// scene state NAME: any number of steps (cut increments add steps).
+    bool
+    is_vtu_file(const std::string &file)
+    {
+      if (file.size() < 4)
+        return false;
+      const std::string stem      = file.substr(0, file.size() - 4),
+                        extension = file.substr(file.size() - 4);
+      if (extension != ".pvd" && extension != ".vtu")
+        return false;
+      if (is_state_name(stem))
+        return true;
+      const std::size_t dash = stem.rfind('-');
+      return extension == ".vtu" && dash != std::string::npos &&
+             is_number(stem.substr(dash + 1)) &&
+             is_state_name(stem.substr(0, dash));
+    }
+  } // namespace
+
+
+
+  std::vector<std::string>
+  VtuWriter::existing_files(const std::string &dir)
+  {
     std::vector<std::string> files;
     std::error_code          error;
-    if (std::filesystem::exists(dir + "/" + name + ".pvd", error))
-      files.push_back(dir + "/" + name + ".pvd");
-    // The steps' files: NAME-<digits>.vtu, whatever the number of steps
-    // (cut increments add steps).
-    const std::string prefix = name + "-", suffix = ".vtu";
     for (const auto &entry : std::filesystem::directory_iterator(dir, error))
-      {
-        const std::string file = entry.path().filename().string();
-        if (file.size() <= prefix.size() + suffix.size() ||
-            file.compare(0, prefix.size(), prefix) != 0 ||
-            file.compare(file.size() - suffix.size(), suffix.size(), suffix) !=
-              0)
-          continue;
-        const std::string step =
-          file.substr(prefix.size(),
-                      file.size() - prefix.size() - suffix.size());
-        if (std::all_of(step.begin(), step.end(), [](const char c) {
-              return std::isdigit(static_cast<unsigned char>(c));
-            }))
-          files.push_back(entry.path().string());
-      }
+      if (is_vtu_file(entry.path().filename().string()))
+        files.push_back(entry.path().string());
+    AssertThrow(!error || !std::filesystem::exists(dir),
+                ExcMessage("Cannot list the directory '" + dir +
+                           "' (Output/Output directory) for the VTU files "
+                           "of an earlier run: " +
+                           error.message()));
     std::sort(files.begin(), files.end());
     return files;
   }
@@ -198,25 +226,22 @@ namespace ddfem::report
 
   void
   VtuWriter::check_writable(const std::string &dir,
-                            const unsigned int state) const
+                            const unsigned int n_states) const
   {
-    if (!enabled())
-      return;
     const std::string where = "Output/Output directory";
-    ddfem::check_writable(dir + "/" + state_name(state) + ".pvd", where);
-    for (const std::string &file : existing_files(dir, state))
+    if (enabled())
+      for (unsigned int state = 0; state < n_states; ++state)
+        ddfem::check_writable(dir + "/" + state_name(state) + ".pvd", where);
+    for (const std::string &file : existing_files(dir))
       ddfem::check_writable(file, where);
   }
 
 
 
   void
-  VtuWriter::remove_earlier(const std::string &dir,
-                            const unsigned int state) const
+  VtuWriter::remove_earlier(const std::string &dir)
   {
-    if (!enabled())
-      return;
-    for (const std::string &file : existing_files(dir, state))
+    for (const std::string &file : existing_files(dir))
       ddfem::remove_earlier(file, "Output/Output directory");
   }
 
@@ -245,6 +270,21 @@ namespace ddfem::report
 
 
   void
+  write_vtu_file(DataOut<3> &data_out, const std::string &file)
+  {
+    DataOutBase::VtkFlags flags;
+    flags.print_date_and_time = false;
+    data_out.set_flags(flags);
+    // deal.II's writers throw a generic ExcIO on a stream that did not
+    // open, so the file is checked first.
+    std::ofstream out = open_for_writing(file, "Output/Output directory");
+    data_out.write_vtu(out);
+    close_written(out, file, "Output/Output directory");
+  }
+
+
+
+  void
   VtuWriter::write(const solver::Discretization           &discretization,
                    const Vector<double>                   &u,
                    const solver::StaticSolver::CellFields &fields,
@@ -268,15 +308,11 @@ namespace ddfem::report
 
     const std::string name =
       basename + "-" + Utilities::int_to_string(step, 4) + ".vtu";
-    // deal.II's writers throw a generic ExcIO on a stream that did not
-    // open, so the file is checked first.
-    std::ofstream vtu =
-      open_for_writing(directory + "/" + name, "Output/Output directory");
-    data_out.write_vtu(vtu);
-    close_written(vtu, directory + "/" + name, "Output/Output directory");
+    write_vtu_file(data_out, directory + "/" + name);
     records.emplace_back(t, name);
-    std::ofstream pvd = open_for_writing(directory + "/" + basename + ".pvd",
-                                         "Output/Output directory");
+    const std::string pvd_file = directory + "/" + basename + ".pvd";
+    std::ofstream pvd = open_for_writing(pvd_file, "Output/Output directory");
     DataOutBase::write_pvd_record(pvd, records);
+    close_written(pvd, pvd_file, "Output/Output directory");
   }
 } // namespace ddfem::report

@@ -59,7 +59,10 @@ namespace ddfem::report
           const unsigned int c =
             coarse.cell_of_voxel(grid,
                                  fine.cell_blocks[cell->active_cell_index()]);
-          Assert(c != numbers::invalid_unsigned_int, ExcInternalError());
+          AssertThrow(c != numbers::invalid_unsigned_int,
+                      ExcMessage("The coarse model has no cell over a solid "
+                                 "voxel of the fine one: both must come from "
+                                 "the same voxel grid."));
           const auto        &coarse_cell = coarse_cells[c];
           const Point<3>     origin      = coarse_cell->vertex(0);
           const Tensor<1, 3> size        = coarse_cell->vertex(7) - origin;

@@ -608,6 +608,47 @@ end
       << std::filesystem::exists("out_unconverged_later/solution-0003.vtu")
       << std::endl;
   }
+  // Whatever Write VTU says, a run removes the VTU files an earlier run left:
+  // of every state, also states this run does not have (the cantilever has
+  // no edits), and another model's too (a DG run writes solution.vtu, a
+  // continuous one solution.pvd and its steps). None of them may be taken
+  // for this run's. A file of another name stays. (The compare run writes
+  // VTU files: what counts is whether the earlier ones' text is left.)
+  const auto run_with_earlier_vtu =
+    [](const std::string              &name,
+       const std::string              &prm,
+       const std::vector<std::string> &extra,
+       const std::vector<std::string> &earlier) {
+      const std::string directory = "out_" + name;
+      std::filesystem::remove_all(directory);
+      for (const std::string &file : earlier)
+        {
+          std::filesystem::create_directories(
+            std::filesystem::path(directory + "/" + file).parent_path());
+          std::ofstream(directory + "/" + file) << "earlier run\n";
+        }
+      run_case(name, prm, extra);
+      std::cout << "  earlier files left:";
+      for (const std::string &file : earlier)
+        {
+          std::ifstream     in(directory + "/" + file);
+          const std::string text((std::istreambuf_iterator<char>(in)),
+                                 std::istreambuf_iterator<char>());
+          if (text == "earlier run\n")
+            std::cout << ' ' << file;
+        }
+      std::cout << "\n" << std::endl;
+    };
+  for (const std::string method : {"fine", "dg"})
+    run_with_earlier_vtu("stale_vtu_" + method,
+                         cantilever + "set Method = " + method + "\n",
+                         {"--set", "Output/Write VTU=none"},
+                         {"solution.pvd",
+                          "solution-0001.vtu",
+                          "solution.vtu",
+                          "edit-3.pvd",
+                          "edit-3-0001.vtu",
+                          "notes.vtu"});
   // Results that could not be written are found before anything runs: the
   // output directory keeps only what was there.
   run_in_existing_directory("summary_blocked", "summary.json", cantilever, {});
@@ -621,6 +662,13 @@ end
                             "comparison.csv",
                             cantilever,
                             compare_naive);
+  // A compare run removes the VTU files of models it does not compare too.
+  run_with_earlier_vtu("stale_vtu_compare",
+                       cantilever,
+                       compare_naive,
+                       {"naive-L2/solution.pvd",
+                        "ddfem-L1/edit-1-0002.vtu",
+                        "fine/solution-0001.vtu"});
   // Level 2 of a lazily built database needs a grid divisible by 4: an
   // error before anything is fitted, so that no build journal is left to
   // stand in the way of the next build.

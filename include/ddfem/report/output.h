@@ -65,10 +65,20 @@ namespace ddfem::report
                                  Vector<double>       &material_id);
 
   /**
+   * Writes the patches of @p data_out to the VTU file @p file, without
+   * the date and time deal.II would put in its header, so that two runs
+   * of the same input write the same bytes. Throws ExcMessage naming
+   * @p file and Output/Output directory if it cannot be written.
+   */
+  void
+  write_vtu_file(DataOut<3> &data_out, const std::string &file);
+
+  /**
    * Writes the states of a solve as VTU files, one per load step, and a
    * .pvd record over them: displacement, material id, det F and the von
    * Mises Cauchy stress (cell averages) and the largest principal strain
-   * (each cell's largest). Declared in the prm subsection
+   * (each cell's largest material::principal_strain, max_i |lambda_i - 1|,
+   * which is positive under compression too). Declared in the prm subsection
    * "Output" next to the output directory.
    */
   class VtuWriter
@@ -93,23 +103,27 @@ namespace ddfem::report
 
     /**
      * Throws ExcMessage naming Output/Output directory if write() could not
-     * write the files of scene state @p state into @p directory (if it
-     * exists): something other than a regular file is in the way of
-     * NAME.pvd or of a NAME-<step>.vtu of any step. Checks nothing if no
-     * file is written. For the checks before a solve.
+     * write the files of the scene states 0 to @p n_states - 1 into
+     * @p directory (if it exists), or remove_earlier() could not remove an
+     * earlier run's VTU files there: something other than a regular file is
+     * in the way of a state's NAME.pvd or of an earlier VTU file, or it
+     * cannot be removed. For the checks before a solve.
      */
     void
     check_writable(const std::string &directory,
-                   const unsigned int state) const;
+                   const unsigned int n_states) const;
 
     /**
-     * Removes the files of scene state @p state that an earlier run left
-     * in @p directory (NAME.pvd and every NAME-<step>.vtu), if files are
-     * written: after check_writable(), before the first result is written.
+     * Removes the VTU files an earlier run left in @p directory, of every
+     * scene state (NAME.pvd, NAME.vtu and every NAME-<step>.vtu, NAME
+     * "solution" or "edit-<k>"), whether or not this run writes any: no
+     * earlier run's result, another model's (a DG run writes NAME.vtu) or
+     * a state this run does not have (a run with fewer edits), may be taken
+     * for this run's. After check_writable(), before the first result is
+     * written.
      */
-    void
-    remove_earlier(const std::string &directory,
-                   const unsigned int state) const;
+    static void
+    remove_earlier(const std::string &directory);
 
     /**
      * Writes the state @p u with @p fields at load step @p step and load
@@ -146,10 +160,11 @@ namespace ddfem::report
     static std::string
     state_name(const unsigned int state);
 
-    /// The files of scene state @p state in @p directory that an earlier
-    /// run may have written: NAME.pvd and NAME-<digits>.vtu, sorted.
+    /// The VTU files of any scene state in @p directory that an earlier run
+    /// may have written (see remove_earlier()), sorted. Throws if
+    /// @p directory exists and cannot be listed.
     static std::vector<std::string>
-    existing_files(const std::string &directory, const unsigned int state);
+    existing_files(const std::string &directory);
 
     /// Where and under which name files are written.
     std::string directory, basename;
