@@ -14,6 +14,7 @@
 #include <cerrno>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 namespace ddfem::report
 {
@@ -310,9 +311,17 @@ namespace ddfem::report
       basename + "-" + Utilities::int_to_string(step, 4) + ".vtu";
     write_vtu_file(data_out, directory + "/" + name);
     records.emplace_back(t, name);
-    const std::string pvd_file = directory + "/" + basename + ".pvd";
+    // deal.II stamps the record with the date and time, which has no
+    // flag to turn it off: the line is dropped, so that two runs of the
+    // same input write the same bytes.
+    std::ostringstream record;
+    DataOutBase::write_pvd_record(record, records);
+    std::istringstream lines(record.str());
+    const std::string  pvd_file = directory + "/" + basename + ".pvd";
     std::ofstream pvd = open_for_writing(pvd_file, "Output/Output directory");
-    DataOutBase::write_pvd_record(pvd, records);
+    for (std::string line; std::getline(lines, line);)
+      if (line.rfind("#This file was generated", 0) != 0)
+        pvd << line << '\n';
     close_written(pvd, pvd_file, "Output/Output directory");
   }
 } // namespace ddfem::report
