@@ -211,10 +211,16 @@ namespace ddfem::report
   {
     std::vector<std::string> files;
     std::error_code          error;
-    for (const auto &entry : std::filesystem::directory_iterator(dir, error))
-      if (is_vtu_file(entry.path().filename().string()))
-        files.push_back(entry.path().string());
-    AssertThrow(!error || !std::filesystem::exists(dir),
+    // Not a directory (missing, or a file in the way, which
+    // check_creatable() finds where this run writes): no earlier files.
+    if (!std::filesystem::is_directory(dir, error))
+      return files;
+    for (std::filesystem::directory_iterator entry(dir, error), end;
+         !error && entry != end;
+         entry.increment(error))
+      if (is_vtu_file(entry->path().filename().string()))
+        files.push_back(entry->path().string());
+    AssertThrow(!error,
                 ExcMessage("Cannot list the directory '" + dir +
                            "' (Output/Output directory) for the VTU files "
                            "of an earlier run: " +

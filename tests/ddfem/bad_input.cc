@@ -668,7 +668,7 @@ end
                        compare_naive,
                        {"naive-L2/solution.pvd",
                         "ddfem-L1/edit-1-0002.vtu",
-                        "fine/solution-0001.vtu"});
+                        "fine/edit-2-0001.vtu"});
   // Level 2 of a lazily built database needs a grid divisible by 4: an
   // error before anything is fitted, so that no build journal is left to
   // stand in the way of the next build.

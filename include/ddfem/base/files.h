@@ -113,10 +113,12 @@ namespace ddfem
    * Throws ExcMessage naming @p file and the parameter @p where its
    * directory comes from if the file could not be written: something
    * other than a regular file is in the way (a directory of that name), it
-   * cannot be opened for writing, or it exists in a directory that does
-   * not let remove_earlier() remove it. Leaves an existing file as it is and
-   * creates none (a missing directory is check_creatable()'s to check):
-   * for checks before a long run.
+   * exists in a directory that does not let remove_earlier() remove it (a
+   * regular file there is removed before it is written, so its own
+   * permissions do not matter), or it does not exist and cannot be
+   * created. Leaves an existing file as it is and creates none (a missing
+   * directory is check_creatable()'s to check): for checks before a long
+   * run.
    */
   inline void
   check_writable(const std::string &file, const std::string &where)
@@ -143,9 +145,10 @@ namespace ddfem
                                       "directory" :
                                       "file that is not a regular file") +
                                    " of that name is in the way."));
-    const bool ok = static_cast<bool>(std::ofstream(file, std::ios::app));
-    if (!existed)
-      std::filesystem::remove(path, error);
+    if (existed)
+      return;
+    const bool ok = static_cast<bool>(std::ofstream(file));
+    std::filesystem::remove(path, error);
     AssertThrow(ok,
                 dealii::ExcMessage("Cannot write \"" + file + "\" (" + where +
                                    ")."));
