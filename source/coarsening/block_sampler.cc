@@ -202,19 +202,55 @@ namespace ddfem::coarsening
       }
     n_components = group_dofs.size();
 
-    // Six rigid modes per group, orthonormalized (Gram-Schmidt).
-    const Point<3> center(0.5, 0.5, 0.5);
-    constraints.reinit(6 * n_components, dof_handler.n_dofs());
-    for (unsigned int g = 0; g < n_components; ++g)
+    // The zero-energy modes of the block at rest: the motions that are
+    // rigid on every group and agree on the nodes groups share, the six
+    // rigid ones plus a hinge's relative rotations. They are the null space
+    // of the mismatch C a between the groups' rigid modes a at the shared
+    // degrees of freedom, found from the Gram matrix C^T C, whose entries
+    // are geometric and O(1): its zero eigenvalues are far from the others.
+    const Point<3>                     center(0.5, 0.5, 0.5);
+    const unsigned int                 n_parameters = 6 * n_components;
+    std::vector<int>                   first_group(dof_handler.n_dofs(), -1);
+    std::vector<std::array<double, 6>> rigid_modes;
+    LAPACKFullMatrix<double>           mismatch(n_parameters);
+    for (unsigned int i = 0; i < dof_handler.n_dofs(); ++i)
+      {
+        rigid_modes.push_back(
+          solver::rigid_body_modes(support_points[i] - center,
+                                   dof_component[i]));
+        const std::array<double, 6> &modes = rigid_modes.back();
+        for (unsigned int g = 0; g < n_components; ++g)
+          if (group_dofs[g][i])
+            {
+              if (first_group[i] < 0)
+                {
+                  first_group[i] = g;
+                  continue;
+                }
+              const unsigned int f = first_group[i];
+              for (unsigned int a = 0; a < 6; ++a)
+                for (unsigned int b = 0; b < 6; ++b)
+                  {
+                    const double m = modes[a] * modes[b];
+                    mismatch(6 * f + a, 6 * f + b) += m;
+                    mismatch(6 * g + a, 6 * g + b) += m;
+                    mismatch(6 * f + a, 6 * g + b) -= m;
+                    mismatch(6 * g + a, 6 * f + b) -= m;
+                  }
+            }
+      }
+    Vector<double>     eigenvalues;
+    FullMatrix<double> null_space;
+    mismatch.compute_eigenvalues_symmetric(
+      -1., 1e-8, 0., eigenvalues, null_space);
+    Assert(eigenvalues.size() >= 6, ExcInternalError());
+    constraints.reinit(eigenvalues.size(), dof_handler.n_dofs());
+    for (unsigned int r = 0; r < constraints.m(); ++r)
       for (unsigned int i = 0; i < dof_handler.n_dofs(); ++i)
-        if (group_dofs[g][i])
-          {
-            const std::array<double, 6> modes =
-              solver::rigid_body_modes(support_points[i] - center,
-                                       dof_component[i]);
-            for (unsigned int m = 0; m < 6; ++m)
-              constraints(6 * g + m, i) = modes[m];
-          }
+        for (unsigned int m = 0; m < 6; ++m)
+          constraints(r, i) +=
+            rigid_modes[i][m] * null_space(6 * first_group[i] + m, r);
+    // Orthonormalized (Gram-Schmidt).
     for (unsigned int r = 0; r < constraints.m(); ++r)
       {
         for (unsigned int s = 0; s < r; ++s)
@@ -399,7 +435,7 @@ namespace ddfem::coarsening
 
 
   void
-  BlockSampler::project_out_rigid(Vector<double> &f) const
+  BlockSampler::project_out_zero_energy(Vector<double> &f) const
   {
     for (unsigned int r = 0; r < constraints.m(); ++r)
       {
@@ -489,7 +525,7 @@ namespace ddfem::coarsening
         Vector<double> g = f;
         g -= r;
         Vector<double> projected = g;
-        project_out_rigid(projected);
+        project_out_zero_energy(projected);
         const double residual = projected.l2_norm() / f_norm;
         if (residual <= 1e-9)
           return true;
@@ -511,7 +547,7 @@ namespace ddfem::coarsening
               if (!assemble(v, false, unused_energy, trial_residual, unused))
                 return false;
               trial_residual.sadd(-1., 1., f);
-              project_out_rigid(trial_residual);
+              project_out_zero_energy(trial_residual);
               norm = trial_residual.l2_norm();
               return true;
             };
@@ -808,7 +844,7 @@ namespace ddfem::coarsening
         sigma += settings.traction_gradient * (2 * x[d] - 1) * gradient[d];
       return sigma;
     });
-    project_out_rigid(f);
+    project_out_zero_energy(f);
     f /= f.l2_norm();
     const Vector<double> linear   = constrained_solve(initial_saddle, f);
     const double         strain_1 = linearized_strain(linear);
@@ -941,7 +977,7 @@ namespace ddfem::coarsening
         const Tensor<1, 3> d = sphere_direction(s, n_d);
         Vector<double>     f = boundary_forces(
           [&d](const Point<3> &) { return outer_product(d, d); });
-        project_out_rigid(f);
+        project_out_zero_energy(f);
         Vector<double> u = constrained_solve(initial_saddle, f);
         u *= 0.01 / linearized_strain(u);
         element.deformation_gradients(corners(u), F);

@@ -98,11 +98,13 @@ namespace ddfem::coarsening
    * for level-1 metamaterials (8 fitted records). Both are sampled by the
    * same code.
    *
-   * Rigid motion is removed by six linear constraints per face-connected
-   * group of children (Lagrange multipliers): children that touch only at
-   * an edge or a corner form a mechanism, and constraining each group
-   * keeps the hinge motion out of the samples instead of letting it
-   * become singular.
+   * The zero-energy modes of the block at rest are removed by linear
+   * constraints (Lagrange multipliers): the six rigid motions and, where
+   * children touch only at an edge or a corner (a mechanism), the hinge's
+   * relative rotations. The force patterns are projected on their
+   * complement, so they may pull or push one face-connected group of
+   * children against another through the nodes they share, and the hinge
+   * carries load in the samples; its free rotation is kept out of them.
    *
    * All sampling functions are const and thread safe.
    */
@@ -133,6 +135,14 @@ namespace ddfem::coarsening
     n_groups() const
     {
       return n_components;
+    }
+
+    /// Number of zero-energy modes at rest, the constraints: 6, plus 1 per
+    /// hinge along an edge and 3 per hinge at a corner.
+    unsigned int
+    n_zero_energy_modes() const
+    {
+      return constraints.m();
     }
 
     /**
@@ -278,7 +288,7 @@ namespace ddfem::coarsening
 
     /// @p f minus its component along the constraint rows.
     void
-    project_out_rigid(Vector<double> &f) const;
+    project_out_zero_energy(Vector<double> &f) const;
 
     /// The stiffest direction per point of the free block under uniaxial
     /// stress (see anisotropy_directions()).
@@ -340,7 +350,7 @@ namespace ddfem::coarsening
     /// The x/y/z degrees of freedom of every node.
     std::vector<std::array<types::global_dof_index, 3>> node_dofs;
     unsigned int                                        n_components = 0;
-    /// Constraint rows G (6 per group), orthonormalized.
+    /// Constraint rows G (the zero-energy modes at rest), orthonormalized.
     FullMatrix<double> constraints;
     /// Per corner, its x/y/z dofs or none (void corner).
     std::array<std::array<int, 3>, 8> corner_dofs;
