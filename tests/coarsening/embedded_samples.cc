@@ -228,7 +228,8 @@ main()
       {
         double e;
         element.energy(s.corners, naive(children), e);
-        above += (s.energy > e * (1 + 1e-12));
+        // Not at or below it counts too: a NaN energy is a failure.
+        above += !(s.energy <= e * (1 + 1e-12));
       }
     std::cout << "samples: " << samples.size() << ", dropped: " << dropped
               << ", above the naive element's energy: " << above << std::endl;

@@ -2,7 +2,8 @@
 // database take turns: while another process holds the lock, a second one
 // says that it waits and waits until the holder releases it or is killed.
 // The database runs (Run type = database, and a ddfem simulation fitting
-// lazily) wait for the lock before they read the file. Locking a path twice
+// lazily) wait for the lock before they read the file: they find the entry
+// the holder saved just before it released the lock. Locking a path twice
 // in one process, and a lock file that cannot be created, are errors naming
 // the parameter.
 
@@ -45,9 +46,11 @@ namespace
   };
 
   /// A child process that holds the lock on @p path until it reads a byte
-  /// from the returned pipe (or is killed); returns once it holds it.
+  /// from the returned pipe (or is killed); returns once it holds it. If
+  /// @p publish is given, the child copies that file to db.h5 before it
+  /// releases the lock, as a build that saves its entries does.
   std::pair<pid_t, int>
-  holder(const std::string &path)
+  holder(const std::string &path, const std::string &publish = "")
   {
     int ready[2], go[2];
     AssertThrow(pipe(ready) == 0 && pipe(go) == 0, dealii::ExcInternalError());
@@ -62,6 +65,11 @@ namespace
           const ddfem::FileLock lock(path, "Database/File", quiet);
           if (write(ready[1], &byte, 1) != 1 || read(go[0], &byte, 1) != 1)
             _exit(1);
+          if (!publish.empty())
+            std::filesystem::copy_file(
+              publish,
+              "db.h5",
+              std::filesystem::copy_options::overwrite_existing);
         }
         _exit(0);
       }
@@ -150,6 +158,17 @@ namespace
     };
   }
 
+  /// The line of @p text that says how many entries the database holds
+  /// and how many are to be fitted.
+  std::string
+  entries_line(const std::string &text)
+  {
+    const std::size_t start = text.find("Metamaterial database");
+    return start == std::string::npos ?
+             "(no such line)" :
+             text.substr(start, text.find('\n', start) - start);
+  }
+
   /// The last line of @p text.
   std::string
   last_line(const std::string &text)
@@ -184,23 +203,32 @@ main(int argc, char **argv)
   }
 
   // The runs that read and write the database hold its lock from before
-  // they read it until their new entries are saved.
+  // they read it until their new entries are saved. The holders below save
+  // the cantilever's entry into db.h5 just before they release the lock: a
+  // run that read the file before it held the lock would find no entry
+  // and fit it again.
   std::filesystem::remove("db.h5");
+  {
+    std::ostringstream quiet;
+    ddfem_run("prepare", "set Run type = database\n")(quiet);
+    std::filesystem::rename("db.h5", "prepared.h5");
+  }
   std::cout << "Run type = database while another process holds the lock:"
             << std::endl;
   {
-    const auto [child, go] = holder(path);
+    const auto [child, go] = holder(path, "prepared.h5");
     const std::string message =
       while_locked(ddfem_run("database_run", "set Run type = database\n"),
                    release(child, go));
-    std::cout << "  " << last_line(message) << std::endl;
+    std::cout << "  " << entries_line(message) << "\n  " << last_line(message)
+              << std::endl;
   }
   std::cout << "Method = ddfem (lazy fits) while another process holds the "
                "lock:"
             << std::endl;
   std::filesystem::remove("db.h5");
   {
-    const auto [child, go] = holder(path);
+    const auto [child, go] = holder(path, "prepared.h5");
     // A simulation needs MPI (its linear algebra); no process is forked
     // after this.
     const dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
@@ -208,7 +236,8 @@ main(int argc, char **argv)
       while_locked(ddfem_run("ddfem_run",
                              "set Method = ddfem\nset Coarsening levels = 1\n"),
                    release(child, go));
-    std::cout << "  " << last_line(message) << std::endl;
+    std::cout << "  " << entries_line(message) << "\n  " << last_line(message)
+              << std::endl;
   }
 
   const auto error = [](const std::function<void()> &f) {

@@ -51,10 +51,13 @@ namespace
       {
         std::ifstream        file(name + "/summary.json");
         const nlohmann::json summary = nlohmann::json::parse(file);
+        const auto          &time    = summary.at("coarsening_time_s");
         std::cout << "  summary.json: coarsening_time_s is "
-                  << (summary.at("coarsening_time_s").is_number() ?
-                        "a number" :
-                        "not a number")
+                  << (time.is_number() && time.get<double>() >= 0 &&
+                          time.get<double>() <
+                            summary.at("wall_time_s").get<double>() ?
+                        "a number from 0 to the wall time" :
+                        "not a number from 0 to the wall time")
                   << std::endl;
       }
   }

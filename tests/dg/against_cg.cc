@@ -10,6 +10,7 @@
 #include <ddfem/app/application.h>
 
 #include <fstream>
+#include <iomanip>
 
 #include "../tests.h"
 
@@ -61,6 +62,11 @@ main(int argc, char **argv)
                   "--set",
                   "Nonlinear solver/Load steps=1"});
       std::cout << prm << ":" << std::endl;
+      for (unsigned int p = 0; p < dg.size(); ++p)
+        std::cout << "  probe " << p + 1
+                  << ": u_z(DG Q2) = " << std::setprecision(4) << dg[p]
+                  << " m, u_z(CG Q2) = " << cg[p] << " m, ratio "
+                  << dg[p] / cg[p] << std::setprecision(6) << std::endl;
       for (unsigned int p = 0; p < dg.size(); ++p)
         testing::check_below("  probe " + std::to_string(p + 1) +
                                ", |u_z(DG Q2) / u_z(CG Q2) - 1|",
