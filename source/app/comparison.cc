@@ -453,19 +453,20 @@ namespace ddfem::app
                                             "error_vs_time.dat",
                                             "error_vs_time.gnuplot",
                                             "error_vs_time.png"};
-    // Every model directory a compare run may write, also of the models
-    // skipped or not compared: their VTU files of an earlier run would be
+    // Every directory of VTU files a compare run may write, also of the
+    // models skipped or not compared, and the output directory, where a
+    // simulation writes them: the VTU files of an earlier run would be
     // taken for this run's.
-    std::vector<std::string> model_directories;
+    std::vector<std::string> vtu_directories = {directory};
     for (const Configuration &config : configurations)
       if (config.level == 0)
-        model_directories.push_back(
+        vtu_directories.push_back(
           model_directory(directory, config.name, config.level));
     for (const auto method : {coarsening::CoarseningMethod::ddfem,
                               coarsening::CoarseningMethod::naive,
                               coarsening::CoarseningMethod::average})
       for (const unsigned int level : {1u, 2u})
-        model_directories.push_back(
+        vtu_directories.push_back(
           model_directory(directory, coarsening::to_string(method), level));
     check_writable_in(directory, files, "Output/Output directory");
     for (const Configuration &config : configurations)
@@ -476,7 +477,7 @@ namespace ddfem::app
           check_creatable(d, "Output/Output directory");
         vtu.check_writable(d, scene.n_edits() + 1);
       }
-    for (const std::string &d : model_directories)
+    for (const std::string &d : vtu_directories)
       vtu.check_writable(d, 0);
 
     // The database, completed lazily for this scene's blocks in every
@@ -519,7 +520,7 @@ namespace ddfem::app
     // next to them if this one fails.
     create_directories(directory, "Output/Output directory");
     remove_earlier_in(directory, files, "Output/Output directory");
-    for (const std::string &d : model_directories)
+    for (const std::string &d : vtu_directories)
       report::VtuWriter::remove_earlier(d);
     for (unsigned int state = 0; state <= scene.n_edits(); ++state)
       {

@@ -662,11 +662,13 @@ end
                             "comparison.csv",
                             cantilever,
                             compare_naive);
-  // A compare run removes the VTU files of models it does not compare too.
+  // A compare run removes the VTU files of models it does not compare too,
+  // and those of a simulation in its output directory.
   run_with_earlier_vtu("stale_vtu_compare",
                        cantilever,
                        compare_naive,
-                       {"naive-L2/solution.pvd",
+                       {"solution.pvd",
+                        "naive-L2/solution.pvd",
                         "ddfem-L1/edit-1-0002.vtu",
                         "fine/edit-2-0001.vtu"});
   // Level 2 of a lazily built database needs a grid divisible by 4: an
