@@ -22,6 +22,7 @@
 #include <iomanip>
 #include <iostream>
 #include <limits>
+#include <map>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -196,6 +197,27 @@ namespace ddfem::testing
     std::ifstream      file(name + "/comparison.json");
     return {status,
             file ? nlohmann::json::parse(file) : nlohmann::json(nullptr)};
+  }
+
+  /**
+   * The mean vertex errors of the level-@p level models of the
+   * comparison.json @p json, by method; @p converged says whether every
+   * model of the run converged.
+   */
+  inline std::map<std::string, double>
+  level_errors(const nlohmann::json &json,
+               const unsigned int    level,
+               bool                 &converged)
+  {
+    std::map<std::string, double> error;
+    converged = true;
+    for (const auto &run : json.at("runs"))
+      {
+        converged &= run.at("converged").get<bool>();
+        if (run.at("level") == level)
+          error[run.at("method")] = run.at("mean_vertex_error");
+      }
+    return error;
   }
 
   /**

@@ -15,7 +15,6 @@
 
 #include <filesystem>
 #include <fstream>
-#include <map>
 #include <set>
 
 #include "../tests.h"
@@ -94,14 +93,8 @@ main(int argc, char **argv)
       "  set File = lattice.h5\n"
       "end\n",
     "lattice");
-  std::map<std::string, double> error;
-  bool                          converged = true;
-  for (const auto &run : json.at("runs"))
-    {
-      converged &= run.at("converged").get<bool>();
-      if (run.at("level") == 1)
-        error[run.at("method")] = run.at("mean_vertex_error");
-    }
+  bool       converged;
+  const auto error = ddfem::testing::level_errors(json, 1, converged);
   std::cout << "exit status " << status
             << ", every model converged: " << std::boolalpha << converged
             << std::endl;

@@ -65,14 +65,8 @@ main(int argc, char **argv)
             "  end\n"
             "end\n",
           directory);
-        std::map<std::string, double> error;
-        bool                          converged = true;
-        for (const auto &run : json.at("runs"))
-          {
-            converged &= run.at("converged").get<bool>();
-            if (run.at("level") == 1)
-              error[run.at("method")] = run.at("mean_vertex_error");
-          }
+        bool       converged;
+        const auto error = ddfem::testing::level_errors(json, 1, converged);
         std::cout << "layers normal to " << axis << label << ": exit status "
                   << status << ", every model converged: " << std::boolalpha
                   << converged << std::endl;
