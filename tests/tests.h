@@ -200,6 +200,20 @@ namespace ddfem::testing
   }
 
   /**
+   * The Comparison subsection of a compare run of ddfem and naive at level
+   * 1 against the fine model, without the fine direct solver.
+   */
+  inline std::string
+  ddfem_and_naive_level_1()
+  {
+    return "subsection Comparison\n"
+           "  set Methods = ddfem, naive\n"
+           "  set Levels = 1\n"
+           "  set Fine direct solver limit = 0\n"
+           "end\n";
+  }
+
+  /**
    * The mean vertex errors of the level-@p level models of the
    * comparison.json @p json, by method; @p converged says whether every
    * model of the run converged.

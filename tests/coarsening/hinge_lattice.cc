@@ -83,12 +83,8 @@ main(int argc, char **argv)
       "end\n"
       "subsection Nonlinear solver\n"
       "  set Load steps = 10\n"
-      "end\n"
-      "subsection Comparison\n"
-      "  set Methods = ddfem, naive\n"
-      "  set Levels = 1\n"
-      "  set Fine direct solver limit = 0\n"
-      "end\n"
+      "end\n" +
+      ddfem::testing::ddfem_and_naive_level_1() +
       "subsection Database\n"
       "  set File = lattice.h5\n"
       "end\n",

@@ -51,11 +51,7 @@ main(int argc, char **argv)
                                       "4, 16, 4",
                                       "0.04, 0.32, 0.04") +
             ddfem::testing::layers("0.02", axis, palette, ids) +
-            "subsection Comparison\n"
-            "  set Methods = ddfem, naive\n"
-            "  set Levels = 1\n"
-            "  set Fine direct solver limit = 0\n"
-            "end\n"
+            ddfem::testing::ddfem_and_naive_level_1() +
             "subsection Database\n"
             "  set File = " +
             database +
