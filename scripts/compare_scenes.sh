@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Error against run time on the shipped scenes (doc/coarsening.md): runs
 # 'Run type = compare' on each scene given (default: the nine scenes of the
-# comparison, all of prm/ but bar and default) with the Release build, one
+# comparison, all of prm/ but bar, default and lattice) with the Release build, one
 # after the other, and writes output/compare/<scene>/comparison.{csv,json},
 # error_vs_time.png and VTU. The metamaterials a scene needs are fitted into
 # the database file on its first run (lazy mode); later runs find them there.
