@@ -306,15 +306,12 @@ namespace ddfem::app
 
         // All input is valid. One solve, then the results are written (a
         // corotated iteration that does not converge writes nothing).
-        const std::vector<std::string> files =
-          vtu.enabled() ? std::vector<std::string>{"solution.vtu"} :
-                          std::vector<std::string>();
-        check_output(files);
-        // The continuous models' VTU files of an earlier run are removed:
-        // none of their states is written.
+        // Every VTU file of an earlier run is removed, solution.vtu with
+        // them (a DG run writes no continuous states).
+        check_output({});
         vtu.check_writable(directory, 0);
         const unsigned int solves = solver.solve();
-        prepare_output(prm, files);
+        prepare_output(prm, {});
         report::VtuWriter::remove_earlier(directory);
         if (vtu.enabled())
           solver.write_vtu(directory + "/solution.vtu");

@@ -453,31 +453,34 @@ namespace ddfem::app
                                             "error_vs_time.dat",
                                             "error_vs_time.gnuplot",
                                             "error_vs_time.png"};
-    // Every directory of VTU files a compare run may write, also of the
-    // models skipped or not compared, and the output directory, where a
-    // simulation writes them: the VTU files of an earlier run would be
-    // taken for this run's.
-    std::vector<std::string> vtu_directories = {directory};
+    // The directories of this run's VTU files, one per model, and those
+    // where an earlier run may have left some that would be taken for this
+    // run's: the output directory (a simulation's) and the directories of
+    // the coarse models this run does not compare.
+    std::vector<std::string> model_directories, other_directories = {directory};
     for (const Configuration &config : configurations)
-      if (config.level == 0)
-        vtu_directories.push_back(
-          model_directory(directory, config.name, config.level));
+      model_directories.push_back(
+        model_directory(directory, config.name, config.level));
     for (const auto method : {coarsening::CoarseningMethod::ddfem,
                               coarsening::CoarseningMethod::naive,
                               coarsening::CoarseningMethod::average})
       for (const unsigned int level : {1u, 2u})
-        vtu_directories.push_back(
-          model_directory(directory, coarsening::to_string(method), level));
+        {
+          const std::string d =
+            model_directory(directory, coarsening::to_string(method), level);
+          if (std::find(model_directories.begin(),
+                        model_directories.end(),
+                        d) == model_directories.end())
+            other_directories.push_back(d);
+        }
     check_writable_in(directory, files, "Output/Output directory");
-    for (const Configuration &config : configurations)
+    for (const std::string &d : model_directories)
       {
-        const std::string d =
-          model_directory(directory, config.name, config.level);
         if (vtu.enabled())
           check_creatable(d, "Output/Output directory");
         vtu.check_writable(d, scene.n_edits() + 1);
       }
-    for (const std::string &d : vtu_directories)
+    for (const std::string &d : other_directories)
       vtu.check_writable(d, 0);
 
     // The database, completed lazily for this scene's blocks in every
@@ -520,8 +523,9 @@ namespace ddfem::app
     // next to them if this one fails.
     create_directories(directory, "Output/Output directory");
     remove_earlier_in(directory, files, "Output/Output directory");
-    for (const std::string &d : vtu_directories)
-      report::VtuWriter::remove_earlier(d);
+    for (const auto *list : {&model_directories, &other_directories})
+      for (const std::string &d : *list)
+        report::VtuWriter::remove_earlier(d);
     for (unsigned int state = 0; state <= scene.n_edits(); ++state)
       {
         const std::string state_name =
