@@ -260,23 +260,19 @@ namespace ddfem::app
         create_directories(directory, "Output/Output directory");
         files.push_back("summary.json");
         remove_earlier_in(directory, files, "Output/Output directory");
-        std::ofstream used = open_for_writing(directory + "/parameters.prm",
-                                              "Output/Output directory");
-        prm.print_parameters(used, ParameterHandler::ShortPRM);
-        close_written(used,
-                      directory + "/parameters.prm",
-                      "Output/Output directory");
+        ResultFile used(directory + "/parameters.prm",
+                        "Output/Output directory");
+        prm.print_parameters(used.stream(), ParameterHandler::ShortPRM);
+        used.commit();
       }
 
       /// Writes @p summary as summary.json.
       void
       write_summary(const nlohmann::json &summary) const
       {
-        std::ofstream json(directory + "/summary.json");
-        json << summary.dump(2) << std::endl;
-        close_written(json,
-                      directory + "/summary.json",
-                      "Output/Output directory");
+        ResultFile json(directory + "/summary.json", "Output/Output directory");
+        json.stream() << summary.dump(2) << std::endl;
+        json.commit();
       }
 
       /// The DG method: linear or corotated elasticity, one solve.
@@ -651,15 +647,14 @@ namespace ddfem::app
       // parameters.prm keeps it should the run fail.
       const std::string used = output.directory + "/parameters.prm";
       check_writable(used, "Output/Output directory");
-      const int     status = comparison.run(scene,
+      const int  status = comparison.run(scene,
                                         scene_name_of(prm, prm_file),
                                         output.directory,
                                         output.screen_timings,
                                         out);
-      std::ofstream parameters =
-        open_for_writing(used, "Output/Output directory");
-      prm.print_parameters(parameters, ParameterHandler::ShortPRM);
-      close_written(parameters, used, "Output/Output directory");
+      ResultFile parameters(used, "Output/Output directory");
+      prm.print_parameters(parameters.stream(), ParameterHandler::ShortPRM);
+      parameters.commit();
       if (status != 0)
         err << "Error: a model of the comparison did not converge (NOT "
                "CONVERGED in the table); its errors and times are not "

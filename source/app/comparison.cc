@@ -156,7 +156,8 @@ namespace ddfem::app
     void
     write_csv(const std::vector<Row> &rows, const std::string &file)
     {
-      std::ofstream csv(file);
+      ResultFile    result(file, "Output/Output directory");
+      std::ostream &csv = result.stream();
       csv << "state,method,level,grid,cells,dofs,newton_iterations,"
              "time_per_iteration_s,wall_time_s,coarsening_time_s,"
              "speedup_vs_fine,speedup_vs_fine_direct,mean_vertex_error,"
@@ -196,7 +197,7 @@ namespace ddfem::app
           csv << ',' << r.linear_solver << ','
               << (r.result.statistics.converged ? "true" : "false") << '\n';
         }
-      close_written(csv, file, "Output/Output directory");
+      result.commit();
     }
 
     /**
@@ -216,8 +217,12 @@ namespace ddfem::app
       };
       if (std::none_of(rows.begin(), rows.end(), is_marker))
         return;
-      std::ofstream dat(directory + "/error_vs_time.dat");
-      std::ofstream script(directory + "/error_vs_time.gnuplot");
+      ResultFile    dat_file(directory + "/error_vs_time.dat",
+                          "Output/Output directory");
+      ResultFile    script_file(directory + "/error_vs_time.gnuplot",
+                             "Output/Output directory");
+      std::ostream &dat    = dat_file.stream();
+      std::ostream &script = script_file.stream();
       script << "set terminal pngcairo size 900,650\n"
              << "set output 'error_vs_time.png'\n"
              << "set logscale xy\n"
@@ -277,9 +282,7 @@ namespace ddfem::app
                  << "set label '" << r.label() << "' at " << r.result.wall_time
                  << ", graph " << 0.95 - 0.3 * (fine_runs++ % 3)
                  << " rotate by 90 right offset -1,0\n";
-      close_written(dat,
-                    directory + "/error_vs_time.dat",
-                    "Output/Output directory");
+      dat_file.commit();
       // Labelled tics at 1, 2 and 5 times the powers of ten: the errors
       // often span less than a decade, where powers of ten alone would
       // leave one label or none.
@@ -303,10 +306,10 @@ namespace ddfem::app
       for (unsigned int c = 0; c < curves.size(); ++c)
         script << (c == 0 ? "" : ", \\\n     ") << curves[c];
       script << "\n";
-      close_written(script,
-                    directory + "/error_vs_time.gnuplot",
-                    "Output/Output directory");
-      report::run_gnuplot(directory, "error_vs_time.gnuplot");
+      script_file.commit();
+      report::run_gnuplot(directory,
+                          "error_vs_time.gnuplot",
+                          {"error_vs_time.png"});
     }
   } // namespace
 
@@ -678,11 +681,9 @@ namespace ddfem::app
       }
     const double peak_memory = peak_memory_mb();
     json["peak_memory_mb"]   = peak_memory;
-    std::ofstream file(directory + "/comparison.json");
-    file << json.dump(2) << std::endl;
-    close_written(file,
-                  directory + "/comparison.json",
-                  "Output/Output directory");
+    ResultFile file(directory + "/comparison.json", "Output/Output directory");
+    file.stream() << json.dump(2) << std::endl;
+    file.commit();
     write_csv(rows, directory + "/comparison.csv");
     plot(rows, scene_name, directory);
     if (screen_timings)

@@ -28,6 +28,79 @@ namespace ddfem
 
 
 
+  ResultFile::ResultFile(const std::string &file, const std::string &where)
+    : file(file)
+    , where(where)
+    , out(partial_name(file))
+    , committed(false)
+  {
+    AssertThrow(out,
+                dealii::ExcMessage("Cannot write \"" + file + "\" (" + where +
+                                   ")."));
+  }
+
+
+
+  ResultFile::~ResultFile()
+  {
+    if (!committed)
+      {
+        out.close();
+        std::error_code ignored;
+        std::filesystem::remove(partial_name(file), ignored);
+      }
+  }
+
+
+
+  std::ostream &
+  ResultFile::stream()
+  {
+    return out;
+  }
+
+
+
+  void
+  ResultFile::commit()
+  {
+    out.close();
+    std::error_code error;
+    if (out)
+      std::filesystem::rename(partial_name(file), file, error);
+    AssertThrow(out && !error,
+                dealii::ExcMessage(
+                  "Cannot write \"" + file + "\" (" + where + ")" +
+                  (error ? ": " + error.message() : std::string()) + "."));
+    committed = true;
+  }
+
+
+
+  std::string
+  ResultFile::partial_name(const std::string &file)
+  {
+    return file + ".partial";
+  }
+
+
+
+  void
+  remove_earlier(const std::string &file, const std::string &where)
+  {
+    for (const std::string &name : {file, ResultFile::partial_name(file)})
+      {
+        std::error_code error;
+        std::filesystem::remove(name, error);
+        AssertThrow(!error,
+                    dealii::ExcMessage("Cannot remove \"" + name +
+                                       "\", a result of an earlier run (" +
+                                       where + "): " + error.message() + "."));
+      }
+  }
+
+
+
   FileLock::FileLock(const std::string &path,
                      const std::string &where,
                      std::ostream      &out)

@@ -541,10 +541,9 @@ namespace ddfem::dg
           std::make_pair("dg_convergence.csv", csv.str()),
           std::make_pair("dg_convergence.dat", dat.str())})
       {
-        std::ofstream file(directory + "/" + name);
-        file << content;
-        // Flushed before gnuplot reads it.
-        close_written(file, directory + "/" + name, "Output/Output directory");
+        ResultFile file(directory + "/" + name, "Output/Output directory");
+        file.stream() << content;
+        file.commit();
       }
     plot(directory, blocks);
   }
@@ -558,16 +557,19 @@ namespace ddfem::dg
     // One figure per problem: errors (L2 solid, H1 dashed) and condition
     // number estimates against the number of cells, log-log, as the
     // paper's fig. 4.
-    std::ofstream script(directory + "/dg_convergence.gnuplot");
+    ResultFile    file(directory + "/dg_convergence.gnuplot",
+                    "Output/Output directory");
+    std::ostream &script = file.stream();
     script << "set logscale xy\nset format y '10^{%L}'\nset key outside\n"
            << "set xlabel 'cells'\n";
-    std::vector<std::string> problems;
+    std::vector<std::string> problems, images;
     for (const Block &block : blocks)
       if (std::find(problems.begin(), problems.end(), block.problem) ==
           problems.end())
         problems.push_back(block.problem);
     for (const std::string &problem : problems)
       {
+        images.push_back(plot_file(problem));
         // Panels: y label and the data columns drawn in it.
         std::vector<std::pair<std::string, std::string>> panels = {
           {"error", "34"}};
@@ -575,9 +577,8 @@ namespace ddfem::dg
               return b.problem == problem && b.has_condition;
             }))
           panels.emplace_back("condition number estimate", "5");
-        const std::string file = plot_file(problem);
         script << "set terminal pngcairo size " << 750 * panels.size()
-               << ",500\nset output '" << file << "'\n"
+               << ",500\nset output '" << images.back() << "'\n"
                << "set multiplot layout 1," << panels.size() << " title '"
                << problem << "'\n";
         for (const auto &[ylabel, columns] : panels)
@@ -611,8 +612,8 @@ namespace ddfem::dg
           }
         script << "unset multiplot\n";
       }
-    script.close();
-    report::run_gnuplot(directory, "dg_convergence.gnuplot");
+    file.commit();
+    report::run_gnuplot(directory, "dg_convergence.gnuplot", images);
   }
 
 
@@ -719,9 +720,9 @@ namespace ddfem::dg
       }
     out << (timings ? file.str() : screen.str());
     create_directories(directory, "Output/Output directory");
-    std::ofstream text(directory + "/dg_cost.txt");
-    text << file.str();
-    close_written(text, directory + "/dg_cost.txt", "Output/Output directory");
+    ResultFile text(directory + "/dg_cost.txt", "Output/Output directory");
+    text.stream() << file.str();
+    text.commit();
   }
 
 

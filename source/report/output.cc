@@ -76,13 +76,15 @@ namespace ddfem::report
 
 
   void
-  run_gnuplot(const std::string &directory, const std::string &script)
+  run_gnuplot(const std::string              &directory,
+              const std::string              &script,
+              const std::vector<std::string> &images)
   {
-    AssertThrow(gnuplot_succeeds(directory,
-                                 script,
-                                 false,
-                                 "to draw \"" + directory + "/" + script +
-                                   "\""),
+    const bool drawn = gnuplot_succeeds(
+      directory, script, false, "to draw \"" + directory + "/" + script + "\"");
+    if (!drawn)
+      remove_earlier_in(directory, images, "Output/Output directory");
+    AssertThrow(drawn,
                 ExcMessage("gnuplot failed on \"" + directory + "/" + script +
                            "\" (its message is above)."));
   }
@@ -184,11 +186,19 @@ namespace ddfem::report
              (name.rfind("edit-", 0) == 0 && is_number(name.substr(5)));
     }
 
-    /// Whether @p file is NAME.pvd, NAME.vtu or NAME-<digits>.vtu of a
-    /// scene state NAME: any number of steps (cut increments add steps).
+    /// Whether @p name is NAME.pvd, NAME.vtu or NAME-<digits>.vtu of a
+    /// scene state NAME (any number of steps: cut increments add steps),
+    /// or the temporary file of one that a killed run left.
     bool
-    is_vtu_file(const std::string &file)
+    is_vtu_file(const std::string &name)
     {
+      const std::string partial = ResultFile::partial_name("");
+      const std::string file    = name.size() > partial.size() &&
+                                   name.compare(name.size() - partial.size(),
+                                                partial.size(),
+                                                partial) == 0 ?
+                                    name.substr(0, name.size() - partial.size()) :
+                                    name;
       if (file.size() < 4)
         return false;
       const std::string stem      = file.substr(0, file.size() - 4),
@@ -283,10 +293,10 @@ namespace ddfem::report
     flags.print_date_and_time = false;
     data_out.set_flags(flags);
     // deal.II's writers throw a generic ExcIO on a stream that did not
-    // open, so the file is checked first.
-    std::ofstream out = open_for_writing(file, "Output/Output directory");
-    data_out.write_vtu(out);
-    close_written(out, file, "Output/Output directory");
+    // open, which ResultFile checks first.
+    ResultFile out(file, "Output/Output directory");
+    data_out.write_vtu(out.stream());
+    out.commit();
   }
 
 
@@ -324,10 +334,10 @@ namespace ddfem::report
     DataOutBase::write_pvd_record(record, records);
     std::istringstream lines(record.str());
     const std::string  pvd_file = directory + "/" + basename + ".pvd";
-    std::ofstream pvd = open_for_writing(pvd_file, "Output/Output directory");
+    ResultFile         pvd(pvd_file, "Output/Output directory");
     for (std::string line; std::getline(lines, line);)
       if (line.rfind("#This file was generated", 0) != 0)
-        pvd << line << '\n';
-    close_written(pvd, pvd_file, "Output/Output directory");
+        pvd.stream() << line << '\n';
+    pvd.commit();
   }
 } // namespace ddfem::report

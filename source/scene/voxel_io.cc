@@ -443,12 +443,9 @@ namespace ddfem::scene
   void
   write_voxel_file(const std::string &filename, const VoxelGrid &grid)
   {
-    std::ofstream out(filename);
-    AssertThrow(out,
-                ExcMessage("Voxel file \"" + filename +
-                           "\": cannot be opened for writing."));
-
-    const auto &n = grid.size();
+    ResultFile    file(filename, "voxel file");
+    std::ostream &out = file.stream();
+    const auto   &n   = grid.size();
     out << "# ddfem voxel file: nx ny nz, then material ids (i fastest, "
            "then j, then k)\n"
         << n[0] << ' ' << n[1] << ' ' << n[2] << '\n';
@@ -460,10 +457,7 @@ namespace ddfem::scene
                 << static_cast<unsigned int>(grid(i, j, k));
           out << '\n';
         }
-
-    out.close();
-    AssertThrow(!out.fail(),
-                ExcMessage("Voxel file \"" + filename + "\": writing failed."));
+    file.commit();
   }
 
 

@@ -1,9 +1,11 @@
 // VTU output of a fine run with Write VTU = every step: a VTU file per load
 // step and a .pvd record that lists them in order, and two runs of the same
 // input write the same bytes. deal.II puts the date and time into a VTU
-// header unless its flags say otherwise, and always into a .pvd record.
+// header unless its flags say otherwise, and always into a .pvd record. A
+// run removes the temporary files a killed run left.
 
 #include <ddfem/app/application.h>
+#include <ddfem/base/files.h>
 
 #include <filesystem>
 #include <fstream>
@@ -33,6 +35,15 @@ main(int argc, char **argv)
   for (const std::string run : {"first", "second"})
     {
       std::filesystem::remove_all(run);
+      // The second run finds the temporary files of a run killed while
+      // it wrote its results, and removes them.
+      if (run == "second")
+        {
+          std::filesystem::create_directory(run);
+          for (const std::string file :
+               {"solution-0002.vtu", "solution-0009.vtu", "summary.json"})
+            std::ofstream(ResultFile::partial_name(run + "/" + file)) << "half";
+        }
       std::ofstream(run + ".prm")
         << testing::cantilever("2, 4, 2", "0; 0; -100")
         << "subsection Nonlinear solver\n  set Load steps = 3\nend\n"
@@ -46,12 +57,16 @@ main(int argc, char **argv)
     }
 
   std::set<std::string> files;
-  for (const auto &entry : std::filesystem::directory_iterator("first"))
-    files.insert(entry.path().filename().string());
-  std::cout << "files:";
-  for (const std::string &file : files)
-    std::cout << ' ' << file;
-  std::cout << std::endl;
+  for (const std::string run : {"first", "second"})
+    {
+      files.clear();
+      for (const auto &entry : std::filesystem::directory_iterator(run))
+        files.insert(entry.path().filename().string());
+      std::cout << run << " run's files:";
+      for (const std::string &file : files)
+        std::cout << ' ' << file;
+      std::cout << std::endl;
+    }
 
   for (const std::string &file : files)
     {

@@ -46,36 +46,60 @@ namespace ddfem
   }
 
   /**
-   * Opens @p file for writing. Throws ExcMessage naming @p file and the
-   * parameter @p where its directory comes from if it cannot be opened (a
-   * directory of that name in the way, no permission), before anything is
-   * written to it.
+   * A result file written in one piece. stream() writes to a temporary
+   * file next to @p file (partial_name()), and commit() renames it to
+   * @p file once everything is written, so that a run that fails or is
+   * killed while writing never leaves a truncated result under the
+   * result's name. An uncommitted temporary is removed by the destructor;
+   * one left by a killed run, by the next run's remove_earlier().
    */
-  inline std::ofstream
-  open_for_writing(const std::string &file, const std::string &where)
+  class ResultFile
   {
-    std::ofstream stream(file);
-    AssertThrow(stream,
-                dealii::ExcMessage("Cannot write \"" + file + "\" (" + where +
-                                   ")."));
-    return stream;
-  }
+  public:
+    /**
+     * Opens the temporary file of @p file. Throws ExcMessage naming
+     * @p file and the parameter @p where its directory comes from if it
+     * cannot be opened (no directory, no permission), before anything is
+     * written.
+     */
+    ResultFile(const std::string &file, const std::string &where);
 
-  /**
-   * Closes @p stream, which wrote @p file, and throws ExcMessage naming
-   * @p file and the parameter @p where its directory comes from if a write
-   * failed (a full disk shows only once the buffer is written).
-   */
-  inline void
-  close_written(std::ofstream     &stream,
-                const std::string &file,
-                const std::string &where)
-  {
-    stream.close();
-    AssertThrow(stream,
-                dealii::ExcMessage("Cannot write \"" + file + "\" (" + where +
-                                   ")."));
-  }
+    /// Removes the temporary file unless commit() renamed it.
+    ~ResultFile();
+
+    /// Not copyable: it owns the temporary file.
+    ResultFile(const ResultFile &) = delete;
+    /// Not copyable.
+    ResultFile &
+    operator=(const ResultFile &) = delete;
+
+    /// The stream that writes the temporary file.
+    std::ostream &
+    stream();
+
+    /**
+     * Closes the temporary file and renames it to the result's name.
+     * Throws ExcMessage naming the file and the parameter if a write
+     * failed (a full disk shows only once the buffer is written) or the
+     * rename did; the temporary is then removed and no result written.
+     */
+    void
+    commit();
+
+    /// The name of the temporary file of @p file: "<file>.partial".
+    static std::string
+    partial_name(const std::string &file);
+
+  private:
+    /// The result's name.
+    std::string file;
+    /// The parameter its directory comes from, named in errors.
+    std::string where;
+    /// The temporary file's stream.
+    std::ofstream out;
+    /// Whether commit() renamed the temporary file.
+    bool committed;
+  };
 
   /**
    * Throws like create_directories() if the directory @p path could not be
@@ -155,22 +179,14 @@ namespace ddfem
   }
 
   /**
-   * Removes the file @p file, left by an earlier run, if it exists, so
-   * that a run that fails after writing some of its results leaves no
-   * earlier result next to them. Throws ExcMessage naming @p file and the
-   * parameter @p where its directory comes from if it exists and cannot be
-   * removed.
+   * Removes the file @p file, left by an earlier run, and the temporary
+   * file of a ResultFile of that name, where they exist, so that a run
+   * that fails after writing some of its results leaves no earlier result
+   * next to them. Throws ExcMessage naming the file and the parameter
+   * @p where its directory comes from if one exists and cannot be removed.
    */
-  inline void
-  remove_earlier(const std::string &file, const std::string &where)
-  {
-    std::error_code error;
-    std::filesystem::remove(file, error);
-    AssertThrow(!error,
-                dealii::ExcMessage("Cannot remove \"" + file +
-                                   "\", a result of an earlier run (" + where +
-                                   "): " + error.message() + "."));
-  }
+  void
+  remove_earlier(const std::string &file, const std::string &where);
 
   /**
    * check_creatable() of @p directory and check_writable() of each of

@@ -19,11 +19,14 @@ namespace ddfem::report
   /**
    * Runs gnuplot on the script @p script in @p directory (where the script
    * reads and writes its files), without a shell. Throws ExcMessage naming
-   * the script if gnuplot fails, and the Debian package if it cannot be
-   * started.
+   * the script if gnuplot fails, after removing the @p images it draws
+   * (names in @p directory), which it may have left half written; and
+   * naming the Debian package if it cannot be started.
    */
   void
-  run_gnuplot(const std::string &directory, const std::string &script);
+  run_gnuplot(const std::string              &directory,
+              const std::string              &script,
+              const std::vector<std::string> &images);
 
   /**
    * Throws ExcMessage naming the Debian package unless gnuplot starts and

@@ -32,7 +32,8 @@ namespace ddfem::scene
                   VoxelGrid         &grid);
 
   /**
-   * Writes @p grid in the format read_voxel_file() reads.
+   * Writes @p grid in the format read_voxel_file() reads, in one piece
+   * (ResultFile). Throws ExcMessage naming the file if it cannot.
    */
   void
   write_voxel_file(const std::string &filename, const VoxelGrid &grid);
