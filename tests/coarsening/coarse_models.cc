@@ -449,8 +449,10 @@ namespace
               const auto changed = scene.apply_edit(e);
               std::cout << " "
                         << coarsener->recoarsen(scene.grid, changed, model);
+              // From scratch by a coarsener of its own, so that no state
+              // of the one that re-coarsens can hide a difference.
               solver::Discretization fresh(scene, 1, level);
-              coarsener->coarsen(scene.grid, fresh);
+              edited.coarsener(method, level)->coarsen(scene.grid, fresh);
               for (std::size_t p = 0; p < fresh.material_points.size(); ++p)
                 {
                   const auto &a = fresh.material_points[p];
