@@ -357,6 +357,25 @@ namespace ddfem::scene
         }
       return flip ? -value : value;
     }
+
+
+
+    /// Whether the triangles of @p mesh are oriented consistently: every
+    /// edge runs once in each direction as often as in the other.
+    bool
+    consistently_oriented(const TriangleMesh &mesh)
+    {
+      std::map<std::pair<unsigned int, unsigned int>, int> balance;
+      for (const auto &t : mesh.triangles)
+        for (unsigned int e = 0; e < 3; ++e)
+          {
+            const unsigned int a = t[e], b = t[(e + 1) % 3];
+            balance[std::minmax(a, b)] += a < b ? 1 : -1;
+          }
+      return std::all_of(balance.begin(), balance.end(), [](const auto &e) {
+        return e.second == 0;
+      });
+    }
   } // namespace
 
 
@@ -528,6 +547,9 @@ namespace ddfem::scene
                     ExcMessage("the target box is empty along "
                                "axis " +
                                std::to_string(d) + "."));
+        AssertThrow(std::isfinite(max[d] - min[d]),
+                    ExcMessage("its extent along axis " + std::to_string(d) +
+                               " is too large to be a number."));
         if (max[d] > min[d])
           scale = std::min(scale, (upper[d] - lower[d]) / (max[d] - min[d]));
         mesh_center[d] = 0.5 * (min[d] + max[d]);
@@ -586,7 +608,10 @@ namespace ddfem::scene
               t);
       }
 
-    std::vector<double> crossings;
+    // Overlapping bodies of a consistently oriented mesh make a union
+    // (inside: nonzero winding number); otherwise inside is odd parity.
+    const bool                          winding = consistently_oriented(mesh);
+    std::vector<std::pair<double, int>> crossings; // z, winding change
     for (unsigned int j = 0; j < n[1]; ++j)
       for (unsigned int i = 0; i < n[0]; ++i)
         {
@@ -603,21 +628,29 @@ namespace ddfem::scene
               const double la = edge_function(b, c, x, y);
               const double lb = edge_function(c, a, x, y);
               const double lc = edge_function(a, b, x, y);
+              // A triangle seen counterclockwise from above (la + lb + lc
+              // > 0) faces up: where it is outward, the ray leaves there.
               if ((la > 0 && lb > 0 && lc > 0) || (la < 0 && lb < 0 && lc < 0))
-                crossings.push_back((la * a[2] + lb * b[2] + lc * c[2]) /
-                                    (la + lb + lc));
+                crossings.emplace_back((la * a[2] + lb * b[2] + lc * c[2]) /
+                                         (la + lb + lc),
+                                       la > 0 ? -1 : 1);
             }
           std::sort(crossings.begin(), crossings.end());
 
-          // Voxel centers in [z_{2m}, z_{2m+1}) are inside.
-          for (std::size_t m = 0; m + 1 < crossings.size(); m += 2)
+          // Voxel centers in [z_m, z_{m+1}) are inside if the winding
+          // number (or the parity) after crossing m says so.
+          int inside = 0;
+          for (std::size_t m = 0; m + 1 < crossings.size(); ++m)
             {
+              inside = winding ? inside + crossings[m].second : 1 - inside;
+              if (inside == 0)
+                continue;
               const auto k_index = [&](const double z) {
                 return static_cast<unsigned int>(
                   std::clamp(std::ceil(z / h - 0.5), 0., double(n[2])));
               };
-              const unsigned int k_begin = k_index(crossings[m]);
-              const unsigned int k_end   = k_index(crossings[m + 1]);
+              const unsigned int k_begin = k_index(crossings[m].first);
+              const unsigned int k_end   = k_index(crossings[m + 1].first);
               for (unsigned int k = k_begin; k < k_end; ++k)
                 grid(i, j, k) = material;
             }

@@ -2,7 +2,9 @@
 // helical fibers, seeded random layouts, primitive shapes, a voxel file
 // round trip, and a closed surface mesh (an octahedron the test writes as
 // OBJ, ASCII STL and binary STL, and as OBJ with degenerate faces)
-// voxelized into the grid. Also the voxel
+// voxelized into the grid; two overlapping cubes make their union if
+// their faces are oriented consistently, and their parity otherwise. Also
+// the voxel
 // mesh: one cell per solid voxel or per non-void 2x2x2 block, in
 // lexicographic order.
 
@@ -207,6 +209,39 @@ main()
             << "that no face uses " << voxels("octahedron_stray.obj", "true")
             << ", with degenerate faces "
             << voxels("octahedron_degenerate.obj", "true") << std::endl;
+
+  // Two overlapping cubes, [0.02, 0.08]^3 and the same shifted by 0.03 in
+  // x: 9 x 6 x 6 voxels in their union, 3 x 6 x 6 in their overlap. Faces
+  // counterclockwise seen from outside; then with one face reversed.
+  for (const bool flipped : {false, true})
+    {
+      std::ofstream cubes("cubes.obj");
+      for (const double shift : {0., 0.03})
+        for (const double z : {0.02, 0.08})
+          for (const auto &[x, y] : {std::make_pair(0.02, 0.02),
+                                     std::make_pair(0.08, 0.02),
+                                     std::make_pair(0.08, 0.08),
+                                     std::make_pair(0.02, 0.08)})
+            cubes << "v " << x + shift << ' ' << y << ' ' << z << '\n';
+      for (const unsigned int o : {0u, 8u})
+        for (const auto &face : {std::array<unsigned int, 4>{{1, 4, 3, 2}},
+                                 {{5, 6, 7, 8}},
+                                 {{1, 2, 6, 5}},
+                                 {{4, 8, 7, 3}},
+                                 {{1, 5, 8, 4}},
+                                 {{2, 3, 7, 6}}})
+          {
+            const bool reverse = flipped && o == 0 && face[0] == 5;
+            cubes << 'f';
+            for (unsigned int c = 0; c < 4; ++c)
+              cubes << ' ' << o + face[reverse ? 3 - c : c];
+            cubes << '\n';
+          }
+      cubes.close();
+      std::cout << "two overlapping cubes"
+                << (flipped ? ", one face reversed: " : ": ")
+                << voxels("cubes.obj", "false") << " voxels" << std::endl;
+    }
 
   // Voxel meshes of the sphere scene: fine and one level coarser.
   const auto sphere =

@@ -70,10 +70,13 @@ namespace ddfem::scene
 
   /**
    * Sets every voxel of @p grid whose center lies inside the closed
-   * surface @p mesh to @p material. Inside is decided by ray parity along
-   * the z axis for each (i,j) column, robust against rays that graze edges
-   * and vertices (the ray is perturbed deterministically by a tiny
-   * irrational offset). Voxels outside are left unchanged.
+   * surface @p mesh to @p material. Inside is decided along a ray parallel
+   * to the z axis for each (i,j) column, robust against rays that graze
+   * edges and vertices (the ray is perturbed deterministically by a tiny
+   * irrational offset): by the winding number if the mesh's triangles are
+   * oriented consistently (every edge runs once each way), so that
+   * overlapping closed bodies make their union, and by parity otherwise.
+   * Voxels outside are left unchanged.
    */
   void
   voxelize(const TriangleMesh &mesh,
