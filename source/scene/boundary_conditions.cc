@@ -15,6 +15,48 @@ namespace ddfem::scene
   namespace
   {
     /**
+     * Throws ExcMessage naming @p where (whose value is @p text) if the
+     * expression @p expression holds muparser syntax that is valid but
+     * almost surely a typo, which would silently change the number: a ','
+     * outside parentheses (a decimal comma: muparser evaluates both sides
+     * and keeps the right one) or an assignment '=', '+=', ... (meant as
+     * the comparison '==').
+     */
+    void
+    check_for_typos(const std::string &expression,
+                    const std::string &text,
+                    const std::string &where)
+    {
+      const std::string start = where + " = \"" + text + "\": ";
+      int               depth = 0;
+      for (std::size_t i = 0; i < expression.size(); ++i)
+        {
+          const char c = expression[i];
+          depth += (c == '(') - (c == ')');
+          AssertThrow(c != ',' || depth > 0,
+                      ExcMessage(start + "a ',' outside parentheses in \"" +
+                                 expression +
+                                 "\" (write decimals with '.'; components "
+                                 "are separated by ';')."));
+          if (c == '=')
+            {
+              const bool comparison =
+                (i + 1 < expression.size() && expression[i + 1] == '=') ||
+                (i > 0 && std::string("!<>").find(expression[i - 1]) !=
+                            std::string::npos);
+              AssertThrow(comparison,
+                          ExcMessage(start + "an assignment in \"" +
+                                     expression +
+                                     "\" (compare with '==', '!=', '<=' or "
+                                     "'>=')."));
+              i += expression[i + 1] == '=';
+            }
+        }
+    }
+
+
+
+    /**
      * Builds a FunctionParser from ';'-separated expressions in x, y, z. A
      * component "free" is marked unconstrained in @p constrained (if given)
      * and evaluates to 0.
@@ -44,6 +86,8 @@ namespace ddfem::scene
             (*constrained)[c] = false;
             expressions[c]    = "0";
           }
+        else
+          check_for_typos(expressions[c], text, where);
       auto parser = std::make_unique<FunctionParser<3>>(n_components);
       // deal.II prints muparser's error details to std::cerr before it
       // throws; the message below says the same, once and with the

@@ -342,9 +342,14 @@ namespace ddfem::scene
                       ": the lower corner must not exceed the upper one."));
         AssertThrow(box || v.back() > 0,
                     ExcMessage(where + ": the radius must be > 0."));
-        AssertThrow(shape.kind != Shape::Kind::cylinder ||
-                      (v[0] != v[3] || v[1] != v[4] || v[2] != v[5]),
-                    ExcMessage(where + ": the axis end points must differ."));
+        // contains() divides by the axis' squared length.
+        const double axis2 =
+          shape.kind == Shape::Kind::cylinder ?
+            Point<3>(v[3] - v[0], v[4] - v[1], v[5] - v[2]).norm_square() :
+            1.;
+        AssertThrow(axis2 > 0 && std::isfinite(axis2),
+                    ExcMessage(where + ": the axis end points must differ, "
+                                       "by less than 1e154 m."));
         const double id = parse_number(parts[1], where);
         AssertThrow(id == std::round(id),
                     ExcMessage(where + ": the material id is not an integer."));

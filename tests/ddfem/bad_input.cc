@@ -331,6 +331,23 @@ main(int argc, char **argv)
   run_case("nan_body_force",
            cantilever +
              "subsection Loads\n  set Body force = 0; 0; log(x-1)\nend\n");
+  // muparser syntax that is valid but a typo: a decimal comma (muparser
+  // would keep the 81 of "-9,81"), an assignment meant as '=='.
+  run_case("decimal_comma_in_body_force",
+           cantilever +
+             "subsection Loads\n  set Body force = 0; 0; -9,81*1000\nend\n");
+  run_case("assignment_in_traction",
+           cantilever +
+             "subsection Boundary conditions\n  subsection Condition 2\n"
+             "    set Value = 0; 0; (y=0.32)*-100\n  end\nend\n");
+  run_case("cylinder_axis_overflows",
+           cantilever + "subsection Layout\n  set Shapes = cylinder 0.01 0 "
+                        "0.01 0.01 1e200 0.01 0.01 : 1\nend\n");
+  // An all-void layout is named as such, not as a probe outside the solid.
+  run_case("all_void_layers",
+           cantilever + "subsection Layout\n  set Type = layers\n"
+                        "  subsection Layers\n    set Materials = 0\n"
+                        "  end\nend\n");
   // Every edit is checked before the first state is solved.
   run_case("second_edit_removes_voxels",
            cantilever + "subsection Layout\n  set Edits = box 0 0 0 1 1 1 : 2 "
@@ -440,6 +457,11 @@ main(int argc, char **argv)
   std::ofstream("degenerate.obj") << "v 0 0 0\nv 0 0 0\nv 0 0 0\nv 0 0 0\n"
                                      "f 1 2 3\nf 1 3 4\nf 1 4 2\nf 2 4 3\n";
   run_case("degenerate_mesh", from_surface_mesh("degenerate.obj"));
+  // A closed tetrahedron too large for its size to be a number.
+  std::ofstream("huge.obj") << "v -1e308 0 0\nv 1e308 0 0\nv 0 1 0\nv 0 0 1\n"
+                               "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+  run_case("huge_mesh",
+           from_surface_mesh("huge.obj", "    set Fit to grid = true\n"));
   // Two faces of a tetrahedron: an open surface encloses nothing.
   std::ofstream("open.obj")
     << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\n";
