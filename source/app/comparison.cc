@@ -12,6 +12,7 @@
 #include <cmath>
 #include <fstream>
 #include <iomanip>
+#include <limits>
 #include <map>
 #include <optional>
 #include <sstream>
@@ -333,7 +334,7 @@ namespace ddfem::app
     prm.declare_entry(
       "Fine direct solver limit",
       "200000",
-      Patterns::Integer(0),
+      Patterns::Integer(0, std::numeric_limits<int>::max()),
       "Run type = compare: the fine model is solved with the scene's "
       "'Linear solver', with cg-amg if that is another solver, and, if it "
       "has at most this many unknowns, with UMFPACK at every Newton "
@@ -397,7 +398,6 @@ namespace ddfem::app
                   const bool         screen_timings,
                   std::ostream      &out)
   {
-    const auto &n = scene.grid.size();
     out << "Comparison of scene \"" << scene_name << "\": grid "
         << scene.grid.describe() << ", " << scene.n_edits() << " material edit"
         << (scene.n_edits() == 1 ? "" : "s") << std::endl;
@@ -430,7 +430,10 @@ namespace ddfem::app
           configurations[0].linear_solver->method() == "cg-amg")
         skip = "the fine model uses cg-amg already";
       if (config.name == "fine-direct" &&
-          models[0]->discretization().dof_handler.n_dofs() > direct_limit)
+          configurations[0].linear_solver->method() == "direct")
+        skip = "the fine model uses direct already";
+      else if (config.name == "fine-direct" &&
+               models[0]->discretization().dof_handler.n_dofs() > direct_limit)
         skip = "more than " + std::to_string(direct_limit) +
                " unknowns (Comparison/Fine direct solver limit)";
       if (skip.empty())
@@ -520,15 +523,41 @@ namespace ddfem::app
             set_up(c);
       }
 
+    // From here on results are written; none of an earlier run may stay
+    // next to them, and a run that stops with an error removes its own.
+    const auto remove_results = [&]() {
+      remove_earlier_in(directory, files, "Output/Output directory");
+      for (const auto *list : {&model_directories, &other_directories})
+        for (const std::string &d : *list)
+          report::VtuWriter::remove_earlier(d);
+    };
+    create_directories(directory, "Output/Output directory");
+    remove_results();
+    try
+      {
+        return solve_and_write(
+          scene, scene_name, directory, models, screen_timings, out);
+      }
+    catch (...)
+      {
+        remove_results();
+        throw;
+      }
+  }
+
+
+
+  int
+  Comparison::solve_and_write(scene::Scene      &scene,
+                              const std::string &scene_name,
+                              const std::string &directory,
+                              std::vector<std::unique_ptr<ModelRun>> &models,
+                              const bool    screen_timings,
+                              std::ostream &out)
+  {
+    const auto      &n = scene.grid.size();
     std::vector<Row> rows;
     bool             all_converged = true;
-    // From here on results are written; none of an earlier run may stay
-    // next to them if this one fails.
-    create_directories(directory, "Output/Output directory");
-    remove_earlier_in(directory, files, "Output/Output directory");
-    for (const auto *list : {&model_directories, &other_directories})
-      for (const std::string &d : *list)
-        report::VtuWriter::remove_earlier(d);
     for (unsigned int state = 0; state <= scene.n_edits(); ++state)
       {
         const std::string state_name =
@@ -626,7 +655,7 @@ namespace ddfem::app
               const double time = rows[r].result.wall_time;
               if (fastest_fine == 0 || time < fastest_fine)
                 fastest_fine = time;
-              if (rows[r].method == "fine-direct")
+              if (rows[r].linear_solver == "direct")
                 direct_time = time;
             }
         for (std::size_t r = first_row; r < rows.size(); ++r)

@@ -144,8 +144,8 @@ namespace ddfem::app
       {
         TimerOutput::Scope scope(timer, "coarsening");
         Timer              lookups;
-        pending_cells      = coarsener->recoarsen(scene.grid, changed, *model);
-        pending_coarsening = lookups.wall_time();
+        pending_cells += coarsener->recoarsen(scene.grid, changed, *model);
+        pending_coarsening += lookups.wall_time();
       }
     {
       // The fine model's new materials are setup, as its first ones were.
@@ -153,7 +153,7 @@ namespace ddfem::app
       if (coarsener == nullptr)
         {
           model->update_voxel_materials(scene, changed);
-          pending_cells = changed.size();
+          pending_cells += changed.size();
         }
       solver->update_materials();
     }

@@ -54,7 +54,8 @@ namespace ddfem::coarsening
     const Quadrature<3> quadrature =
       solver::coarse_quadrature(level, point_offset);
     AssertThrow(method != CoarseningMethod::ddfem ||
-                  (level1 != nullptr && (level == 1 || level2 != nullptr)),
+                  (level1 != nullptr &&
+                   (level == 1 || (level2 != nullptr && !level2->empty()))),
                 ExcMessage("The ddfem coarsener needs the database."));
     if (method == CoarseningMethod::ddfem)
       {

@@ -18,6 +18,8 @@ namespace ddfem::app
 {
   using namespace dealii;
 
+  class ModelRun;
+
   /**
    * Run type "compare": error against run time (DDFEM paper, section 6).
    * Solves one scene in one process with the fine model (with the scene's
@@ -48,7 +50,8 @@ namespace ddfem::app
      * Runs the comparison of @p scene (named @p scene_name) and writes its
      * results to @p directory. Logs to @p out; timings on screen only if
      * @p screen_timings (files always have them). Returns 0 if every
-     * solve converged, 1 otherwise.
+     * solve converged, 1 otherwise. A run that stops with an error leaves
+     * no result.
      */
     int
     run(scene::Scene      &scene,
@@ -58,6 +61,19 @@ namespace ddfem::app
         std::ostream      &out);
 
   private:
+    /**
+     * The part of run() that writes results: solves every state of
+     * @p scene with the @p models set up for the configurations (null:
+     * skipped), measures and writes. Returns as run() does.
+     */
+    int
+    solve_and_write(scene::Scene                           &scene,
+                    const std::string                      &scene_name,
+                    const std::string                      &directory,
+                    std::vector<std::unique_ptr<ModelRun>> &models,
+                    bool                                    screen_timings,
+                    std::ostream                           &out);
+
     /// One model compared: the fine one (with a given linear solver) or a
     /// coarse method at a level.
     struct Configuration
