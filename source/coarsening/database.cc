@@ -191,6 +191,31 @@ namespace ddfem::coarsening
 
 
 
+    /**
+     * Whether stored fit statistics can be an entry's: finite errors that
+     * are not negative, finite strains, and whole sample counts that fit
+     * into Entry's.
+     */
+    bool
+    valid_statistics(const double median_error,
+                     const double max_error,
+                     const double min_strain,
+                     const double max_strain,
+                     const double n_samples,
+                     const double n_dropped)
+    {
+      const auto is_count = [](const double count) {
+        return count >= 0 && count == std::floor(count) &&
+               count <= std::numeric_limits<unsigned int>::max();
+      };
+      return std::isfinite(median_error) && median_error >= 0 &&
+             std::isfinite(max_error) && max_error >= 0 &&
+             std::isfinite(min_strain) && std::isfinite(max_strain) &&
+             is_count(n_samples) && is_count(n_dropped);
+    }
+
+
+
     void
     append_values(const Metamaterial &m, std::vector<double> &values)
     {
@@ -294,10 +319,6 @@ namespace ddfem::coarsening
         read_dataset<double>(file, group + "/strain range", {n, 2});
       const auto counts =
         read_dataset<std::int64_t>(file, group + "/samples", {n, 2});
-      // Whether a stored sample count fits into Entry's counts.
-      const auto is_count = [](const std::int64_t count) {
-        return count >= 0 && count <= std::numeric_limits<unsigned int>::max();
-      };
       std::vector<Entry> entries;
       for (hsize_t e = 0; e < n; ++e)
         {
@@ -313,11 +334,12 @@ namespace ddfem::coarsening
                 entry.child_material.points.push_back(
                   point(children, "child parameters", e, q));
             }
-          check(std::isfinite(errors[2 * e]) && errors[2 * e] >= 0 &&
-                  std::isfinite(errors[2 * e + 1]) && errors[2 * e + 1] >= 0 &&
-                  std::isfinite(strains[2 * e]) &&
-                  std::isfinite(strains[2 * e + 1]) &&
-                  is_count(counts[2 * e]) && is_count(counts[2 * e + 1]),
+          check(valid_statistics(errors[2 * e],
+                                 errors[2 * e + 1],
+                                 strains[2 * e],
+                                 strains[2 * e + 1],
+                                 counts[2 * e],
+                                 counts[2 * e + 1]),
                 "has invalid fit statistics at " + group + " " +
                   std::to_string(e));
           entry.median_error = errors[2 * e];
@@ -950,7 +972,13 @@ namespace ddfem::coarsening
               std::fread(&sum, sizeof(sum), 1, in) != 1 ||
               sum != checksum(values))
             break;
-          if (!(values[0] >= 0 && values[0] < n_keys))
+          if (!(values[0] >= 0 && values[0] < n_keys &&
+                valid_statistics(values[1],
+                                 values[2],
+                                 values[3],
+                                 values[4],
+                                 values[5],
+                                 values[6])))
             break;
           Entry e;
           e.key          = values[0];
