@@ -181,7 +181,11 @@ namespace ddfem::scene
         "",
         Patterns::FileName(),
         "Closed triangle surface (.stl ASCII or binary, or .obj). Voxels "
-        "inside get 'Material', all others are void.");
+        "whose centers lie inside get 'Material', all others are void. "
+        "Overlapping closed bodies make their union if every triangle is "
+        "oriented alike (every edge runs once each way); otherwise a point "
+        "is inside where a ray from it crosses the surface an odd number of "
+        "times.");
       prm.declare_entry(
         "Fit to grid",
         "true",
