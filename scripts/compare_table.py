@@ -15,8 +15,9 @@ Reads DIR/<scene>/comparison.json, as written by 'Run type = compare'
 
 Speedups divide the wall time of the fastest fine run that converged ('fine',
 'fine-amg' where the scene's solver is another one, or 'fine-direct') by the
-coarse model's, as the compare run does; the speedup against 'fine-direct'
-(UMFPACK) is shown in parentheses where it ran. A value the compare run left
+coarse model's, as the compare run does; the speedup against the fine run with
+the direct solver (UMFPACK: 'fine-direct', or 'fine' where the scene's solver
+is direct) is shown in parentheses where it ran. A value the compare run left
 null (the errors of a run that did not converge, or of every run when the fine
 model did not) is shown as '-', and the targets skip it; so do the speedup
 targets of a state without a converged fine run.
@@ -151,7 +152,10 @@ def main(argv):
             label = scene if len(states) == 1 else f"{scene}, {state}"
             fines = [r for r in runs if r["level"] == 0 and r["converged"]]
             fastest = min(fines, key=lambda r: r["wall_time_s"], default=None)
-            direct = find(runs, "fine-direct", 0)
+            # 'fine-direct', or 'fine' where the scene's solver is direct.
+            direct = next((r for r in runs
+                           if r["level"] == 0 and r["linear_solver"] == "direct"),
+                          None)
             ddfem = [find(runs, "ddfem", level) for level in (0, 1, 2)]
             naive = [find(runs, "naive", level) for level in (0, 1, 2)]
             average = [find(runs, "average", level) for level in (0, 1, 2)]

@@ -524,7 +524,9 @@ namespace ddfem::app
       }
 
     // From here on results are written; none of an earlier run may stay
-    // next to them, and a run that stops with an error removes its own.
+    // next to them, and a run that stops with an error before its tables
+    // are written removes its own (a plot that fails leaves the tables and
+    // the VTU files it would draw from).
     const auto remove_results = [&]() {
       remove_earlier_in(directory, files, "Output/Output directory");
       for (const auto *list : {&model_directories, &other_directories})
@@ -533,14 +535,27 @@ namespace ddfem::app
     };
     create_directories(directory, "Output/Output directory");
     remove_results();
+    bool tables_written = false;
     try
       {
-        return solve_and_write(
-          scene, scene_name, directory, models, screen_timings, out);
+        return solve_and_write(scene,
+                               scene_name,
+                               directory,
+                               models,
+                               screen_timings,
+                               out,
+                               tables_written);
       }
     catch (...)
       {
-        remove_results();
+        // Best effort: the error to report is the first one.
+        if (!tables_written)
+          try
+            {
+              remove_results();
+            }
+          catch (...)
+            {}
         throw;
       }
   }
@@ -553,7 +568,8 @@ namespace ddfem::app
                               const std::string &directory,
                               std::vector<std::unique_ptr<ModelRun>> &models,
                               const bool    screen_timings,
-                              std::ostream &out)
+                              std::ostream &out,
+                              bool         &tables_written)
   {
     const auto      &n = scene.grid.size();
     std::vector<Row> rows;
@@ -672,8 +688,8 @@ namespace ddfem::app
         << "speedup: against the fastest fine run that converged (fine: "
            "the scene's linear solver; fine-amg: CG with algebraic "
            "multigrid, where the fine model uses another solver; "
-           "fine-direct); sp.direct: against fine-direct (UMFPACK at every "
-           "Newton iteration); mean and max error: against the first fine run "
+           "fine-direct); sp.direct: against the fine run with the direct "
+           "solver (UMFPACK at every Newton iteration); mean and max error: against the first fine run "
            "of the state that converged; grid fit: the mean vertex error of "
            "the coarse grid's best trilinear fit to that solution. Wall times "
            "include setup and coarsening, not output."
@@ -714,6 +730,7 @@ namespace ddfem::app
     file.stream() << json.dump(2) << std::endl;
     file.commit();
     write_csv(rows, directory + "/comparison.csv");
+    tables_written = true;
     plot(rows, scene_name, directory);
     if (screen_timings)
       out << "Peak memory " << peak_memory << " MB" << std::endl;

@@ -82,8 +82,13 @@ namespace ddfem::report
   {
     const bool drawn = gnuplot_succeeds(
       directory, script, false, "to draw \"" + directory + "/" + script + "\"");
+    // Best effort: the error to report is gnuplot's.
     if (!drawn)
-      remove_earlier_in(directory, images, "Output/Output directory");
+      for (const std::string &image : images)
+        {
+          std::error_code ignored;
+          std::filesystem::remove(directory + "/" + image, ignored);
+        }
     AssertThrow(drawn,
                 ExcMessage("gnuplot failed on \"" + directory + "/" + script +
                            "\" (its message is above)."));

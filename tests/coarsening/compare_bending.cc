@@ -6,10 +6,12 @@
 // fine runs' wall times, and the CSV against the JSON. A second, smaller run
 // compares a quadratic fine model with the trilinear naive one; a third one
 // has a fine model that fails, and its errors are measured against the
-// direct run, as a fourth run whose scene solves directly confirms.
+// direct run, as a fourth run whose scene solves directly confirms. A
+// fifth run's plot fails: its tables stay.
 
 #include <nlohmann/json.hpp>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -306,4 +308,56 @@ main(int argc, char **argv)
                     "yes" :
                     "NO")
               << std::endl;
+  // The scene's own solver is the direct one: fine-direct does not run it
+  // again, and the fine run is the reference of speedup_vs_fine_direct.
+  double fine_time = 0;
+  for (const auto &run : direct_json.at("runs"))
+    if (run.at("method") == "fine")
+      fine_time = run.at("wall_time_s");
+  for (const auto &run : direct_json.at("runs"))
+    std::cout << "  scene solved directly, "
+              << run.at("method").get<std::string>() << " ("
+              << run.at("linear_solver").get<std::string>()
+              << "): speedup_vs_fine_direct * wall time / the fine run's = 1: "
+              << (std::abs(run.at("speedup_vs_fine_direct").get<double>() *
+                             run.at("wall_time_s").get<double>() / fine_time -
+                           1) < 1e-12 ?
+                    "yes" :
+                    "FAILED")
+              << std::endl;
+
+  // gnuplot starts but fails to draw (a stand-in first on the PATH): the
+  // run stops with gnuplot's error, and keeps its tables but no figure.
+  std::filesystem::remove_all("compare_plot_fails");
+  std::filesystem::remove_all("failing_gnuplot");
+  std::filesystem::create_directory("failing_gnuplot");
+  std::ofstream("failing_gnuplot/gnuplot")
+    << "#!/bin/sh\n[ \"$1\" = --version ] && exit 0\n"
+       "echo 'set output' > error_vs_time.png\nexit 1\n";
+  std::filesystem::permissions("failing_gnuplot/gnuplot",
+                               std::filesystem::perms::owner_all);
+  const std::string path = std::getenv("PATH");
+  setenv("PATH",
+         (std::filesystem::absolute("failing_gnuplot").string() + ":" + path)
+           .c_str(),
+         1);
+  write_prm("  set Type = direct\n", "compare_plot_fails");
+  std::ostringstream plot_log;
+  const int          status_plot =
+    ddfem::app::run({"compare_plot_fails.prm"}, plot_log, plot_log);
+  setenv("PATH", path.c_str(), 1);
+  std::cout << "gnuplot failing: exit status " << status_plot;
+  for (const std::string file : {"comparison.json",
+                                 "comparison.csv",
+                                 "error_vs_time.gnuplot",
+                                 "error_vs_time.png"})
+    std::cout << ", " << file << " "
+              << (std::filesystem::exists("compare_plot_fails/" + file) ?
+                    "kept" :
+                    "absent");
+  std::cout << std::endl;
+  std::istringstream plot_lines(plot_log.str());
+  for (std::string line; std::getline(plot_lines, line);)
+    if (line.rfind("Error", 0) == 0)
+      std::cout << "  " << line << std::endl;
 }

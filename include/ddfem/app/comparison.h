@@ -50,8 +50,8 @@ namespace ddfem::app
      * Runs the comparison of @p scene (named @p scene_name) and writes its
      * results to @p directory. Logs to @p out; timings on screen only if
      * @p screen_timings (files always have them). Returns 0 if every
-     * solve converged, 1 otherwise. A run that stops with an error leaves
-     * no result.
+     * solve converged, 1 otherwise. A run that stops with an error before
+     * its tables are written leaves no result.
      */
     int
     run(scene::Scene      &scene,
@@ -64,7 +64,8 @@ namespace ddfem::app
     /**
      * The part of run() that writes results: solves every state of
      * @p scene with the @p models set up for the configurations (null:
-     * skipped), measures and writes. Returns as run() does.
+     * skipped), measures, writes the tables (then sets @p tables_written)
+     * and draws the plot. Returns as run() does.
      */
     int
     solve_and_write(scene::Scene                           &scene,
@@ -72,7 +73,8 @@ namespace ddfem::app
                     const std::string                      &directory,
                     std::vector<std::unique_ptr<ModelRun>> &models,
                     bool                                    screen_timings,
-                    std::ostream                           &out);
+                    std::ostream                           &out,
+                    bool                                   &tables_written);
 
     /// One model compared: the fine one (with a given linear solver) or a
     /// coarse method at a level.

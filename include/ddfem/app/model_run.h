@@ -58,13 +58,15 @@ namespace ddfem::app
       solver::StaticSolver::Statistics statistics;
       /// Whether the model is coarse (has a coarsening time).
       bool coarse = false;
-      /// Wall time of coarsening (lookups) or, after an edit,
-      /// re-coarsening (s); 0 for the fine model.
+      /// Wall time of coarsening (lookups) or, after edits, re-coarsening
+      /// (s); 0 for the fine model. Since the last solve: summed over its
+      /// coarsening and the edits that followed.
       double coarsening_time = 0;
       /// Cells given their materials for this solve: after an edit, the
       /// coarse blocks (fine cells) it changed; in the base state, every
       /// cell of a coarse model (its first coarsening) and 0 for the fine
-      /// model (whose materials come with its mesh).
+      /// model (whose materials come with its mesh). Summed like the
+      /// coarsening time, so a cell that two edits change counts twice.
       unsigned int cells_updated = 0;
       /// Wall time of setup, coarsening and solve, without output (s).
       double wall_time = 0;

@@ -119,7 +119,8 @@ namespace ddfem::report
     /**
      * Removes the VTU files an earlier run left in @p directory, of every
      * scene state (NAME.pvd, NAME.vtu and every NAME-<step>.vtu, NAME
-     * "solution" or "edit-<k>"), whether or not this run writes any: no
+     * "solution" or "edit-<k>", and their ResultFile temporaries that a
+     * killed run left), whether or not this run writes any: no
      * earlier run's result, another model's (a DG run writes NAME.vtu) or
      * a state this run does not have (a run with fewer edits), may be taken
      * for this run's. After check_writable(), before the first result is
