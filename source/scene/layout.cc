@@ -182,10 +182,12 @@ namespace ddfem::scene
         Patterns::FileName(),
         "Closed triangle surface (.stl ASCII or binary, or .obj). Voxels "
         "whose centers lie inside get 'Material', all others are void. "
-        "Overlapping closed bodies make their union if every triangle is "
-        "oriented alike (every edge runs once each way); otherwise a point "
-        "is inside where a ray from it crosses the surface an odd number of "
-        "times.");
+        "Overlapping closed bodies make their union: each shell is oriented "
+        "as most of its triangles are (a few reversed triangles are "
+        "repaired; a cavity's shell must face inward, as exporters write "
+        "it), and a point is inside where its winding number is not 0. A "
+        "mesh that cannot be oriented falls back to parity (a point inside "
+        "two shells counts as outside).");
       prm.declare_entry(
         "Fit to grid",
         "true",

@@ -360,21 +360,81 @@ namespace ddfem::scene
 
 
 
-    /// Whether the triangles of @p mesh are oriented consistently: every
-    /// edge runs once in each direction as often as in the other.
-    bool
-    consistently_oriented(const TriangleMesh &mesh)
+    /**
+     * For each triangle of @p mesh, +1 to keep it as it is or -1 to reverse
+     * it, so that every shell (the triangles joined by edges of exactly two
+     * triangles) is oriented consistently, each the way most of its
+     * triangles are: a few reversed triangles are repaired, and a cavity's
+     * shell that faces inward stays so. Empty if a shell cannot be
+     * oriented, or an edge of more than two triangles then runs more often
+     * one way than the other.
+     */
+    std::vector<int>
+    consistent_orientation(const TriangleMesh &mesh)
     {
-      std::map<std::pair<unsigned int, unsigned int>, int> balance;
-      for (const auto &t : mesh.triangles)
+      // The triangles on each edge, with +1 where they run along it from
+      // its lower vertex index to its higher one, -1 the other way.
+      std::map<std::pair<unsigned int, unsigned int>,
+               std::vector<std::pair<unsigned int, int>>>
+                 edges;
+      const auto edge = [&mesh](const unsigned int t, const unsigned int e) {
+        const unsigned int a = mesh.triangles[t][e],
+                           b = mesh.triangles[t][(e + 1) % 3];
+        // A copy: std::minmax returns references to a and b.
+        const std::pair<unsigned int, unsigned int> key = std::minmax(a, b);
+        return std::make_pair(key, a < b ? 1 : -1);
+      };
+      for (unsigned int t = 0; t < mesh.triangles.size(); ++t)
         for (unsigned int e = 0; e < 3; ++e)
           {
-            const unsigned int a = t[e], b = t[(e + 1) % 3];
-            balance[std::minmax(a, b)] += a < b ? 1 : -1;
+            const auto [key, direction] = edge(t, e);
+            edges[key].emplace_back(t, direction);
           }
-      return std::all_of(balance.begin(), balance.end(), [](const auto &e) {
-        return e.second == 0;
-      });
+
+      std::vector<int> sign(mesh.triangles.size(), 0); // 0: not reached
+      for (unsigned int seed = 0; seed < sign.size(); ++seed)
+        if (sign[seed] == 0)
+          {
+            // A neighbor runs along the shared edge the other way.
+            std::vector<unsigned int> shell = {seed};
+            sign[seed]                      = 1;
+            for (std::size_t next = 0; next < shell.size(); ++next)
+              for (unsigned int e = 0; e < 3; ++e)
+                {
+                  const unsigned int t        = shell[next];
+                  const auto [key, direction] = edge(t, e);
+                  const auto &on_edge         = edges[key];
+                  if (on_edge.size() != 2)
+                    continue;
+                  const auto &other =
+                    on_edge[0].first == t ? on_edge[1] : on_edge[0];
+                  const int wanted = -sign[t] * direction * other.second;
+                  if (sign[other.first] == 0)
+                    {
+                      sign[other.first] = wanted;
+                      shell.push_back(other.first);
+                    }
+                  else if (sign[other.first] != wanted)
+                    return {};
+                }
+            const auto reversed =
+              std::count_if(shell.begin(),
+                            shell.end(),
+                            [&](const unsigned int t) { return sign[t] < 0; });
+            if (2 * static_cast<std::size_t>(reversed) > shell.size())
+              for (const unsigned int t : shell)
+                sign[t] = -sign[t];
+          }
+
+      for (const auto &[key, on_edge] : edges)
+        {
+          int balance = 0;
+          for (const auto &[t, direction] : on_edge)
+            balance += sign[t] * direction;
+          if (balance != 0)
+            return {};
+        }
+      return sign;
     }
   } // namespace
 
@@ -608,9 +668,11 @@ namespace ddfem::scene
               t);
       }
 
-    // Overlapping bodies of a consistently oriented mesh make a union
-    // (inside: nonzero winding number); otherwise inside is odd parity.
-    const bool                          winding = consistently_oriented(mesh);
+    // Overlapping bodies of a mesh that can be oriented consistently make
+    // a union (inside: nonzero winding number); otherwise inside is odd
+    // parity.
+    const std::vector<int> orientation = consistent_orientation(mesh);
+    const bool             winding     = !orientation.empty();
     std::vector<std::pair<double, int>> crossings; // z, winding change
     for (unsigned int j = 0; j < n[1]; ++j)
       for (unsigned int i = 0; i < n[0]; ++i)
@@ -633,7 +695,8 @@ namespace ddfem::scene
               if ((la > 0 && lb > 0 && lc > 0) || (la < 0 && lb < 0 && lc < 0))
                 crossings.emplace_back((la * a[2] + lb * b[2] + lc * c[2]) /
                                          (la + lb + lc),
-                                       la > 0 ? -1 : 1);
+                                       (la > 0 ? -1 : 1) *
+                                         (winding ? orientation[t] : 1));
             }
           std::sort(crossings.begin(), crossings.end());
 

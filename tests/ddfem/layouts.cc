@@ -2,9 +2,8 @@
 // helical fibers, seeded random layouts, primitive shapes, a voxel file
 // round trip, and a closed surface mesh (an octahedron the test writes as
 // OBJ, ASCII STL and binary STL, and as OBJ with degenerate faces)
-// voxelized into the grid; two overlapping cubes make their union if
-// their faces are oriented consistently, and their parity otherwise. Also
-// the voxel
+// voxelized into the grid; two overlapping cubes make their union, also
+// with a reversed face, and a hollow cube keeps its cavity. Also the voxel
 // mesh: one cell per solid voxel or per non-void 2x2x2 block, in
 // lexicographic order.
 
@@ -210,20 +209,25 @@ main()
             << ", with degenerate faces "
             << voxels("octahedron_degenerate.obj", "true") << std::endl;
 
-  // Two overlapping cubes, [0.02, 0.08]^3 and the same shifted by 0.03 in
-  // x: 9 x 6 x 6 voxels in their union, 3 x 6 x 6 in their overlap. Faces
-  // counterclockwise seen from outside; then with one face reversed.
-  for (const bool flipped : {false, true})
-    {
-      std::ofstream cubes("cubes.obj");
-      for (const double shift : {0., 0.03})
-        for (const double z : {0.02, 0.08})
-          for (const auto &[x, y] : {std::make_pair(0.02, 0.02),
-                                     std::make_pair(0.08, 0.02),
-                                     std::make_pair(0.08, 0.08),
-                                     std::make_pair(0.02, 0.08)})
-            cubes << "v " << x + shift << ' ' << y << ' ' << z << '\n';
-      for (const unsigned int o : {0u, 8u})
+  // Meshes of cubes, faces counterclockwise seen from outside unless
+  // reversed: two overlapping ones, [0.02, 0.08]^3 and the same shifted by
+  // 0.03 in x (9 x 6 x 6 voxels in their union, 3 x 6 x 6 in their
+  // overlap); then with one face reversed, which is repaired. A hollow
+  // cube, [0.02, 0.12]^3 around [0.05, 0.09]^3 (10^3 - 4^3 voxels), whose
+  // inner shell faces inward; then outward, which fills it.
+  const auto cubes =
+    [&](const std::vector<std::pair<Point<3>, Point<3>>> &boxes,
+        const std::vector<bool>                          &inward,
+        const bool                                        one_face_reversed) {
+      std::ofstream obj("cubes.obj");
+      for (const auto &[low, high] : boxes)
+        for (const double z : {low[2], high[2]})
+          for (const auto &[x, y] : {std::make_pair(low[0], low[1]),
+                                     std::make_pair(high[0], low[1]),
+                                     std::make_pair(high[0], high[1]),
+                                     std::make_pair(low[0], high[1])})
+            obj << "v " << x << ' ' << y << ' ' << z << '\n';
+      for (unsigned int b = 0; b < boxes.size(); ++b)
         for (const auto &face : {std::array<unsigned int, 4>{{1, 4, 3, 2}},
                                  {{5, 6, 7, 8}},
                                  {{1, 2, 6, 5}},
@@ -231,17 +235,29 @@ main()
                                  {{1, 5, 8, 4}},
                                  {{2, 3, 7, 6}}})
           {
-            const bool reverse = flipped && o == 0 && face[0] == 5;
-            cubes << 'f';
+            const bool reverse =
+              inward[b] != (one_face_reversed && b == 0 && face[0] == 5);
+            obj << 'f';
             for (unsigned int c = 0; c < 4; ++c)
-              cubes << ' ' << o + face[reverse ? 3 - c : c];
-            cubes << '\n';
+              obj << ' ' << 8 * b + face[reverse ? 3 - c : c];
+            obj << '\n';
           }
-      cubes.close();
-      std::cout << "two overlapping cubes"
-                << (flipped ? ", one face reversed: " : ": ")
-                << voxels("cubes.obj", "false") << " voxels" << std::endl;
-    }
+      obj.close();
+      return voxels("cubes.obj", "false");
+    };
+  const std::vector<std::pair<Point<3>, Point<3>>> overlapping = {
+    {Point<3>(0.02, 0.02, 0.02), Point<3>(0.08, 0.08, 0.08)},
+    {Point<3>(0.05, 0.02, 0.02), Point<3>(0.11, 0.08, 0.08)}};
+  const std::vector<std::pair<Point<3>, Point<3>>> hollow = {
+    {Point<3>(0.02, 0.02, 0.02), Point<3>(0.12, 0.12, 0.12)},
+    {Point<3>(0.05, 0.05, 0.05), Point<3>(0.09, 0.09, 0.09)}};
+  std::cout << "two overlapping cubes: "
+            << cubes(overlapping, {false, false}, false)
+            << " voxels, with one face reversed: "
+            << cubes(overlapping, {false, false}, true) << std::endl
+            << "a hollow cube: " << cubes(hollow, {false, true}, false)
+            << " voxels, its inner shell facing outward: "
+            << cubes(hollow, {false, false}, false) << std::endl;
 
   // Voxel meshes of the sphere scene: fine and one level coarser.
   const auto sphere =

@@ -73,9 +73,12 @@ namespace ddfem::scene
    * surface @p mesh to @p material. Inside is decided along a ray parallel
    * to the z axis for each (i,j) column, robust against rays that graze
    * edges and vertices (the ray is perturbed deterministically by a tiny
-   * irrational offset): by the winding number if the mesh's triangles are
-   * oriented consistently (every edge runs once each way), so that
-   * overlapping closed bodies make their union, and by parity otherwise.
+   * irrational offset): by the winding number if the mesh's triangles can
+   * be oriented consistently, so that overlapping closed bodies make their
+   * union, and by parity otherwise. Each shell is oriented the way most of
+   * its triangles are: a few reversed triangles are repaired, and a
+   * cavity's inward-facing shell stays a cavity (one that faces outward, as
+   * its body does, fills it).
    * Voxels outside are left unchanged.
    */
   void
