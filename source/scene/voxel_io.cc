@@ -366,8 +366,8 @@ namespace ddfem::scene
      * triangles) is oriented consistently, each the way most of its
      * triangles are: a few reversed triangles are repaired, and a cavity's
      * shell that faces inward stays so. Empty if a shell cannot be
-     * oriented, or an edge of more than two triangles then runs more often
-     * one way than the other.
+     * oriented or has as many triangles one way as the other, or an edge of
+     * more than two triangles then runs more often one way than the other.
      */
     std::vector<int>
     consistent_orientation(const TriangleMesh &mesh)
@@ -421,6 +421,9 @@ namespace ddfem::scene
               std::count_if(shell.begin(),
                             shell.end(),
                             [&](const unsigned int t) { return sign[t] < 0; });
+            // Half of each way: no orientation to prefer.
+            if (2 * static_cast<std::size_t>(reversed) == shell.size())
+              return {};
             if (2 * static_cast<std::size_t>(reversed) > shell.size())
               for (const unsigned int t : shell)
                 sign[t] = -sign[t];

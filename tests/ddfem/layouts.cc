@@ -3,7 +3,8 @@
 // round trip, and a closed surface mesh (an octahedron the test writes as
 // OBJ, ASCII STL and binary STL, and as OBJ with degenerate faces)
 // voxelized into the grid; two overlapping cubes make their union, also
-// with a reversed face, and a hollow cube keeps its cavity. Also the voxel
+// with a reversed face, a hollow cube keeps its cavity, and so on (below).
+// Also the voxel
 // mesh: one cell per solid voxel or per non-void 2x2x2 block, in
 // lexicographic order.
 
@@ -209,55 +210,67 @@ main()
             << ", with degenerate faces "
             << voxels("octahedron_degenerate.obj", "true") << std::endl;
 
-  // Meshes of cubes, faces counterclockwise seen from outside unless
-  // reversed: two overlapping ones, [0.02, 0.08]^3 and the same shifted by
-  // 0.03 in x (9 x 6 x 6 voxels in their union, 3 x 6 x 6 in their
-  // overlap); then with one face reversed, which is repaired. A hollow
-  // cube, [0.02, 0.12]^3 around [0.05, 0.09]^3 (10^3 - 4^3 voxels), whose
-  // inner shell faces inward; then outward, which fills it.
-  const auto cubes =
-    [&](const std::vector<std::pair<Point<3>, Point<3>>> &boxes,
-        const std::vector<bool>                          &inward,
-        const bool                                        one_face_reversed) {
-      std::ofstream obj("cubes.obj");
-      for (const auto &[low, high] : boxes)
-        for (const double z : {low[2], high[2]})
-          for (const auto &[x, y] : {std::make_pair(low[0], low[1]),
-                                     std::make_pair(high[0], low[1]),
-                                     std::make_pair(high[0], high[1]),
-                                     std::make_pair(low[0], high[1])})
-            obj << "v " << x << ' ' << y << ' ' << z << '\n';
-      for (unsigned int b = 0; b < boxes.size(); ++b)
-        for (const auto &face : {std::array<unsigned int, 4>{{1, 4, 3, 2}},
-                                 {{5, 6, 7, 8}},
-                                 {{1, 2, 6, 5}},
-                                 {{4, 8, 7, 3}},
-                                 {{1, 5, 8, 4}},
-                                 {{2, 3, 7, 6}}})
-          {
-            const bool reverse =
-              inward[b] != (one_face_reversed && b == 0 && face[0] == 5);
-            obj << 'f';
-            for (unsigned int c = 0; c < 4; ++c)
-              obj << ' ' << 8 * b + face[reverse ? 3 - c : c];
-            obj << '\n';
-          }
-      obj.close();
-      return voxels("cubes.obj", "false");
-    };
+  // Meshes of boxes (cubes), faces counterclockwise seen from outside
+  // unless reversed:
+  // - two overlapping cubes, [0.02, 0.08]^3 and the same shifted by 0.03
+  //   in x: 9 x 6 x 6 voxels in their union, 3 x 6 x 6 in their overlap;
+  //   then with one face reversed, which is repaired;
+  // - a hollow cube, [0.02, 0.12]^3 around [0.05, 0.09]^3 (10^3 - 4^3
+  //   voxels), whose inner shell faces inward; then outward, which fills
+  //   it; then with three of the outer shell's six faces reversed, which
+  //   leaves no orientation to prefer: parity keeps the cavity;
+  // - two cubes of 4^3 voxels that touch along an edge (four triangles on
+  //   it).
+  const auto boxes = [&](const std::vector<std::pair<Point<3>, Point<3>>> &list,
+                         const std::vector<bool> &inward,
+                         const unsigned int       reversed_faces = 0) {
+    const std::array<std::array<unsigned int, 4>, 6> faces = {{{{1, 4, 3, 2}},
+                                                               {{5, 6, 7, 8}},
+                                                               {{1, 2, 6, 5}},
+                                                               {{4, 8, 7, 3}},
+                                                               {{1, 5, 8, 4}},
+                                                               {{2, 3, 7, 6}}}};
+    std::ofstream                                    obj("boxes.obj");
+    for (const auto &[low, high] : list)
+      for (const double z : {low[2], high[2]})
+        for (const auto &[x, y] : {std::make_pair(low[0], low[1]),
+                                   std::make_pair(high[0], low[1]),
+                                   std::make_pair(high[0], high[1]),
+                                   std::make_pair(low[0], high[1])})
+          obj << "v " << x << ' ' << y << ' ' << z << '\n';
+    for (unsigned int b = 0; b < list.size(); ++b)
+      for (unsigned int f = 0; f < 6; ++f)
+        {
+          // The first box's first reversed_faces faces (the first one
+          // holds the triangle the orientation starts from).
+          const bool reverse = inward[b] != (b == 0 && f < reversed_faces);
+          obj << 'f';
+          for (unsigned int c = 0; c < 4; ++c)
+            obj << ' ' << 8 * b + faces[f][reverse ? 3 - c : c];
+          obj << '\n';
+        }
+    obj.close();
+    return voxels("boxes.obj", "false");
+  };
   const std::vector<std::pair<Point<3>, Point<3>>> overlapping = {
     {Point<3>(0.02, 0.02, 0.02), Point<3>(0.08, 0.08, 0.08)},
     {Point<3>(0.05, 0.02, 0.02), Point<3>(0.11, 0.08, 0.08)}};
   const std::vector<std::pair<Point<3>, Point<3>>> hollow = {
     {Point<3>(0.02, 0.02, 0.02), Point<3>(0.12, 0.12, 0.12)},
     {Point<3>(0.05, 0.05, 0.05), Point<3>(0.09, 0.09, 0.09)}};
-  std::cout << "two overlapping cubes: "
-            << cubes(overlapping, {false, false}, false)
+  const std::vector<std::pair<Point<3>, Point<3>>> touching = {
+    {Point<3>(0.02, 0.02, 0.02), Point<3>(0.06, 0.06, 0.06)},
+    {Point<3>(0.06, 0.06, 0.02), Point<3>(0.10, 0.10, 0.06)}};
+  std::cout << "two overlapping cubes: " << boxes(overlapping, {false, false})
             << " voxels, with one face reversed: "
-            << cubes(overlapping, {false, false}, true) << std::endl
-            << "a hollow cube: " << cubes(hollow, {false, true}, false)
+            << boxes(overlapping, {false, false}, 1) << std::endl
+            << "a hollow cube: " << boxes(hollow, {false, true})
             << " voxels, its inner shell facing outward: "
-            << cubes(hollow, {false, false}, false) << std::endl;
+            << boxes(hollow, {false, false})
+            << ", half of its outer faces reversed: "
+            << boxes(hollow, {false, true}, 3) << std::endl
+            << "two cubes touching along an edge: "
+            << boxes(touching, {false, false}) << " voxels" << std::endl;
 
   // Voxel meshes of the sphere scene: fine and one level coarser.
   const auto sphere =

@@ -75,8 +75,9 @@ namespace ddfem::scene
    * edges and vertices (the ray is perturbed deterministically by a tiny
    * irrational offset): by the winding number if the mesh's triangles can
    * be oriented consistently, so that overlapping closed bodies make their
-   * union, and by parity otherwise. Each shell is oriented the way most of
-   * its triangles are: a few reversed triangles are repaired, and a
+   * union, and by parity otherwise (a shell that cannot be oriented, or
+   * half of whose triangles face each way). Each shell is oriented the way
+   * most of its triangles are: a few reversed triangles are repaired, and a
    * cavity's inward-facing shell stays a cavity (one that faces outward, as
    * its body does, fills it).
    * Voxels outside are left unchanged.
