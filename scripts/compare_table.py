@@ -134,7 +134,7 @@ def main(argv):
     loaded = {scene: load_states(directory, scene) for scene in scenes}
 
     print("| scene, state | fine / L1 / L2 DoFs | fastest fine run (solver, Newton)"
-          " | fine-direct | ddfem L1 speedup (vs direct) | L1 mean error ddfem /"
+          " | fine, direct solver | ddfem L1 speedup (vs direct) | L1 mean error ddfem /"
           " naive / average | ddfem / naive | L1 grid bound | ddfem L2 speedup"
           " | L2 mean error ddfem / naive / average | ddfem / naive"
           " | max coarsening (ddfem) | peak memory |")

@@ -643,18 +643,15 @@ namespace ddfem::app
       const OutputSettings output(prm);
       Comparison           comparison;
       comparison.parse_parameters(prm);
-      // Written once the comparison is done: a rerun from this directory's
-      // parameters.prm keeps it should the run fail.
-      const std::string used = output.directory + "/parameters.prm";
-      check_writable(used, "Output/Output directory");
-      const int  status = comparison.run(scene,
+      // Written with the comparison's tables (Comparison::run()).
+      check_writable(output.directory + "/parameters.prm",
+                     "Output/Output directory");
+      const int status = comparison.run(prm,
+                                        scene,
                                         scene_name_of(prm, prm_file),
                                         output.directory,
                                         output.screen_timings,
                                         out);
-      ResultFile parameters(used, "Output/Output directory");
-      prm.print_parameters(parameters.stream(), ParameterHandler::ShortPRM);
-      parameters.commit();
       if (status != 0)
         err << "Error: a model of the comparison did not converge (NOT "
                "CONVERGED in the table); its errors and times are not "

@@ -392,11 +392,12 @@ namespace ddfem::app
 
 
   int
-  Comparison::run(scene::Scene      &scene,
-                  const std::string &scene_name,
-                  const std::string &directory,
-                  const bool         screen_timings,
-                  std::ostream      &out)
+  Comparison::run(const ParameterHandler &prm,
+                  scene::Scene           &scene,
+                  const std::string      &scene_name,
+                  const std::string      &directory,
+                  const bool              screen_timings,
+                  std::ostream           &out)
   {
     out << "Comparison of scene \"" << scene_name << "\": grid "
         << scene.grid.describe() << ", " << scene.n_edits() << " material edit"
@@ -538,7 +539,8 @@ namespace ddfem::app
     bool tables_written = false;
     try
       {
-        return solve_and_write(scene,
+        return solve_and_write(prm,
+                               scene,
                                scene_name,
                                directory,
                                models,
@@ -563,9 +565,10 @@ namespace ddfem::app
 
 
   int
-  Comparison::solve_and_write(scene::Scene      &scene,
-                              const std::string &scene_name,
-                              const std::string &directory,
+  Comparison::solve_and_write(const ParameterHandler &prm,
+                              scene::Scene           &scene,
+                              const std::string      &scene_name,
+                              const std::string      &directory,
                               std::vector<std::unique_ptr<ModelRun>> &models,
                               const bool    screen_timings,
                               std::ostream &out,
@@ -689,8 +692,8 @@ namespace ddfem::app
            "the scene's linear solver; fine-amg: CG with algebraic "
            "multigrid, where the fine model uses another solver; "
            "fine-direct); sp.direct: against the fine run with the direct "
-           "solver (UMFPACK at every Newton iteration); mean and max error: against the first fine run "
-           "of the state that converged; grid fit: the mean vertex error of "
+           "solver (UMFPACK at every Newton iteration); mean and max error: "
+           "against the first fine run of the state that converged; grid fit: the mean vertex error of "
            "the coarse grid's best trilinear fit to that solution. Wall times "
            "include setup and coarsening, not output."
         << std::endl;
@@ -730,6 +733,11 @@ namespace ddfem::app
     file.stream() << json.dump(2) << std::endl;
     file.commit();
     write_csv(rows, directory + "/comparison.csv");
+    // The parameters of these tables (not before: a rerun from the
+    // directory's parameters.prm keeps it should this run fail).
+    ResultFile used(directory + "/parameters.prm", "Output/Output directory");
+    prm.print_parameters(used.stream(), ParameterHandler::ShortPRM);
+    used.commit();
     tables_written = true;
     plot(rows, scene_name, directory);
     if (screen_timings)

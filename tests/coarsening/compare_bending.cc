@@ -336,7 +336,8 @@ main(int argc, char **argv)
        "echo 'set output' > error_vs_time.png\nexit 1\n";
   std::filesystem::permissions("failing_gnuplot/gnuplot",
                                std::filesystem::perms::owner_all);
-  const std::string path = std::getenv("PATH");
+  const char       *old_path = std::getenv("PATH");
+  const std::string path     = old_path != nullptr ? old_path : "";
   setenv("PATH",
          (std::filesystem::absolute("failing_gnuplot").string() + ":" + path)
            .c_str(),

@@ -48,27 +48,31 @@ namespace ddfem::app
 
     /**
      * Runs the comparison of @p scene (named @p scene_name) and writes its
-     * results to @p directory. Logs to @p out; timings on screen only if
-     * @p screen_timings (files always have them). Returns 0 if every
+     * results to @p directory, with @p prm (the parameters of the run) as
+     * parameters.prm next to its tables. Logs to @p out; timings on screen
+     * only if @p screen_timings (files always have them). Returns 0 if every
      * solve converged, 1 otherwise. A run that stops with an error before
-     * its tables are written leaves no result.
+     * its tables are written leaves no result and an earlier run's
+     * parameters.prm.
      */
     int
-    run(scene::Scene      &scene,
-        const std::string &scene_name,
-        const std::string &directory,
-        const bool         screen_timings,
-        std::ostream      &out);
+    run(const ParameterHandler &prm,
+        scene::Scene           &scene,
+        const std::string      &scene_name,
+        const std::string      &directory,
+        const bool              screen_timings,
+        std::ostream           &out);
 
   private:
     /**
      * The part of run() that writes results: solves every state of
      * @p scene with the @p models set up for the configurations (null:
-     * skipped), measures, writes the tables (then sets @p tables_written)
-     * and draws the plot. Returns as run() does.
+     * skipped), measures, writes the tables and parameters.prm (then sets
+     * @p tables_written) and draws the plot. Returns as run() does.
      */
     int
-    solve_and_write(scene::Scene                           &scene,
+    solve_and_write(const ParameterHandler                 &prm,
+                    scene::Scene                           &scene,
                     const std::string                      &scene_name,
                     const std::string                      &directory,
                     std::vector<std::unique_ptr<ModelRun>> &models,
