@@ -327,7 +327,8 @@ main(int argc, char **argv)
               << std::endl;
 
   // gnuplot starts but fails to draw (a stand-in first on the PATH): the
-  // run stops with gnuplot's error, and keeps its tables but no figure.
+  // run stops with gnuplot's error, and keeps its tables and the
+  // parameters that made them, but no figure.
   std::filesystem::remove_all("compare_plot_fails");
   std::filesystem::remove_all("failing_gnuplot");
   std::filesystem::create_directory("failing_gnuplot");
@@ -350,6 +351,7 @@ main(int argc, char **argv)
   std::cout << "gnuplot failing: exit status " << status_plot;
   for (const std::string file : {"comparison.json",
                                  "comparison.csv",
+                                 "parameters.prm",
                                  "error_vs_time.gnuplot",
                                  "error_vs_time.png"})
     std::cout << ", " << file << " "
