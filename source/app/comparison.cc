@@ -687,16 +687,16 @@ namespace ddfem::app
 
     print_table(rows, screen_timings, out);
     if (screen_timings)
-      out
-        << "speedup: against the fastest fine run that converged (fine: "
-           "the scene's linear solver; fine-amg: CG with algebraic "
-           "multigrid, where the fine model uses another solver; "
-           "fine-direct); sp.direct: against the fine run with the direct "
-           "solver (UMFPACK at every Newton iteration); mean and max error: "
-           "against the first fine run of the state that converged; grid fit: the mean vertex error of "
-           "the coarse grid's best trilinear fit to that solution. Wall times "
-           "include setup and coarsening, not output."
-        << std::endl;
+      out << "speedup: against the fastest fine run that converged (fine: "
+             "the scene's linear solver; fine-amg: CG with algebraic "
+             "multigrid, where the fine model uses another solver; "
+             "fine-direct); sp.direct: against the fine run with the direct "
+             "solver (UMFPACK at every Newton iteration); mean and max error: "
+             "against the first fine run of the state that converged; grid "
+             "fit: the mean vertex error of the coarse grid's best trilinear "
+             "fit to that solution. Wall times "
+             "include setup and coarsening, not output."
+          << std::endl;
 
     nlohmann::json json;
     json["scene"] = scene_name;

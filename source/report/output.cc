@@ -197,13 +197,12 @@ namespace ddfem::report
     bool
     is_vtu_file(const std::string &name)
     {
+      std::string       file    = name;
       const std::string partial = ResultFile::partial_name("");
-      const std::string file    = name.size() > partial.size() &&
-                                   name.compare(name.size() - partial.size(),
-                                                partial.size(),
-                                                partial) == 0 ?
-                                    name.substr(0, name.size() - partial.size()) :
-                                    name;
+      if (file.size() > partial.size() &&
+          file.compare(file.size() - partial.size(), partial.size(), partial) ==
+            0)
+        file.resize(file.size() - partial.size());
       if (file.size() < 4)
         return false;
       const std::string stem      = file.substr(0, file.size() - 4),

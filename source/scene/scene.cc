@@ -68,17 +68,15 @@ namespace ddfem::scene
 
 
 
-    /// Throws ExcMessage naming Layout unless @p grid has a solid voxel.
-    void
-    check_has_solid(const VoxelGrid &grid, const bool has_solid)
+    /// The error of a scene whose @p grid has no solid voxel.
+    ExcMessage
+    no_solid_voxel(const VoxelGrid &grid)
     {
       const auto &n = grid.size();
-      AssertThrow(has_solid,
-                  ExcMessage("The scene has no solid voxel: every voxel of "
-                             "the " +
-                             std::to_string(n[0]) + "x" + std::to_string(n[1]) +
-                             "x" + std::to_string(n[2]) +
-                             " grid is void (check Layout)."));
+      return ExcMessage("The scene has no solid voxel: every voxel of the " +
+                        std::to_string(n[0]) + "x" + std::to_string(n[1]) +
+                        "x" + std::to_string(n[2]) +
+                        " grid is void (check Layout).");
     }
   } // namespace
 
@@ -142,7 +140,7 @@ namespace ddfem::scene
     layout.parse_parameters(prm, palette.size());
     boundary_conditions.parse_parameters(prm, grid.extent(), h);
     layout.fill(grid);
-    check_has_solid(grid, grid.n_solid_voxels() > 0);
+    AssertThrow(grid.n_solid_voxels() > 0, no_solid_voxel(grid));
     for (const Point<3> &p : probes)
       check_probe(grid, p);
     // Every edit is checked now, before anything is solved or written.
@@ -266,7 +264,7 @@ namespace ddfem::scene
                 " GiB of physical memory this machine has. Use fewer "
                 "voxels: a smaller Grid size with a larger Voxel size."));
           }
-    check_has_solid(grid, !blocks.empty());
+    AssertThrow(!blocks.empty(), no_solid_voxel(grid));
 
     // Number only the vertices solid blocks use.
     const auto vertex_index =
