@@ -18,12 +18,14 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <limits>
 #include <map>
 #include <memory>
+#include <set>
 #include <sstream>
 #include <string>
 
@@ -287,6 +289,16 @@ namespace ddfem::testing
     else
       std::cout << "FAILED, " << value << " >= " << power_of_ten(bound)
                 << std::endl;
+  }
+
+  /// The names of the files in @p directory, sorted.
+  inline std::set<std::string>
+  file_names(const std::string &directory)
+  {
+    std::set<std::string> names;
+    for (const auto &entry : std::filesystem::directory_iterator(directory))
+      names.insert(entry.path().filename().string());
+    return names;
   }
 } // namespace ddfem::testing
 

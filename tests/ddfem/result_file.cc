@@ -11,8 +11,9 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <set>
 #include <string>
+
+#include "../tests.h"
 
 namespace
 {
@@ -20,11 +21,8 @@ namespace
   void
   print_names(const std::string &directory, const std::string &what)
   {
-    std::set<std::string> names;
-    for (const auto &entry : std::filesystem::directory_iterator(directory))
-      names.insert(entry.path().filename().string());
     std::cout << what << ":";
-    for (const std::string &name : names)
+    for (const std::string &name : ddfem::testing::file_names(directory))
       std::cout << ' ' << name;
     std::cout << std::endl;
   }

@@ -59,9 +59,7 @@ main(int argc, char **argv)
   std::set<std::string> files;
   for (const std::string run : {"first", "second"})
     {
-      files.clear();
-      for (const auto &entry : std::filesystem::directory_iterator(run))
-        files.insert(entry.path().filename().string());
+      files = testing::file_names(run);
       std::cout << run << " run's files:";
       for (const std::string &file : files)
         std::cout << ' ' << file;
