@@ -4,9 +4,9 @@
 #   scripts/setup.sh          install what is missing, build (Release), run
 #                             the default scene prm/default.prm
 #   scripts/setup.sh --test   install what is missing, build, run the default
-#                             scene, run the tests (Release; then the library
-#                             and stability tests and the cheaper DG tests in
-#                             a Debug build with deal.II's assertions)
+#                             scene, run the tests (Release; then the library,
+#                             stability and fit tests and the cheaper DG tests
+#                             in a Debug build with deal.II's assertions)
 #
 # Installing needs root (or sudo). Everything comes from Debian's archive.
 set -euo pipefail

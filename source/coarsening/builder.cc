@@ -57,8 +57,10 @@ namespace ddfem::coarsening
                       Patterns::Integer(1, 2),
                       "Coarsening levels to build: 1 (2x2x2 blocks of voxels) "
                       "or 2 (also 4x4x4 blocks, through the staged "
-                      "compression of the subsection Level 2; needs the "
-                      "complete level 1, Scope = all or an earlier build).");
+                      "compression of the subsection Level 2). With Scope = "
+                      "all, from the complete level 1; with Scope = scene, "
+                      "from the level-1 entries of the scene's 4x4x4 blocks, "
+                      "whose grid must then divide by 4.");
     prm.declare_entry("Threads",
                       "0",
                       Patterns::Integer(0),
