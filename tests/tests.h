@@ -279,13 +279,24 @@ namespace ddfem::testing
 
   /// Prints "name: below bound" if @p value < @p bound, else "FAILED" with
   /// the value and bound (also for a NaN value); the bound as
-  /// power_of_ten() writes it.
+  /// power_of_ten() writes it. With @p digits > 0 the value is printed too,
+  /// to that many significant digits ("name: 0.65, below 7.5 x 10^-1"), so
+  /// that the output pins a measured value while the bound states the
+  /// claim.
   inline void
-  check_below(const std::string &name, const double value, const double bound)
+  check_below(const std::string &name,
+              const double       value,
+              const double       bound,
+              const int          digits = 0)
   {
     std::cout << name << ": ";
     if (value < bound)
-      std::cout << "below " << power_of_ten(bound) << std::endl;
+      {
+        if (digits > 0)
+          std::cout << std::setprecision(digits) << value
+                    << std::setprecision(6) << ", ";
+        std::cout << "below " << power_of_ten(bound) << std::endl;
+      }
     else
       std::cout << "FAILED, " << value << " >= " << power_of_ten(bound)
                 << std::endl;

@@ -1117,15 +1117,18 @@ main()
                              std::abs(uniaxial_stress(energy, stretch) /
                                         uniaxial_stress(fine, stretch) -
                                       1),
-                             0.03);
+                             0.03,
+                             2);
     testing::check_below("level 2, simple shear 0.05, relative energy "
                          "difference to the fine material",
                          std::abs(level2_energy(shear) / fine(shear) - 1),
-                         0.03);
+                         0.03,
+                         2);
     testing::check_below("level-1 coarse fit, uniaxial strain 1.05, relative "
                          "energy difference to the fine material",
                          std::abs(coarse_energy(strain) / fine(strain) - 1),
-                         0.03);
+                         0.03,
+                         2);
     std::cout << "uniaxial strain 1.05: the level-1 child is softer than the "
                  "coarse fit: "
               << (child_energy(strain) < 0.95 * coarse_energy(strain))

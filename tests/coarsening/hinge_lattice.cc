@@ -82,5 +82,6 @@ main(int argc, char **argv)
   // About 15 % above the measured 0.65; revision 5 gave 0.94.
   ddfem::testing::check_below("ddfem L1 mean vertex error / naive's",
                               error.at("ddfem") / error.at("naive"),
-                              0.75);
+                              0.75,
+                              2);
 }

@@ -68,6 +68,7 @@ main(int argc, char **argv)
                   << converged << std::endl;
         ddfem::testing::check_below("  ddfem L1 mean vertex error / naive's",
                                     error.at("ddfem") / error.at("naive"),
-                                    bound);
+                                    bound,
+                                    2);
       }
 }
