@@ -348,8 +348,13 @@ namespace
         std::cout << "  " << load << " Pa: " << std::setprecision(2)
                   << std::scientific << difference << std::defaultfloat;
         if (previous > 0)
-          std::cout << ", observed order " << std::fixed << std::setprecision(2)
-                    << std::log10(previous / difference) << std::defaultfloat;
+          {
+            // The difference is O(load^2) relative to O(load): order 1.
+            const double order = std::log10(previous / difference);
+            std::cout << ", observed order " << std::fixed
+                      << std::setprecision(2) << order << std::defaultfloat
+                      << (std::abs(order - 1) < 0.05 ? "" : " (NOT 1)");
+          }
         std::cout << std::endl;
         previous = difference;
       }

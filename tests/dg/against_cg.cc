@@ -64,8 +64,8 @@ main(int argc, char **argv)
       std::cout << prm << ":" << std::endl;
       for (unsigned int p = 0; p < dg.size(); ++p)
         std::cout << "  probe " << p + 1
-                  << ": u_z(DG Q2) = " << std::setprecision(4) << dg[p]
-                  << " m, u_z(CG Q2) = " << cg[p] << " m, ratio "
+                  << ": u_z(DG Q2) = " << std::setprecision(4) << 1e3 * dg[p]
+                  << " mm, u_z(CG Q2) = " << 1e3 * cg[p] << " mm, ratio "
                   << dg[p] / cg[p] << std::setprecision(6) << std::endl;
       for (unsigned int p = 0; p < dg.size(); ++p)
         testing::check_below("  probe " + std::to_string(p + 1) +

@@ -5,7 +5,8 @@
 // eigenvalues (LAPACK dsyevx) of the dense matrix restricted to the
 // unconstrained DoFs, for the study's 2D Poisson problem (Dirichlet weak for
 // DG, strong for CG) on 4^2, 8^2 and 16^2 cells, FE_DGQ and FE_DGP,
-// eta = 10.
+// eta = 10. CG Q1's condition numbers are checked against their closed
+// form.
 
 #include <deal.II/fe/fe_q.h>
 #include <deal.II/grid/grid_generator.h>
@@ -95,12 +96,55 @@ print_growth(const dg::StudyMethod        &method,
   return kappa.back();
 }
 
+/**
+ * The condition number of CG Q1's matrix on the n x n mesh, in closed form:
+ * with strong Dirichlet conditions it is K1 x M1 + M1 x K1 on the interior
+ * nodes, whose 1D stiffness and mass matrices have the eigenvalues
+ * k_j = (2 - 2 cos t_j) / h and m_j = h (4 + 2 cos t_j) / 6, t_j = j pi / n,
+ * j = 1..n-1, and the eigenvalues of the sum are k_j m_l + m_j k_l.
+ */
+double
+q1_condition_number(const unsigned int n)
+{
+  const double h = 1. / n;
+  const auto   k = [&](const unsigned int j) {
+    return (2 - 2 * std::cos(j * numbers::PI / n)) / h;
+  };
+  const auto m = [&](const unsigned int j) {
+    return h * (4 + 2 * std::cos(j * numbers::PI / n)) / 6;
+  };
+  double low = std::numeric_limits<double>::max(), high = 0;
+  for (unsigned int j = 1; j < n; ++j)
+    for (unsigned int l = 1; l < n; ++l)
+      {
+        const double lambda = k(j) * m(l) + m(j) * k(l);
+        low                 = std::min(low, lambda);
+        high                = std::max(high, lambda);
+      }
+  return high / low;
+}
+
 int
 main(int argc, char **argv)
 {
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   // The condition numbers on 16^2 of CG, by degree.
   std::map<unsigned int, double> cg;
+  {
+    const dg::StudyMethod q1         = dg::parse_methods("CG Q1")[0];
+    double                difference = 0;
+    for (const unsigned int n : {4u, 8u, 16u})
+      difference =
+        std::max(difference,
+                 std::abs(
+                   condition_number(q1, dg::Parameters::Element::dgq, n) /
+                     q1_condition_number(n) -
+                   1));
+    testing::check_below("CG Q1 on 4^2, 8^2, 16^2: relative difference of "
+                         "the condition numbers from the closed form",
+                         difference,
+                         1e-10);
+  }
   for (const dg::StudyMethod &method : dg::parse_methods("CG Q1, CG Q2"))
     cg[method.degree] =
       print_growth(method, dg::Parameters::Element::dgq, method.name);
