@@ -3,7 +3,8 @@
 // coarsening levels 1 and 2, the metamaterials fitted lazily into a fresh
 // database. The screen table (without timings) is compared; the files the
 // run writes are checked for their columns, their speedups against the
-// fine runs' wall times, and the CSV against the JSON. A second, smaller run
+// fine runs' wall times, the CSV against the JSON, and the ddfem L1 run's
+// probes against a simulation of that model. A second, smaller run
 // compares a quadratic fine model with the trilinear naive one; a third one
 // has a fine model that fails, and its errors are measured against the
 // direct run, as a fourth run whose scene solves directly confirms. A
@@ -101,14 +102,53 @@ main(int argc, char **argv)
   for (const std::string &column : missing)
     std::cout << ' ' << column;
   std::cout << (missing.empty() ? " none" : "") << std::endl;
-  // Probes as in summary.json: the point and the displacement there.
-  std::cout << "probes of the "
-            << json.at("runs")[3].at("method").get<std::string>() << " run:";
-  for (const auto &probe : json.at("runs")[3].at("probes"))
-    std::cout << " point " << probe.at("point").dump() << ", displacement "
-              << (probe.at("displacement").size() == 3 ? "3 components" :
-                                                         "WRONG");
+  // Probes as in summary.json: the point and the displacement there,
+  // equal to those of a simulation of the same model.
+  const auto &ddfem_run = json.at("runs")[3];
+  std::cout << "probes of the " << ddfem_run.at("method").get<std::string>()
+            << " L" << ddfem_run.at("level") << " run:";
+  for (const auto &probe : ddfem_run.at("probes"))
+    std::cout << " point " << probe.at("point").dump();
   std::cout << std::endl;
+  std::filesystem::remove_all("compare_simulation");
+  std::ostringstream simulation_screen;
+  const int          simulation_status =
+    ddfem::app::run({"compare_bending.prm",
+                     "--set",
+                     "Run type=simulation",
+                     "--set",
+                     "Method=ddfem",
+                     "--set",
+                     "Coarsening levels=1",
+                     "--set",
+                     "Output/Output directory=compare_simulation",
+                     "--set",
+                     "Output/Write VTU=none"},
+                    simulation_screen,
+                    simulation_screen);
+  std::ifstream        summary_file("compare_simulation/summary.json");
+  const nlohmann::json simulated =
+    nlohmann::json::parse(summary_file).at("probes");
+  const nlohmann::json &compared = ddfem_run.at("probes");
+  // The largest difference of a coordinate or a displacement component,
+  // relative to the largest of them.
+  double probe_difference = simulated.size() == compared.size() ? 0 : 1,
+         largest          = 0;
+  for (unsigned int p = 0; p < std::min(simulated.size(), compared.size()); ++p)
+    for (const char *key : {"point", "displacement"})
+      for (unsigned int d = 0; d < 3; ++d)
+        {
+          const double a = simulated[p].at(key)[d], b = compared[p].at(key)[d];
+          probe_difference = std::max(probe_difference, std::abs(a - b));
+          largest          = std::max(largest, std::abs(a));
+        }
+  probe_difference /= largest;
+  std::cout << "simulation of the same model: exit status " << simulation_status
+            << std::endl;
+  ddfem::testing::check_below("  its probes against the compare run's, "
+                              "relative difference",
+                              probe_difference,
+                              1e-10);
 
   // Each speedup is the fastest fine run's wall time of its state (and the
   // direct solver's) over the run's own, and the CSV's numbers are the
