@@ -471,7 +471,12 @@ namespace ddfem::dg
       const double eta_f = 2 * eta * area / cell->measure();
       // Nitsche's consistency and symmetry terms and their Dirichlet data
       // part, in the element's frame (warped with its rotation R if
-      // corotated); the penalty term in the world frame, not warped.
+      // corotated). The penalty term as if warped: its isotropic part
+      // 2 mu |P (u - g)|^2 is the same in both frames, and its part
+      // lambda (P (u - g) . R n)^2 takes the element's turned normal R n,
+      // as the consistency terms do; with the reference normal n the force
+      // of a rotated configuration would not be the rotated force, and the
+      // penalty would not control the consistency terms' lambda part.
       FullMatrix<double>          nitsche(n, n);
       Vector<double>              nitsche_data(n);
       const Tensor<2, dim>        R = current ?
@@ -481,9 +486,10 @@ namespace ddfem::dg
       std::vector<Tensor<1, dim>> masked(n), masked_R(n);
       for (unsigned int q = 0; q < fv.n_quadrature_points; ++q)
         {
-          const Point<dim>     &x  = fv.quadrature_point(q);
-          const Tensor<1, dim> &nq = fv.normal_vector(q);
-          const double          dx = fv.JxW(q);
+          const Point<dim>     &x   = fv.quadrature_point(q);
+          const Tensor<1, dim> &nq  = fv.normal_vector(q);
+          const Tensor<1, dim>  n_R = R * nq;
+          const double          dx  = fv.JxW(q);
           if (data.traction)
             {
               const Tensor<1, dim> tr = t * data.traction(center, x, nq);
@@ -529,7 +535,7 @@ namespace ddfem::dg
               c.vector[i] += eta_f *
                              penalty_product(Pg,
                                              masked[i],
-                                             nq,
+                                             n_R,
                                              m.mu,
                                              std::max(m.lambda, 0.),
                                              n_components) *
@@ -542,7 +548,7 @@ namespace ddfem::dg
                   c.matrix(i, j) += eta_f *
                                     penalty_product(masked[i],
                                                     masked[j],
-                                                    nq,
+                                                    n_R,
                                                     m.mu,
                                                     std::max(m.lambda, 0.),
                                                     n_components) *
