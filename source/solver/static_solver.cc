@@ -2,6 +2,7 @@
 #include <deal.II/base/work_stream.h>
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/fe_values.h>
+#include <deal.II/grid/grid_tools.h>
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/numerics/vector_tools.h>
 
@@ -975,15 +976,22 @@ namespace ddfem::solver
                      const Vector<double> &u,
                      const Point<3>       &p)
   {
-    Vector<double> value(3);
-    try
+    const auto cells =
+      GridTools::find_all_active_cells_around_point(mapping, dof_handler, p);
+    AssertThrow(!cells.empty(), scene::probe_outside(p));
+    Tensor<1, 3>                value;
+    std::vector<Vector<double>> values(1, Vector<double>(3));
+    for (const auto &[cell, unit_point] : cells)
       {
-        VectorTools::point_value(mapping, dof_handler, u, p, value);
+        FEValues<3> fe_values(mapping,
+                              dof_handler.get_fe(),
+                              Quadrature<3>(unit_point),
+                              update_values);
+        fe_values.reinit(cell);
+        fe_values.get_function_values(u, values);
+        for (unsigned int d = 0; d < 3; ++d)
+          value[d] += values[0](d) / cells.size();
       }
-    catch (const ExceptionBase &) // no cell of the mesh holds the point
-      {
-        AssertThrow(false, scene::probe_outside(p));
-      }
-    return Tensor<1, 3>({value(0), value(1), value(2)});
+    return value;
   }
 } // namespace ddfem::solver
