@@ -11,6 +11,7 @@
 #include <deal.II/meshworker/scratch_data.h>
 
 #include <ddfem/base/cell_values.h>
+#include <ddfem/base/exceptions.h>
 #include <ddfem/base/statistics.h>
 #include <ddfem/dg/system.h>
 #include <ddfem/material/kernel.h>
@@ -323,6 +324,10 @@ namespace ddfem::dg
     if (data.dirichlet && strong)
       {
         const auto &unit_points = fe.get_unit_support_points();
+        AssertThrow(unit_points.size() == fe.n_dofs_per_cell(),
+                    ExcMessage("Strong Dirichlet conditions need an element "
+                               "with nodes (FE_Q, FE_DGQ), not " +
+                               fe.get_name() + "."));
         std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
         for (const auto &cell : dof_handler.active_cell_iterators())
           if (cell->at_boundary())
@@ -883,8 +888,11 @@ namespace ddfem::dg
             std::to_string(dof_handler.n_dofs()) +
             " DoFs) holds more entries than DG/Definiteness check limit = " +
             limit.str() +
-            ". Give a fixed DG/Penalty (found automatically on a smaller "
-            "grid: eq. 7 scales it with the mesh) or raise the limit."));
+            ". Give a fixed DG/Penalty or raise the limit. For the "
+            "penalty, take twice the value found automatically on a "
+            "coarser grid of the same part: eq. 7 scales it with the "
+            "cells, but the smallest stable value also depends on the "
+            "part's boundary and materials."));
         if (d == Definiteness::positive_definite)
           return d;
       }
@@ -908,13 +916,17 @@ namespace ddfem::dg
       {
         direct.initialize(matrix);
       }
-    catch (const ExceptionBase &)
+    catch (const ExceptionBase &e)
       {
         AssertThrow(false,
                     ExcMessage("UMFPACK could not factorize the DG system (" +
                                std::to_string(dof_handler.n_dofs()) +
-                               " DoFs), most likely for lack of memory: "
-                               "make the grid smaller."));
+                               " DoFs): " + message_of(e) +
+                               " A singular matrix means a rigid motion that "
+                               "no boundary condition holds, or a fixed "
+                               "DG/Penalty too small (check it with 'Penalty "
+                               "= automatic' on a smaller grid); lack of "
+                               "memory, a grid too large."));
       }
     direct.vmult(solution, rhs);
     constraints.distribute(solution);
