@@ -2,9 +2,10 @@
 // stability tests: stiffness contrast 1e6 (compressed by 25 %, where the
 // fine test, contrast_1e6.prm, compresses by 15 %: at 25 % the fine model's
 // soft voxels fold, tests/stability/inverted.cc, while a coarse model has
-// no nodes inside a block to fold them), nu = 0.49, 50 % compression and
-// a 180 degree twist, each solved with the ddfem and the naive coarse
-// model at level 1 (the compression and the twist also with the level-1
+// no nodes inside a block to fold them), nu = 0.49, 50 % compression, a
+// 180 degree twist, a plate one voxel thick and a frame of one-voxel beams
+// in a cube 90 % void, each solved with the ddfem, naive and average
+// coarse models at level 1 (the compression and the twist also with the level-1
 // point offset 0.45, which softens the element in bending), the twist and a
 // larger compressed cube at level 2 too, whose default point offset softens
 // the element in bending (the metamaterials fitted lazily into a fresh
@@ -108,7 +109,28 @@ namespace
      "    set Axis = 0, 1, 0\n    set Angle = 180\n  end\nend\n"
      "subsection Nonlinear solver\n  set Load steps = 12\nend\n",
      {1, 2},
-     {"default", "0.45"}}};
+     {"default", "0.45"}},
+    // A plate one voxel thick (the bottom half of every block) clamped on
+    // two sides under a pressure on its top, which lies inside the blocks.
+    {"thin_plate",
+     "subsection Geometry\n  set Grid size = 12, 12, 2\n"
+     "  set Probe points = 0.06, 0.06, 0.01\nend\n"
+     "subsection Materials\n  set Palette = E=1e6 nu=0.45\nend\n"
+     "subsection Layout\n  set Material = 0\n"
+     "  set Shapes = box 0 0 0 0.12 0.12 0.01 : 1\nend\n"
+     "subsection Boundary conditions\n"
+     "  subsection Condition 1\n    set Type = fixed\n    set Region = x-\n"
+     "  end\n"
+     "  subsection Condition 2\n    set Type = fixed\n    set Region = x+\n"
+     "  end\n"
+     "  subsection Condition 3\n    set Type = pressure\n"
+     "    set Region = box 0 0 0.01 0.12 0.12 0.01\n    set Value = 2e4\n"
+     "  end\nend\n"
+     "subsection Nonlinear solver\n  set Load steps = 5\nend\n",
+     {1}},
+    // The fine test's frame of one-voxel beams along the edges of a cube,
+    // 90 % void.
+    {"void_90", "INCLUDE " SOURCE_DIR "/void_90.prm\n", {1}}};
 } // namespace
 
 int
@@ -130,7 +152,7 @@ main(int argc, char **argv)
           {
             if (level == 2 && offset != "default")
               continue;
-            for (const std::string method : {"ddfem", "naive"})
+            for (const std::string method : {"ddfem", "naive", "average"})
               {
                 std::cout << "=== " << name << ", " << method << ", level "
                           << level << ", point offset " << offset << std::endl;
