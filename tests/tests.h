@@ -8,6 +8,8 @@
 #include <deal.II/base/conditional_ostream.h>
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/symmetric_tensor.h>
+#include <deal.II/base/tensor.h>
 #include <deal.II/base/timer.h>
 
 #include <ddfem/app/application.h>
@@ -28,6 +30,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace ddfem::testing
 {
@@ -202,6 +205,46 @@ namespace ddfem::testing
   }
 
   /**
+   * Runs ddfem on the parameter file @p prm with the settings @p settings
+   * ("Subsection/Name=value", each passed as --set), its output in
+   * @p directory (removed first), and returns its exit status and the
+   * summary.json it wrote (null if none). The screen output goes to
+   * @p screen.
+   */
+  inline std::pair<int, nlohmann::json>
+  run_model(const std::string              &prm,
+            const std::string              &directory,
+            const std::vector<std::string> &settings,
+            std::ostream                   &screen)
+  {
+    std::filesystem::remove_all(directory);
+    std::vector<std::string> arguments = {
+      prm, "--set", "Output/Output directory=" + directory};
+    for (const std::string &setting : settings)
+      arguments.insert(arguments.end(), {"--set", setting});
+    const int     status = app::run(arguments, screen, screen);
+    std::ifstream file(directory + "/summary.json");
+    return {status,
+            file ? nlohmann::json::parse(file) : nlohmann::json(nullptr)};
+  }
+
+  /// The rotation by @p degrees about the unit vector @p axis (Rodrigues).
+  inline Tensor<2, 3>
+  rotation_about(const Tensor<1, 3> &axis, const double degrees)
+  {
+    const double a = degrees * numbers::PI / 180;
+    Tensor<2, 3> K;
+    K[0][1] = -axis[2];
+    K[0][2] = axis[1];
+    K[1][0] = axis[2];
+    K[1][2] = -axis[0];
+    K[2][0] = -axis[1];
+    K[2][1] = axis[0];
+    return unit_symmetric_tensor<3>() + std::sin(a) * K +
+           (1 - std::cos(a)) * K * K;
+  }
+
+  /**
    * The Comparison subsection of a compare run of ddfem and naive at level
    * 1 against the fine model, without the fine direct solver.
    */
@@ -293,8 +336,11 @@ namespace ddfem::testing
     if (value < bound)
       {
         if (digits > 0)
-          std::cout << std::setprecision(digits) << value
-                    << std::setprecision(6) << ", ";
+          {
+            const auto precision = std::cout.precision(digits);
+            std::cout << value << ", ";
+            std::cout.precision(precision);
+          }
         std::cout << "below " << power_of_ten(bound) << std::endl;
       }
     else

@@ -4,7 +4,6 @@
 #include <deal.II/fe/fe_values.h>
 #include <deal.II/grid/grid_tools.h>
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
-#include <deal.II/numerics/vector_tools.h>
 
 #include <ddfem/base/cell_values.h>
 #include <ddfem/base/parsing.h>

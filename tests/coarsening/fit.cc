@@ -20,7 +20,7 @@
 // 6. a block split in two layers is recognized; its laminate springs put
 //    the plane's axes on the softer half, whichever side it lies on, and
 //    fit with less than 0.6 times the held-out error of the springs its
-//    mirrors keep; the weight 0.01 leaves the laminate between 0.3 and 0.6
+//    mirrors keep; the weight 0.01 leaves the laminate between 0.4 and 0.6
 //    times its homogenized Young's modulus along the layers, free springs
 //    (Spring regularization = 0) within 10 % of it, at less than half the
 //    held-out error; the fit is kept by the block's quarter turns, and its

@@ -102,9 +102,9 @@ main()
           expected_sum += t * (1 - t) * H * H;
           expected_max = std::max(expected_max, t * (1 - t) * H * H);
         }
-      // The error depends on x alone, at five vertex positions.
-      const double mean = expected_sum / 5 / e.length,
-                   max  = expected_max / e.length;
+      // The error depends on x alone, at five vertex positions; the
+      // longest side is 2 m.
+      const double mean = expected_sum / 5 / 2, max = expected_max / 2;
       std::cout << "  quadratic: mean " << e.mean << " (expected " << mean
                 << "), max " << e.max << " (expected " << max << ")"
                 << std::endl;

@@ -135,22 +135,6 @@ namespace ddfem::testing
     return variants;
   }
 
-  /// The rotation by @p degrees about the unit vector @p axis (Rodrigues).
-  inline Tensor<2, 3>
-  rotation_about(const Tensor<1, 3> &axis, const double degrees)
-  {
-    const double a = degrees * numbers::PI / 180;
-    Tensor<2, 3> K;
-    K[0][1] = -axis[2];
-    K[0][2] = axis[1];
-    K[1][0] = axis[2];
-    K[1][2] = -axis[0];
-    K[2][0] = -axis[1];
-    K[2][1] = axis[0];
-    return unit_symmetric_tensor<3>() + std::sin(a) * K +
-           (1 - std::cos(a)) * K * K;
-  }
-
   /**
    * The coefficients of the field A_K v on every cell K of @p system, for
    * the coefficients @p v of a vector field and A_K = @p A(K): the dim

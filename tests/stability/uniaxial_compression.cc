@@ -114,14 +114,9 @@ main(int argc, char **argv)
 
       for (const Model &model : models)
         {
-          const std::string directory = name + "-" + model.name;
-          std::filesystem::remove_all(directory);
-          std::vector<std::string> arguments = {
-            name + ".prm", "--set", "Output/Output directory=" + directory};
-          for (const std::string &setting : model.settings)
-            arguments.insert(arguments.end(), {"--set", setting});
           std::ostringstream screen;
-          const int status = ddfem::app::run(arguments, screen, screen);
+          const auto [status, summary] = ddfem::testing::run_model(
+            name + ".prm", name + "-" + model.name, model.settings, screen);
           std::cout << "  " << model.name << ": exit status " << status;
           if (status != 0)
             {
@@ -132,10 +127,8 @@ main(int argc, char **argv)
 
           // The largest error of a probe's displacement component,
           // relative to the lid's displacement.
-          std::ifstream        file(directory + "/summary.json");
-          const nlohmann::json summary = nlohmann::json::parse(file);
-          const double         s     = model.linear ? s_linear : s_neo_hookean;
-          double               error = 0;
+          const double s     = model.linear ? s_linear : s_neo_hookean;
+          double       error = 0;
           for (const auto &probe : summary.at("probes"))
             {
               const std::vector<double> X       = probe.at("point"),

@@ -16,7 +16,8 @@ namespace ddfem::solver
    * @p dof_handler) at the probe point @p p: the mean of its values on the
    * cells that hold @p p. A DG field jumps between cells, and a probe on a
    * face, an edge or a vertex gets the average of the sides, as the DG
-   * paper stitches its nodes (eq. 17); a continuous field has one value. A
+   * paper stitches its nodes (eq. 17), each cell counting once (also at a
+   * hanging node); a continuous field has one value. A
    * point outside the mesh is an error that names Geometry/Probe points.
    * Serves the CG and the DG solvers.
    */
