@@ -1,9 +1,10 @@
 // Coarse models (DDFEM paper, section 5):
 // - a homogeneous cantilever in the small-load limit: ddfem, naive and
-//   fine agree within the coarse grids' discretization error (the distance
-//   of the trilinear model of the grid to the limit h -> 0, extrapolated
-//   from the fine model's difference to one of voxels half as large and
-//   from naive's, which is that model), and ddfem is closer to the
+//   fine agree within the coarse grids' discretization error (an estimate
+//   of the distance of the grid's trilinear model to the limit h -> 0,
+//   extrapolated from the fine model's difference to one of voxels half as
+//   large and from naive's, which is that trilinear model at level 1 and at
+//   level 2 with the Gauss rule), and ddfem is closer to the
 //   fine solution than naive with the paper's element at both levels (not
 //   with the default level-2 offset, where the naive element bends almost
 //   like the fine one);
@@ -26,6 +27,7 @@
 #include <ddfem/report/vertex_error.h>
 
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -172,11 +174,15 @@ namespace
                  "error / tip deflection "
               << d << std::endl;
 
-    // The discretization errors of the grids of 2 h and 4 h bound the
-    // coarse models of levels 1 and 2. Naive level 1 and naive level 2 with
-    // the Gauss rule are the trilinear models of these grids, so they give
-    // the bounds, and the other models are checked against them.
-    double fine_error = 0, bound = 0;
+    // Estimates of the discretization errors of the grids of 2 h and 4 h,
+    // by level: bounds for the coarse models. On a homogeneous part in the
+    // small-load limit, naive level 1 and naive level 2 with the Gauss rule
+    // are the trilinear models of these grids, so they set the bounds, and
+    // the other models are checked against them. The bounds are loose (a
+    // model may miss the fine one by more than naive and pass); the sharp
+    // claim is the comparison with naive below.
+    double                         fine_error = 0;
+    std::map<unsigned int, double> bound;
     for (const auto &[level, models, label] :
          {std::tuple(1u, &setup, ""),
           std::tuple(2u, &gauss, " (Gauss rule)"),
@@ -200,36 +206,37 @@ namespace
                       << std::setprecision(3)
                       << error[method == CoarseningMethod::naive] << std::endl;
           }
-        const bool grid_model = level == 1 || models == &gauss;
         if (level == 1)
           {
             // r = error / d is the observed factor by which a halving of h
-            // shrinks the difference to the next grid. Summing the
-            // differences' geometric series, the grid of h lies d r / (r -
-            // 1) from the limit h -> 0, and the grid of 2 h error r / (r -
-            // 1).
+            // shrinks the difference to the next grid. If it stays so,
+            // summing the differences' geometric series puts the fine model
+            // d r / (r - 1) from the limit h -> 0.
             const double r = error[1] / d;
             std::cout << "  observed factor per halving of h: " << r
                       << (r > 1.5 && r < 4.5 ? "" : " (NOT in (1.5, 4.5))")
                       << std::endl;
+            AssertThrow(r > 1, ExcMessage("The fine model does not converge."));
             fine_error = d * r / (r - 1);
-            bound      = error[1] * r / (r - 1);
           }
-        else if (grid_model)
-          // The grid of 4 h lies at most its difference to the fine model
-          // plus the fine model's own error from the limit.
-          bound = error[1] + fine_error;
-        if (grid_model)
-          std::cout << "  discretization error / tip deflection of the grid "
-                       "of "
-                    << 2 * level << " voxels: " << bound << std::endl;
+        if (level == 1 || models == &gauss)
+          {
+            // A grid lies at most its difference to the fine model plus the
+            // fine model's own distance from the limit (at level 1 the
+            // series' sum, error r / (r - 1)).
+            bound[level] = error[1] + fine_error;
+            std::cout << "  discretization error / tip deflection of the "
+                         "grid of "
+                      << 2 * level << " voxels: " << bound.at(level)
+                      << std::endl;
+          }
         else
           testing::check_below("  naive within the discretization error",
                                error[1],
-                               bound);
+                               bound.at(level));
         testing::check_below("  ddfem within the discretization error",
                              error[0],
-                             bound);
+                             bound.at(level));
         // At the default level-2 offset the unfitted element, one element
         // through the thickness, bends almost like the fine cantilever; the
         // fit, made from samples of level-1 models, which are stiffer in

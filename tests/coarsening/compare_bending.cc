@@ -142,7 +142,7 @@ main(int argc, char **argv)
               largest        = std::max(largest, std::abs(a));
             }
         }
-      std::cout << "  the same probe points: "
+      std::cout << "  as many probes, at the same points: "
                 << (same_points ? "true" : "false") << std::endl;
       ddfem::testing::check_below("  their displacements against the compare "
                                   "run's, relative difference",
