@@ -825,11 +825,18 @@ namespace ddfem::solver
                         << format_point(vertex)
                         << " m inside out at that vertex (det F = "
                         << std::setprecision(3) << vertex_J
-                        << " there, positive at every quadrature point): "
-                           "the voxels are too coarse for this deformation. "
-                           "Lower the load or refine the grid (Geometry/Grid "
-                           "size and Geometry/Voxel size); the last "
-                           "converged state is kept";
+                        << " there, positive at every quadrature point): ";
+                if (discretization.level == 0)
+                  message << "the voxels are too coarse for this "
+                             "deformation. Lower the load or refine the grid "
+                             "(Geometry/Grid size and Geometry/Voxel size)";
+                else
+                  message << "the coarse cells, blocks of "
+                          << (1u << discretization.level)
+                          << " voxels per side, are too coarse for this "
+                             "deformation. Lower the load, or 'Coarsening "
+                             "levels', or use 'Method = fine'";
+                message << "; the last converged state is kept";
                 statistics.failure = message.str();
                 // min_J describes the state kept, not the one rejected.
                 statistics.min_J = accepted_min_J;
