@@ -16,6 +16,7 @@
 #include <fstream>
 
 #include "../tests.h"
+#include "layered_cube.h"
 
 namespace
 {
@@ -40,28 +41,6 @@ namespace
     std::vector<unsigned int> levels;
     std::vector<std::string>  offsets = {"default"};
   };
-
-  /// A cube of @p n voxels per side in layers of two materials one voxel
-  /// thick, squeezed to half its height.
-  std::string
-  compressed_cube(const unsigned int n)
-  {
-    const std::string size = std::to_string(n);
-    return "subsection Geometry\n  set Grid size = " + size + ", " + size +
-           ", " + size +
-           "\nend\n"
-           "subsection Layout\n  set Type = layers\n"
-           "  subsection Layers\n    set Axis = z\n    set Thickness = 0.01\n"
-           "    set Materials = 1, 3\n  end\nend\n"
-           "subsection Boundary conditions\n"
-           "  subsection Condition 1\n    set Type = fixed\n"
-           "    set Region = z-\n  end\n"
-           "  subsection Condition 2\n    set Type = displacement\n"
-           "    set Region = z+\n    set Value = 0; 0; -" +
-           std::to_string(0.005 * n) +
-           "\n  end\nend\n"
-           "subsection Nonlinear solver\n  set Load steps = 10\nend\n";
-  }
 
   const std::vector<Case> cases = {
     {"contrast_1e6",
@@ -94,8 +73,11 @@ namespace
      "  end\nend\n"
      "subsection Nonlinear solver\n  set Load steps = 5\nend\n",
      {1}},
-    {"compression_50", compressed_cube(4), {1}, {"default", "0.45"}},
-    {"compression_50_8", compressed_cube(8), {2}},
+    {"compression_50",
+     ddfem::testing::compressed_cube(4, 0.5),
+     {1},
+     {"default", "0.45"}},
+    {"compression_50_8", ddfem::testing::compressed_cube(8, 0.5), {2}},
     {"twist_180",
      "subsection Geometry\n  set Grid size = 4, 12, 4\n"
      "  set Probe points = 0.04, 0.06, 0.04\nend\n"

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "../tests.h"
+#include "layered_cube.h"
 
 namespace
 {
@@ -75,17 +76,8 @@ main(int argc, char **argv)
   // voxel of E = 1e5 and 1e7 Pa, compressed by 70 % in 10 load steps, with
   // the unfitted element at level 1. Its message points to the coarsening.
   std::ofstream("folded.prm")
-    << "subsection Geometry\n  set Grid size = 4, 4, 4\nend\n"
-       "subsection Layout\n  set Type = layers\n"
-       "  subsection Layers\n    set Axis = z\n    set Thickness = 0.01\n"
-       "    set Materials = 1, 3\n  end\nend\n"
-       "subsection Boundary conditions\n"
-       "  subsection Condition 1\n    set Type = fixed\n"
-       "    set Region = z-\n  end\n"
-       "  subsection Condition 2\n    set Type = displacement\n"
-       "    set Region = z+\n    set Value = 0; 0; -0.028\n  end\nend\n"
-       "subsection Nonlinear solver\n  set Load steps = 10\nend\n"
-       "subsection Output\n  set Screen timings = false\n"
+    << ddfem::testing::compressed_cube(4, 0.7)
+    << "subsection Output\n  set Screen timings = false\n"
        "  set Write VTU = none\nend\n";
   std::cout << "Naive level 1, layers, compressed by 70 %:" << std::endl;
   run_and_report("folded.prm",
