@@ -58,7 +58,8 @@ namespace ddfem::dg
       "'linear': small-strain elasticity, one linear solve. 'corotated': "
       "stiffness warping (paper section 7) with a rotation per element "
       "from the polar decomposition of its least-squares affine map; "
-      "solved by a fixed-point iteration per load step.");
+      "solved by a fixed-point iteration per load step, relaxed by "
+      "Aitken's factor.");
     prm.declare_entry("Load steps",
                       "5",
                       Patterns::Integer(1, 1000),
@@ -74,8 +75,8 @@ namespace ddfem::dg
       "Corotation tolerance",
       "1e-8",
       Patterns::Double(1e-14, 1e-2),
-      "From 1e-14 to 1e-2. The corotated iteration stops when the solution "
-      "changes by less than this, relative to its norm.");
+      "From 1e-14 to 1e-2. The corotated iteration stops when a solve "
+      "changes the solution by less than this, relative to its norm.");
     prm.declare_entry(
       "Definiteness check limit",
       "5e7",

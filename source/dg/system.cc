@@ -949,20 +949,30 @@ namespace ddfem::dg
         solve();
         return 1;
       }
+    // Each solve with the rotations of the iterate u_k gives G(u_k); the
+    // lagged iteration u_k+1 = G(u_k) contracts ever more slowly as the
+    // rotations grow (slender parts under a large twist). Aitken's dynamic
+    // relaxation (Irons and Tuck) takes u_k+1 = u_k + omega_k r_k with
+    // r_k = G(u_k) - u_k and omega_k = -omega_k-1 r_k-1.(r_k - r_k-1) /
+    // |r_k - r_k-1|^2, starting from omega = 1 in each load step: along a
+    // dominant mode of contraction factor c it steps by 1 / (1 - c). The
+    // iteration stops at the solve G(u_k) whose change r_k is small.
     unsigned int solves = 0;
     solution            = 0;
-    Vector<double> previous;
+    Vector<double> iterate, residual, previous_residual;
     for (unsigned int step = 1; step <= parameters.load_steps; ++step)
       {
-        const double t = double(step) / parameters.load_steps;
+        const double t     = double(step) / parameters.load_steps;
+        double       omega = 1;
         for (unsigned int it = 1;; ++it)
           {
-            previous = solution;
+            iterate = solution;
             assemble(eta_used, t, &solution);
             solve();
             ++solves;
-            previous -= solution;
-            if (previous.l2_norm() <= parameters.corotation_tolerance *
+            residual = solution;
+            residual -= iterate;
+            if (residual.l2_norm() <= parameters.corotation_tolerance *
                                         std::max(solution.l2_norm(), 1e-300))
               break;
             AssertThrow(it < parameters.corotation_iterations,
@@ -972,6 +982,18 @@ namespace ddfem::dg
                           std::to_string(parameters.corotation_iterations) +
                           " at load step " + std::to_string(step) +
                           "; use more DG/Load steps."));
+            if (it > 1)
+              {
+                // d = r_k-1 - r_k, so that omega_k = omega_k-1 (1 + r_k.d
+                // / |d|^2); an unchanged residual keeps omega.
+                previous_residual -= residual;
+                const double d2 = previous_residual.norm_sqr();
+                if (d2 > 0)
+                  omega *= 1 + (residual * previous_residual) / d2;
+              }
+            solution = iterate;
+            solution.add(omega, residual);
+            previous_residual = residual;
           }
       }
     return solves;
