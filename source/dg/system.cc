@@ -955,10 +955,15 @@ namespace ddfem::dg
     // relaxation (Irons and Tuck) takes u_k+1 = u_k + omega_k r_k with
     // r_k = G(u_k) - u_k and omega_k = -omega_k-1 r_k-1.(r_k - r_k-1) /
     // |r_k - r_k-1|^2, starting from omega = 1 in each load step: along a
-    // dominant mode of contraction factor c it steps by 1 / (1 - c). The
-    // iteration stops at the solve G(u_k) whose change r_k is small.
-    unsigned int solves = 0;
-    solution            = 0;
+    // dominant mode of contraction factor c it steps by 1 / (1 - c). Where
+    // c nears 1 (a compressed slender part at its buckling load) the
+    // factor jumps to tens and overshoots along a mode that is not linear,
+    // so |omega| is kept at most 10: c up to 0.9 is still fully
+    // accelerated. The iteration stops at the solve G(u_k) whose change
+    // r_k is small.
+    const double max_relaxation = 10;
+    unsigned int solves         = 0;
+    solution                    = 0;
     Vector<double> iterate, residual, previous_residual;
     for (unsigned int step = 1; step <= parameters.load_steps; ++step)
       {
@@ -975,13 +980,28 @@ namespace ddfem::dg
             if (residual.l2_norm() <= parameters.corotation_tolerance *
                                         std::max(solution.l2_norm(), 1e-300))
               break;
-            AssertThrow(it < parameters.corotation_iterations,
-                        ExcMessage(
-                          "The corotated iteration did not converge in "
-                          "DG/Corotation iterations = " +
-                          std::to_string(parameters.corotation_iterations) +
-                          " at load step " + std::to_string(step) +
-                          "; use more DG/Load steps."));
+            if (it >= parameters.corotation_iterations)
+              {
+                std::ostringstream change;
+                change << residual.l2_norm() /
+                            std::max(solution.l2_norm(), 1e-300)
+                       << " of its norm, above DG/Corotation tolerance = "
+                       << parameters.corotation_tolerance;
+                AssertThrow(
+                  false,
+                  ExcMessage(
+                    "The corotated iteration did not converge in "
+                    "DG/Corotation iterations = " +
+                    std::to_string(parameters.corotation_iterations) +
+                    " at load step " + std::to_string(step) + " of " +
+                    std::to_string(parameters.load_steps) +
+                    ": its last solve changed the solution by " + change.str() +
+                    ". Use more DG/Load steps or DG/Corotation iterations. "
+                    "A slender part compressed near its buckling load "
+                    "stalls the iteration at any step size: there the "
+                    "lagged rotations follow the unbuckled state slowly, "
+                    "and cannot choose a buckled one."));
+              }
             if (it > 1)
               {
                 // d = r_k-1 - r_k, so that omega_k = omega_k-1 (1 + r_k.d
@@ -989,7 +1009,11 @@ namespace ddfem::dg
                 previous_residual -= residual;
                 const double d2 = previous_residual.norm_sqr();
                 if (d2 > 0)
-                  omega *= 1 + (residual * previous_residual) / d2;
+                  omega =
+                    std::clamp(omega *
+                                 (1 + (residual * previous_residual) / d2),
+                               -max_relaxation,
+                               max_relaxation);
               }
             solution = iterate;
             solution.add(omega, residual);
