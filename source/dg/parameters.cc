@@ -68,9 +68,10 @@ namespace ddfem::dg
       "Corotation iterations",
       "50",
       Patterns::Integer(1, 10000),
-      "Maximum fixed-point iterations (rotations from the last solution, "
-      "one linear solve each) per load step of the corotated formulation; "
-      "the run fails if they do not reach the tolerance.");
+      "Maximum fixed-point iterations (rotations from the last iterate, "
+      "one linear solve each, the iterates relaxed by Aitken's factor) per "
+      "load step of the corotated formulation; the run fails if they do "
+      "not reach the tolerance.");
     prm.declare_entry(
       "Corotation tolerance",
       "1e-8",

@@ -16,6 +16,7 @@
 #include <ddfem/dg/system.h>
 #include <ddfem/material/kernel.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <sstream>
@@ -949,15 +950,17 @@ namespace ddfem::dg
         solve();
         return 1;
       }
-    // Each solve with the rotations of the iterate u_k gives G(u_k); the
-    // lagged iteration u_k+1 = G(u_k) contracts ever more slowly as the
-    // rotations grow (slender parts under a large twist). Aitken's dynamic
-    // relaxation (Irons and Tuck) takes u_k+1 = u_k + omega_k r_k with
-    // r_k = G(u_k) - u_k and omega_k = -omega_k-1 r_k-1.(r_k - r_k-1) /
-    // |r_k - r_k-1|^2, starting from omega = 1 in each load step: along a
-    // dominant mode of contraction factor c it steps by 1 / (1 - c). Where
-    // c nears 1 (a compressed slender part at its buckling load) the
-    // factor jumps to tens and overshoots along a mode that is not linear,
+    // Each solve with the rotations of the iterate u_k gives G(u_k). The
+    // lagged iteration u_k+1 = G(u_k) converges ever more slowly as the
+    // rotations grow (slender parts under a large twist), along modes that
+    // shrink by a factor c per iteration or alternate in sign (c < 0).
+    // Aitken's dynamic relaxation (Irons and Tuck) takes u_k+1 = u_k +
+    // omega_k r_k with r_k = G(u_k) - u_k and omega_k = -omega_k-1
+    // r_k-1.(r_k - r_k-1) / |r_k - r_k-1|^2, from omega = 1 in each load
+    // step: along a dominant mode it steps by 1 / (1 - c), which damps an
+    // alternating mode (omega < 1) and extrapolates a slow one (omega > 1).
+    // Where c nears 1 (a compressed slender part at its buckling load)
+    // omega jumps to tens and overshoots along a mode that is not linear,
     // so |omega| is kept at most 10: c up to 0.9 is still fully
     // accelerated. The iteration stops at the solve G(u_k) whose change
     // r_k is small.
@@ -980,28 +983,26 @@ namespace ddfem::dg
             if (residual.l2_norm() <= parameters.corotation_tolerance *
                                         std::max(solution.l2_norm(), 1e-300))
               break;
-            if (it >= parameters.corotation_iterations)
-              {
-                std::ostringstream change;
-                change << residual.l2_norm() /
-                            std::max(solution.l2_norm(), 1e-300)
-                       << " of its norm, above DG/Corotation tolerance = "
-                       << parameters.corotation_tolerance;
-                AssertThrow(
-                  false,
-                  ExcMessage(
-                    "The corotated iteration did not converge in "
-                    "DG/Corotation iterations = " +
-                    std::to_string(parameters.corotation_iterations) +
-                    " at load step " + std::to_string(step) + " of " +
-                    std::to_string(parameters.load_steps) +
-                    ": its last solve changed the solution by " + change.str() +
-                    ". Use more DG/Load steps or DG/Corotation iterations. "
-                    "A slender part compressed near its buckling load "
-                    "stalls the iteration at any step size: there the "
-                    "lagged rotations follow the unbuckled state slowly, "
-                    "and cannot choose a buckled one."));
-              }
+            const auto change = [&]() {
+              std::ostringstream text;
+              text << residual.l2_norm() / std::max(solution.l2_norm(), 1e-300)
+                   << " relative to its norm, above DG/Corotation tolerance = "
+                   << parameters.corotation_tolerance;
+              return text.str();
+            };
+            AssertThrow(it < parameters.corotation_iterations,
+                        ExcMessage(
+                          "The corotated iteration did not converge in "
+                          "DG/Corotation iterations = " +
+                          std::to_string(parameters.corotation_iterations) +
+                          " at load step " + std::to_string(step) + " of " +
+                          std::to_string(parameters.load_steps) +
+                          ": its last solve changed the solution by " +
+                          change() +
+                          ". Use more DG/Load steps or DG/Corotation "
+                          "iterations. (A slender part compressed to its "
+                          "buckling load stalls the iteration at any step "
+                          "size: doc/dg.md, 'Compressed past buckling'.)"));
             if (it > 1)
               {
                 // d = r_k-1 - r_k, so that omega_k = omega_k-1 (1 + r_k.d

@@ -3,21 +3,22 @@
 // beams one voxel thick, 104 of 1000 voxels solid) with soft, nearly
 // incompressible columns (E = 1e5 Pa, nu = 0.499) between stiff top and
 // bottom frames (E = 1e11 Pa), the bottom clamped. IP FE_DGQ(2) with the
-// automatic penalty against CG FE_Q(2):
-// - only the solid voxels carry DoFs (104 cells of 81), and the automatic
-//   penalty makes K positive definite;
-// - the lid pressed down by 1e-5 m (linear DG, one CG load step): at two
-//   probes of a column, on its axis at mid-height and on its side at 30 %
-//   of the height, the displacements agree within 1 %. By the frame's
-//   mirror symmetry about z = 0.05 m, linear DG's u_z at mid-height is
-//   exactly half the lid's (1e-10);
+// automatic penalty against CG FE_Q(2), probed on a column's axis at
+// mid-height and on its side at 30 % of the height:
+// - only the solid voxels carry DoFs (104 cells of 81 DoFs), and the
+//   automatic penalty makes K positive definite;
+// - the lid pressed down by 1e-5 m (linear DG, one CG load step): by the
+//   frame's mirror symmetry about z = 0.05 m, linear DG's u_z at
+//   mid-height (the mean of the two cells that share the face there) is
+//   exactly half the lid's (1e-10); at the side the
+//   displacements of DG and CG agree within 1 %;
 // - the lid turned by 30 degrees about the vertical axis (corotated DG
 //   against Neo-Hookean CG, 6 load steps each): the columns bend into an S
 //   and the lid moves them 16.5 mm sideways at mid-height; the probes'
-//   displacements agree within 3 % of their length. Before the corotated
-//   iteration was relaxed (Aitken), its lagged rotations contracted ever
-//   more slowly as the twist grew, and it did not converge in 300
-//   iterations at the fifth load step.
+//   displacements agree within 3 % of their length. The number of
+//   corotated solves is printed: before the iteration was relaxed
+//   (Aitken), it ran out of 50 iterations at the fourth load step (and of
+//   300 at the fifth).
 
 #include <ddfem/app/application.h>
 
@@ -30,7 +31,9 @@ using namespace ddfem;
 
 namespace
 {
-  /// The frame with the materials above and degree 2, without VTU files.
+  /// The frame with the materials above (void_90.prm's columns are
+  /// material 1, its frames material 3; material 2 is not used) and degree
+  /// 2, without VTU files.
   const std::vector<std::string> frame = {
     "Materials/Palette=E=1e5 nu=0.499; E=1e6 nu=0.45; E=1e11 nu=0.45",
     "Discretization/Polynomial degree=2",
@@ -64,14 +67,16 @@ namespace
     return u;
   }
 
-  /// Prints the displacements of both runs' probes in mm, and checks that
-  /// they differ by less than @p tolerance times the CG one's length.
+  /// Prints the displacements of both runs' probes @p probes in mm, and
+  /// checks that they differ by less than @p tolerance times the CG one's
+  /// length.
   void
-  compare_probes(const nlohmann::json &dg,
-                 const nlohmann::json &cg,
-                 const double          tolerance)
+  compare_probes(const nlohmann::json            &dg,
+                 const nlohmann::json            &cg,
+                 const std::vector<unsigned int> &probes,
+                 const double                     tolerance)
   {
-    for (unsigned int p = 0; p < 2; ++p)
+    for (const unsigned int p : probes)
       {
         const Tensor<1, 3> u_dg = probe(dg, p), u_cg = probe(cg, p);
         std::cout << "  probe " << p + 1 << ": u(DG) = ("
@@ -91,10 +96,10 @@ main(int argc, char **argv)
 {
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
 
-  const double                   lid     = 1e-5;
-  const std::vector<std::string> pressed = {
-    "Boundary conditions/Condition 2/Value=0; 0; -" + std::to_string(lid)};
-  const nlohmann::json dg = run("dg_pressed", {"Method=dg", pressed[0]});
+  const double      lid = 1e-5;
+  const std::string pressed =
+    "Boundary conditions/Condition 2/Value=0; 0; -" + std::to_string(lid);
+  const nlohmann::json dg = run("dg_pressed", {"Method=dg", pressed});
   std::cout << "DG: " << dg.at("cells") << " cells, " << dg.at("dofs")
             << " DoFs, penalty " << dg.at("penalty") << ", K "
             << dg.at("definiteness").get<std::string>() << std::endl;
@@ -103,13 +108,14 @@ main(int argc, char **argv)
 
   std::cout << "Lid pressed down by 0.01 mm, linear DG against CG:"
             << std::endl;
-  const nlohmann::json cg =
-    run("cg_pressed",
-        {"Method=fine", "Nonlinear solver/Load steps=1", pressed[0]});
-  compare_probes(dg, cg, 0.01);
   testing::check_below("  probe 1, |u_z(DG) / u_z(lid) - 1/2|",
                        std::abs(probe(dg, 0)[2] / -lid - 0.5),
-                       1e-10);
+                       1e-10,
+                       2);
+  const nlohmann::json cg =
+    run("cg_pressed",
+        {"Method=fine", "Nonlinear solver/Load steps=1", pressed});
+  compare_probes(dg, cg, {1}, 0.01);
 
   std::cout << "Lid turned by 30 degrees, corotated DG against CG:"
             << std::endl;
@@ -125,7 +131,8 @@ main(int argc, char **argv)
                                         "Nonlinear solver/Load steps=6"};
   dg_turned.insert(dg_turned.end(), turned.begin(), turned.end());
   cg_turned.insert(cg_turned.end(), turned.begin(), turned.end());
-  compare_probes(run("dg_turned", dg_turned),
-                 run("cg_turned", cg_turned),
-                 0.03);
+  const nlohmann::json dg_twist = run("dg_turned", dg_turned);
+  std::cout << "  corotated DG: " << dg_twist.at("linear_solves")
+            << " linear solves in 6 load steps" << std::endl;
+  compare_probes(dg_twist, run("cg_turned", cg_turned), {0, 1}, 0.03);
 }

@@ -185,9 +185,10 @@ namespace ddfem::dg
 
     /**
      * The whole solve at the settled penalty: linear, or corotated with
-     * 'Load steps' steps of fixed-point iterations. Throws ExcMessage if
-     * the corotated iteration does not reach its tolerance. Returns the
-     * number of linear solves.
+     * 'Load steps' steps of fixed-point iterations (lagged rotations,
+     * relaxed by Aitken's factor). Throws ExcMessage if the corotated
+     * iteration does not reach its tolerance. Returns the number of linear
+     * solves.
      */
     unsigned int
     run();
