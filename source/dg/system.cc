@@ -980,12 +980,13 @@ namespace ddfem::dg
             ++solves;
             residual = solution;
             residual -= iterate;
-            if (residual.l2_norm() <= parameters.corotation_tolerance *
-                                        std::max(solution.l2_norm(), 1e-300))
+            const double change =
+              residual.l2_norm() / std::max(solution.l2_norm(), 1e-300);
+            if (change <= parameters.corotation_tolerance)
               break;
-            const auto change = [&]() {
+            const auto change_text = [&]() {
               std::ostringstream text;
-              text << residual.l2_norm() / std::max(solution.l2_norm(), 1e-300)
+              text << change
                    << " relative to its norm, above DG/Corotation tolerance = "
                    << parameters.corotation_tolerance;
               return text.str();
@@ -998,7 +999,7 @@ namespace ddfem::dg
                           " at load step " + std::to_string(step) + " of " +
                           std::to_string(parameters.load_steps) +
                           ": its last solve changed the solution by " +
-                          change() +
+                          change_text() +
                           ". Use more DG/Load steps or DG/Corotation "
                           "iterations. (A slender part compressed to its "
                           "buckling load stalls the iteration at any step "
