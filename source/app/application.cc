@@ -280,7 +280,7 @@ namespace ddfem::app
       run_dg(const ParameterHandler &prm)
       {
         Timer           total;
-        dg::SceneSolver solver(scene, dg_parameters);
+        dg::SceneSolver solver(scene, dg_parameters, linear_solver);
         solver.setup();
         const auto &n      = scene.grid.size();
         const auto &system = solver.system();
@@ -290,7 +290,8 @@ namespace ddfem::app
               << " cells, " << system.dof_handler.n_dofs() << " DoFs ("
               << dg_parameters.element_name() << "(" << dg_parameters.degree
               << ")^3), flux " << dg_parameters.flux_name() << ", "
-              << system.matrix.n_nonzero_elements() << " nonzeros\n"
+              << system.matrix.n_nonzero_elements() << " nonzeros, linear "
+              << "solver " << linear_solver.method() << "\n"
               << "  penalty eta = " << system.penalty()
               << (dg_parameters.automatic_penalty() ?
                     " (automatic, " + std::to_string(system.penalty_doublings) +

@@ -12,10 +12,13 @@
 
 namespace ddfem::dg
 {
-  SceneSolver::SceneSolver(const scene::Scene &scene,
-                           const Parameters   &parameters)
+  SceneSolver::SceneSolver(const scene::Scene   &scene,
+                           const Parameters     &parameters,
+                           solver::LinearSolver &linear_solver)
     : scene(scene)
     , parameters(parameters)
+    , linear_solver(linear_solver)
+    , timer_output(std::cout, TimerOutput::never, TimerOutput::wall_times)
   {
     // Checked here, not when parsing: the DG studies impose their
     // conditions weakly whatever DG/Dirichlet says.
@@ -60,6 +63,38 @@ namespace ddfem::dg
 
     dg =
       std::make_unique<System<3>>(triangulation, *element, 3, parameters, data);
+    // A DG solve is a result, not a Newton step: the iterative solvers
+    // reduce the residual to round-off (1e-12). 'auto' takes the direct
+    // solver where it fits: the corotated iteration stalled at a change of
+    // 1e-6 with cg-cholesky's inexact solves at stiffness contrast 1e6
+    // (tests/stability/rigid_rotation.cc).
+    linear_solver.initialize(dg->dof_handler, timer_output, "direct");
+    dg->linear_solver = [this](const SparseMatrix<double> &K,
+                               Vector<double>             &x,
+                               const Vector<double>       &b) {
+      try
+        {
+          linear_iterations += linear_solver.solve(K, x, b, 1e-12);
+        }
+      catch (const solver::LinearSolver::Failure &failure)
+        {
+          AssertThrow(
+            false,
+            ExcMessage(
+              "The DG system (" + std::to_string(K.m()) +
+              " DoFs) could not be solved with Linear solver/Type = " +
+              linear_solver.method() + ": " + failure.what() +
+              ". Either the matrix is singular (a rigid motion that no "
+              "boundary condition holds, or a fixed DG/Penalty too small), "
+              "or the loads, prescribed displacements or materials are "
+              "beyond the range of double precision (a load far too large "
+              "for a material far too soft, say)" +
+              (linear_solver.method() == "direct" ?
+                 std::string(".") :
+                 std::string("; an iterative solver may also just fail: "
+                             "try Type = direct."))));
+        }
+    };
     definiteness = dg->settle_penalty(1);
     setup_time   = timer.wall_time();
   }
@@ -242,6 +277,8 @@ namespace ddfem::dg
     summary["cells"]              = triangulation.n_active_cells();
     summary["dofs"]               = dg->dof_handler.n_dofs();
     summary["nonzeros"]           = dg->matrix.n_nonzero_elements();
+    summary["linear_solver"]      = linear_solver.method();
+    summary["linear_iterations"]  = linear_iterations;
     summary["linear_solves"]      = linear_solves;
     summary["time_setup_s"]       = setup_time;
     summary["time_integration_s"] = dg->integration_time;

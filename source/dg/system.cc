@@ -911,25 +911,31 @@ namespace ddfem::dg
   void
   System<dim>::solve()
   {
-    Timer               timer;
-    SparseDirectUMFPACK direct;
-    try
+    Timer timer;
+    if (linear_solver)
+      linear_solver(matrix, solution, rhs);
+    else
       {
-        direct.initialize(matrix);
+        SparseDirectUMFPACK direct;
+        try
+          {
+            direct.initialize(matrix);
+          }
+        catch (const ExceptionBase &e)
+          {
+            AssertThrow(false,
+                        ExcMessage(
+                          "UMFPACK could not factorize the DG system (" +
+                          std::to_string(dof_handler.n_dofs()) +
+                          " DoFs): " + message_of(e) +
+                          " A singular matrix means a rigid motion that no "
+                          "boundary condition holds, or a fixed DG/Penalty "
+                          "too small (check it with 'Penalty = automatic' "
+                          "on a smaller grid); lack of memory, a grid too "
+                          "large."));
+          }
+        direct.vmult(solution, rhs);
       }
-    catch (const ExceptionBase &e)
-      {
-        AssertThrow(false,
-                    ExcMessage("UMFPACK could not factorize the DG system (" +
-                               std::to_string(dof_handler.n_dofs()) +
-                               " DoFs): " + message_of(e) +
-                               " A singular matrix means a rigid motion that "
-                               "no boundary condition holds, or a fixed "
-                               "DG/Penalty too small (check it with 'Penalty "
-                               "= automatic' on a smaller grid); lack of "
-                               "memory, a grid too large."));
-      }
-    direct.vmult(solution, rhs);
     constraints.distribute(solution);
     AssertThrow(all_finite(solution),
                 ExcMessage("The DG solution is not finite: the loads, the "

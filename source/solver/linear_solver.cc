@@ -53,7 +53,9 @@ namespace ddfem::solver
       "positive definite, and the next 10). cg-amg: conjugate gradients with "
       "Trilinos ML algebraic multigrid (rigid body modes as near null "
       "space). auto: cg-cholesky up to 'Direct solver limit' unknowns, "
-      "cg-amg above.");
+      "cg-amg above (Method = dg: direct up to the limit, since the "
+      "corotated iteration needs exact solves at high stiffness "
+      "contrast).");
     prm.declare_entry(
       "Tolerance",
       "1e-2",
@@ -131,17 +133,25 @@ namespace ddfem::solver
 
   void
   LinearSolver::initialize(const DoFHandler<3> &dof_handler,
-                           TimerOutput         &timer_output)
+                           TimerOutput         &timer_output,
+                           const std::string   &small_systems)
   {
     timer                           = &timer_output;
     const types::global_dof_index n = dof_handler.n_dofs();
     chosen                          = requested;
     if (requested == "auto")
-      chosen = (n <= direct_limit) ? "cg-cholesky" : "cg-amg";
+      chosen = (n <= direct_limit) ? small_systems : "cg-amg";
     degree = dof_handler.get_fe().degree;
     reset();
     if (chosen != "cg-amg")
       return;
+    AssertThrow(dof_handler.get_fe().has_support_points(),
+                ExcMessage("Linear solver/Type = cg-amg (or auto, which "
+                           "picks it above 'Direct solver limit' unknowns) "
+                           "builds its rigid body modes from the element's "
+                           "support points, and " +
+                           dof_handler.get_fe().get_name() +
+                           " has none: use Type = cg-cholesky or direct."));
 
     // Rigid body modes about the centroid of the support points.
     std::vector<Point<3>> points(n);

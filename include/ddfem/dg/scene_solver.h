@@ -3,11 +3,13 @@
 
 #include <deal.II/base/point.h>
 #include <deal.II/base/tensor.h>
+#include <deal.II/base/timer.h>
 #include <deal.II/grid/tria.h>
 
 #include <ddfem/dg/parameters.h>
 #include <ddfem/dg/system.h>
 #include <ddfem/scene/scene.h>
+#include <ddfem/solver/linear_solver.h>
 #include <nlohmann/json.hpp>
 
 #include <memory>
@@ -33,9 +35,13 @@ namespace ddfem::dg
      * Throws ExcMessage if DG/Dirichlet = strong is combined with FE_DGP,
      * which has no nodes on the boundary to constrain, or if the corotated
      * formulation turns a rotation by 180 degrees or more per load step
-     * (BoundaryConditions::check_rotation_steps()).
+     * (BoundaryConditions::check_rotation_steps()). The systems are solved
+     * with @p linear_solver (the scene's 'Linear solver', which must
+     * outlive it too).
      */
-    SceneSolver(const scene::Scene &scene, const Parameters &parameters);
+    SceneSolver(const scene::Scene   &scene,
+                const Parameters     &parameters,
+                solver::LinearSolver &linear_solver);
 
     /**
      * Builds the mesh and the system and settles the penalty. Throws
@@ -109,14 +115,20 @@ namespace ddfem::dg
     void
     check_conditions() const;
 
-    const scene::Scene               &scene;
-    const Parameters                 &parameters;
+    const scene::Scene   &scene;
+    const Parameters     &parameters;
+    solver::LinearSolver &linear_solver;
+    /// Receives the linear solver's timing sections (never printed).
+    TimerOutput                       timer_output;
     Triangulation<3>                  triangulation;
     ProblemData<3>                    data;
     std::unique_ptr<FiniteElement<3>> element;
     std::unique_ptr<System<3>>        dg;
     unsigned int                      linear_solves = 0;
-    double                            setup_time = 0, solve_time = 0;
+    /// Iterations of all linear solves, as LinearSolver::solve() counts
+    /// them (1 for a direct solve or one with a new Cholesky factor).
+    unsigned int linear_iterations = 0;
+    double       setup_time = 0, solve_time = 0;
   };
 } // namespace ddfem::dg
 

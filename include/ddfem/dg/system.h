@@ -179,7 +179,8 @@ namespace ddfem::dg
     Definiteness
     settle_penalty(const double t);
 
-    /// Solves the assembled system with UMFPACK into solution.
+    /// Solves the assembled system into solution: with linear_solver if
+    /// it is set, else with UMFPACK.
     void
     solve();
 
@@ -238,6 +239,16 @@ namespace ddfem::dg
     double assembly_time = 0;
     /// Wall time (s) of the last solve (factorization and substitution).
     double solve_time = 0;
+
+    /**
+     * Solves K x = b (K the assembled matrix, b the load vector) into x,
+     * throwing ExcMessage if it cannot; if empty, solve() factorizes K with
+     * UMFPACK. The scene solver sets it to the scene's 'Linear solver'.
+     */
+    std::function<void(const SparseMatrix<double> &K,
+                       Vector<double>             &x,
+                       const Vector<double>       &b)>
+      linear_solver;
     /// Penalty doublings of the last settle_penalty() (0 if fixed).
     unsigned int penalty_doublings = 0;
 

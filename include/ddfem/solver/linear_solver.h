@@ -59,14 +59,20 @@ namespace ddfem::solver
     parse_parameters(ParameterHandler &prm);
 
     /**
-     * Prepares for systems on @p dof_handler (FE_Q(p)^3, p <= 2, whose
-     * default numbering keeps the three components of a node together): chooses
-     * the method and computes the rigid body modes for the multigrid
-     * preconditioner. @p timer receives the sections "factorization /
+     * Prepares for systems on @p dof_handler (an element of three
+     * components, p <= 2, whose default numbering keeps the three
+     * components of a node together: FE_Q(p)^3 or FE_DGQ(p)^3): chooses
+     * the method ('auto' takes @p small_systems up to 'Direct solver
+     * limit' unknowns, cg-amg above) and computes the rigid body modes for
+     * the multigrid preconditioner. Throws ExcMessage naming Linear
+     * solver/Type if cg-amg is chosen for an element without support
+     * points (FE_DGP). @p timer receives the sections "factorization /
      * preconditioner" and "linear solve".
      */
     void
-    initialize(const DoFHandler<3> &dof_handler, TimerOutput &timer);
+    initialize(const DoFHandler<3> &dof_handler,
+               TimerOutput         &timer,
+               const std::string   &small_systems = "cg-cholesky");
 
     /// Forgets the factor and the multigrid hierarchy of earlier tangents,
     /// as after a material edit: the next solve builds them anew.

@@ -1,0 +1,106 @@
+// The scene's 'Linear solver' for DG (doc/dg.md, "Solver"): DG systems
+// solved with UMFPACK ('direct', what 'auto' takes up to 'Direct solver
+// limit' unknowns), CG with a Cholesky factor and CG with algebraic
+// multigrid, each to a relative residual of 1e-12:
+// - the default scene (linear, FE_DGQ(1), 6144 DoFs, so the multigrid has
+//   more than one level): the probe agrees within 1e-6 of its length;
+// - corotated_twist.prm (corotated, 6 load steps): the probe agrees within
+//   1e-6, and the iterative solvers need as many fixed-point solves;
+// - where multigrid fails (nu_0499.prm: FE_DGQ(2) at nu = 0.499, 500 CG
+//   iterations do not reach 1e-12) the run stops with a message that
+//   names the solver and suggests the direct one;
+// - FE_DGP has no support points for the multigrid's rigid body modes:
+//   cg-amg is an error that names Linear solver/Type.
+
+#include <ddfem/app/application.h>
+
+#include "../tests.h"
+
+using namespace ddfem;
+
+namespace
+{
+  /// The probes of a run of @p prm (a path from this directory) with
+  /// @p type and @p settings, and its summary's "linear_solves" and
+  /// "linear_iterations"; the exit status must be 0.
+  std::tuple<std::vector<dealii::Tensor<1, 3>>, unsigned int, unsigned int>
+  run(const std::string              &prm,
+      const std::string              &type,
+      const std::vector<std::string> &settings)
+  {
+    std::vector<std::string> all = settings;
+    all.push_back("Linear solver/Type=" + type);
+    std::ostringstream screen;
+    const auto [status, summary] = testing::run_model(
+      std::string(SOURCE_DIR) + "/" + prm, "run-" + type, all, screen);
+    AssertThrow(status == 0, dealii::ExcMessage(screen.str()));
+    AssertThrow(summary.at("linear_solver") == type,
+                dealii::ExcMessage("another solver ran"));
+    std::vector<dealii::Tensor<1, 3>> probes;
+    for (const auto &probe : summary.at("probes"))
+      {
+        dealii::Tensor<1, 3> u;
+        for (unsigned int d = 0; d < 3; ++d)
+          u[d] = probe.at("displacement").at(d);
+        probes.push_back(u);
+      }
+    return {probes,
+            summary.at("linear_solves"),
+            summary.at("linear_iterations")};
+  }
+} // namespace
+
+int
+main(int argc, char **argv)
+{
+  dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  const std::vector<std::pair<std::string, std::vector<std::string>>> cases = {
+    {"../../prm/default.prm",
+     {"Method=dg", "Output/Write VTU=none", "Output/Screen timings=false"}},
+    {"corotated_twist.prm", {}}};
+  for (const auto &[prm, settings] : cases)
+    {
+      const auto [direct, direct_solves, unused] = run(prm, "direct", settings);
+      std::cout << prm << ": direct, linear solves " << direct_solves
+                << std::endl;
+      for (const std::string type : {"cg-cholesky", "cg-amg"})
+        {
+          const auto [probes, solves, iterations] = run(prm, type, settings);
+          double difference                       = 0;
+          for (unsigned int p = 0; p < probes.size(); ++p)
+            difference =
+              testing::worst(difference,
+                             (probes[p] - direct[p]).norm() / direct[p].norm());
+          std::cout << "  " << type << ": linear solves " << solves
+                    << ", iterations " << iterations << std::endl;
+          testing::check_below(
+            "  " + type + ": |u - u(direct)| / |u(direct)| at the probes",
+            difference,
+            1e-6,
+            2);
+        }
+    }
+
+  // Runs that must fail with a message naming the solver.
+  for (const auto &[prm, settings, expected] :
+       {std::make_tuple("nu_0499.prm",
+                        std::vector<std::string>{"Linear solver/Type=cg-amg"},
+                        "could not be solved with Linear solver/Type = cg-amg"),
+        std::make_tuple("contrast_1e6.prm",
+                        std::vector<std::string>{"DG/Element=FE_DGP",
+                                                 "Linear solver/Type=cg-amg"},
+                        "Linear solver/Type = cg-amg (or auto")})
+    {
+      std::ostringstream screen;
+      const int status = testing::run_model(std::string(SOURCE_DIR) + "/" + prm,
+                                            "failing",
+                                            settings,
+                                            screen)
+                           .first;
+      std::cout << prm << " with " << settings.back() << ": exit status "
+                << status
+                << ", the message names the solver: " << std::boolalpha
+                << (screen.str().find(expected) != std::string::npos)
+                << std::endl;
+    }
+}
