@@ -225,8 +225,25 @@ namespace ddfem::dg
   SceneSolver::solve()
   {
     Timer timer;
-    linear_solves = dg->run();
-    solve_time    = timer.wall_time();
+    try
+      {
+        linear_solves = dg->run();
+      }
+    catch (const ExceptionBase &e)
+      {
+        // Iterative solves leave round-off that can keep the corotated
+        // iteration from its tolerance at high stiffness contrast.
+        AssertThrow(parameters.formulation == Parameters::Formulation::linear ||
+                      linear_solver.method() == "direct",
+                    ExcMessage(message_of(e) +
+                               " The linear solves were iterative (Linear "
+                               "solver/Type = " +
+                               linear_solver.method() +
+                               "): their round-off can stall the corotated "
+                               "iteration too; try Type = direct."));
+        throw;
+      }
+    solve_time = timer.wall_time();
     return linear_solves;
   }
 

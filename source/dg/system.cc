@@ -260,6 +260,31 @@ namespace ddfem::dg
     AssertThrow(data.materials.size() == triangulation.n_active_cells(),
                 ExcMessage("One material per cell is needed."));
     dof_handler.distribute_dofs(fe);
+    if (!is_continuous)
+      {
+        // FESystem numbers a cell's interior dofs component by component
+        // (all x, then all y, ...). Algebraic multigrid reads consecutive
+        // triples as the components of one node ('PDE equations'), so
+        // number them node by node: the dof of component c at base dof i
+        // goes to n_components i + c within its cell's block.
+        std::vector<types::global_dof_index> renumbering(dof_handler.n_dofs()),
+          dofs(fe.n_dofs_per_cell());
+        for (const auto &cell : dof_handler.active_cell_iterators())
+          {
+            cell->get_dof_indices(dofs);
+            const types::global_dof_index first =
+              *std::min_element(dofs.begin(), dofs.end());
+            Assert(*std::max_element(dofs.begin(), dofs.end()) ==
+                     first + dofs.size() - 1,
+                   ExcInternalError()); // a cell's dofs are one block
+            for (unsigned int j = 0; j < dofs.size(); ++j)
+              {
+                const auto [c, i]    = fe.system_to_component_index(j);
+                renumbering[dofs[j]] = first + n_components * i + c;
+              }
+          }
+        dof_handler.renumber_dofs(renumbering);
+      }
     for (unsigned int l = 0; l < triangulation.n_levels(); ++l)
       level_reference.push_back(dof_handler.begin_active(l));
     make_constraints(1);

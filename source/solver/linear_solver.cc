@@ -63,14 +63,15 @@ namespace ddfem::solver
       "cg-amg: the loosest relative residual reduction of a linear solve. "
       "Newton's method tightens it to 0.1 |R| / |R_ref| as its residual "
       "|R| falls (inexact Newton), so early iterations are cheap and the "
-      "last ones accurate.");
+      "last ones accurate. Method = dg solves to 1e-12.");
     prm.declare_entry(
       "Cholesky tolerance",
       "1e-8",
       Patterns::Double(1e-12, 1),
       "cg-cholesky: the loosest relative residual reduction of a linear "
       "solve (tightened like 'Tolerance'). Its iterations are cheap, so "
-      "tight solves that keep Newton's quadratic convergence pay off.");
+      "tight solves that keep Newton's quadratic convergence pay off. "
+      "Method = dg solves to 1e-12.");
     prm.declare_entry(
       "Cholesky factorization cost",
       "40",
@@ -89,9 +90,10 @@ namespace ddfem::solver
       "Direct solver limit",
       "30000",
       Patterns::Integer(0),
-      "auto: largest number of unknowns solved with cg-cholesky. Above "
-      "about 30000 unknowns, multigrid is as fast or faster, and the "
-      "factor's memory grows quickly.");
+      "auto: largest number of unknowns solved with cg-cholesky (with the "
+      "direct solver for Method = dg). Above about 30000 unknowns, "
+      "multigrid is as fast or faster, and the factor's memory grows "
+      "quickly.");
     prm.declare_entry(
       "Direct fallback limit",
       "150000",

@@ -126,7 +126,8 @@ namespace ddfem::dg
     std::unique_ptr<System<3>>        dg;
     unsigned int                      linear_solves = 0;
     /// Iterations of all linear solves, as LinearSolver::solve() counts
-    /// them (1 for a direct solve or one with a new Cholesky factor).
+    /// them: CG iterations, plus 1 per direct solve or solve with a new
+    /// Cholesky factor.
     unsigned int linear_iterations = 0;
     double       setup_time = 0, solve_time = 0;
   };
