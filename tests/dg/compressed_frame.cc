@@ -17,6 +17,7 @@
 #include <iomanip>
 
 #include "../tests.h"
+#include "probes.h"
 
 using namespace ddfem;
 
@@ -52,9 +53,8 @@ namespace
                     << std::endl;
         return std::numeric_limits<double>::quiet_NaN();
       }
-    const auto  &u = summary.at("probes").at(0).at("displacement");
-    const double sideways =
-      1e3 * std::hypot(u.at(0).get<double>(), u.at(1).get<double>());
+    const dealii::Tensor<1, 3> u = testing::probe_displacements(summary)[0];
+    const double               sideways = 1e3 * std::hypot(u[0], u[1]);
     std::cout << ", probe " << std::setprecision(3) << sideways
               << " mm sideways";
     if (summary.contains("linear_solves"))

@@ -16,6 +16,7 @@
 #include <ddfem/app/application.h>
 
 #include "../tests.h"
+#include "probes.h"
 
 using namespace ddfem;
 
@@ -38,15 +39,7 @@ namespace
     AssertThrow(summary.at("linear_solver") == type ||
                   (type == "auto" && summary.at("linear_solver") == "cg-amg"),
                 dealii::ExcMessage("another solver ran"));
-    std::vector<dealii::Tensor<1, 3>> probes;
-    for (const auto &probe : summary.at("probes"))
-      {
-        dealii::Tensor<1, 3> u;
-        for (unsigned int d = 0; d < 3; ++d)
-          u[d] = probe.at("displacement").at(d);
-        probes.push_back(u);
-      }
-    return {probes,
+    return {testing::probe_displacements(summary),
             summary.at("linear_solves"),
             summary.at("linear_iterations")};
   }

@@ -25,6 +25,7 @@
 #include <iomanip>
 
 #include "../tests.h"
+#include "probes.h"
 
 using namespace dealii;
 using namespace ddfem;
@@ -57,16 +58,6 @@ namespace
     return summary;
   }
 
-  /// The displacement of probe @p p of @p summary.
-  Tensor<1, 3>
-  probe(const nlohmann::json &summary, const unsigned int p)
-  {
-    Tensor<1, 3> u;
-    for (unsigned int d = 0; d < 3; ++d)
-      u[d] = summary.at("probes").at(p).at("displacement").at(d);
-    return u;
-  }
-
   /// Prints the displacements of both runs' probes @p probes in mm, and
   /// checks that they differ by less than @p tolerance times the CG one's
   /// length.
@@ -78,7 +69,8 @@ namespace
   {
     for (const unsigned int p : probes)
       {
-        const Tensor<1, 3> u_dg = probe(dg, p), u_cg = probe(cg, p);
+        const Tensor<1, 3> u_dg = testing::probe_displacements(dg)[p],
+                           u_cg = testing::probe_displacements(cg)[p];
         std::cout << "  probe " << p + 1 << ": u(DG) = ("
                   << std::setprecision(4) << 1e3 * u_dg << ") mm, u(CG) = ("
                   << 1e3 * u_cg << ") mm" << std::setprecision(6) << std::endl;
@@ -109,7 +101,8 @@ main(int argc, char **argv)
   std::cout << "Lid pressed down by 0.01 mm, linear DG against CG:"
             << std::endl;
   testing::check_below("  probe 1, |u_z(DG) / u_z(lid) - 1/2|",
-                       std::abs(probe(dg, 0)[2] / -lid - 0.5),
+                       std::abs(testing::probe_displacements(dg)[0][2] / -lid -
+                                0.5),
                        1e-10,
                        2);
   const nlohmann::json cg =
