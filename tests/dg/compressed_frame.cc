@@ -8,7 +8,8 @@
 //   step 6 of 12 with a message that names the buckling load, exit 1 and
 //   no summary;
 // - with 200 iterations it passes the stall and follows the unbuckled
-//   state: the probe moves less than 0.1 mm sideways. (It passes because
+//   state in fewer than 400 linear solves: the probe moves less than
+//   0.1 mm sideways. (It passes because
 //   the relaxation factor is bounded; unbounded, the change stayed at
 //   1.8e-4 in a run with 100 iterations.)
 
@@ -56,10 +57,13 @@ namespace
     const dealii::Tensor<1, 3> u = testing::probe_displacements(summary)[0];
     const double               sideways = 1e3 * std::hypot(u[0], u[1]);
     std::cout << ", probe " << std::setprecision(3) << sideways
-              << " mm sideways";
+              << " mm sideways" << std::setprecision(6) << std::endl;
+    // The count at the stall moves with round-off (280 and 279 on two
+    // hosts), so only its bound is compared.
     if (summary.contains("linear_solves"))
-      std::cout << ", " << summary.at("linear_solves") << " linear solves";
-    std::cout << std::setprecision(6) << std::endl;
+      testing::check_below("  linear solves",
+                           summary.at("linear_solves").get<double>(),
+                           400);
     return sideways;
   }
 } // namespace

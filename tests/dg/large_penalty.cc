@@ -1,8 +1,8 @@
 // With a large penalty the DG solution approaches the CG one on the same
 // mesh (the paper's figure 1 argument): the tip deflection of a cantilever
 // with IP and BZ, FE_DGQ(1), for growing eta, against continuous FE_Q(1).
-// Its relative difference must fall monotonically, by about 10 per decade
-// of eta (O(1/eta)), below 1e-5 at the end.
+// Its relative difference must fall monotonically, by a factor of 8 to 12
+// per decade of eta (O(1/eta)), below 1e-5 at the end.
 
 #include <deal.II/fe/fe_q.h>
 
@@ -58,11 +58,14 @@ main(int argc, char **argv)
                      ref) /
             std::abs(ref);
           // The difference is O(1/eta): each decade of eta divides it by
-          // about 10, which the ratio prints to a checked precision.
+          // about 10. The last decade of IP is at round-off's level (9.25
+          // and 9.51 on two hosts), so the factor is checked against a
+          // range, not printed.
           std::cout << "  eta = " << std::setw(6) << eta
                     << ": |DG - CG| / |CG| = " << std::setprecision(3) << d;
           if (previous < std::numeric_limits<double>::max())
-            std::cout << ", " << previous / d << " times smaller";
+            std::cout << ", 8 to 12 times smaller: "
+                      << (previous / d > 8 && previous / d < 12 ? "yes" : "NO");
           std::cout << std::endl;
           monotone = monotone && d < previous;
           previous = d;
