@@ -36,7 +36,7 @@ namespace ddfem::dg
       "1/vol(K+)) times the larger stiffness of the two sides (2 mu on the "
       "jump, lambda on its normal component). 'automatic': start at eta = 1 "
       "and double until the stiffness matrix is positive definite (checked "
-      "by a banded Cholesky factorization, see 'Definiteness check limit'). "
+      "by a sparse Cholesky factorization, see 'Definiteness check limit'). "
       "A number in (0, 2^30]: that eta; if the matrix is not positive definite "
       "the run stops with an error. 'automatic' is for interior penalty "
       "only: with babuska-zlamal every eta > 0 is positive definite, so the "
@@ -80,14 +80,15 @@ namespace ddfem::dg
       "changes the solution by less than this, relative to its norm.");
     prm.declare_entry(
       "Definiteness check limit",
-      "5e7",
+      "3e8",
       Patterns::Double(0, 1e9),
-      "Positive definiteness of K is checked by a banded Cholesky "
-      "factorization (LAPACK dpbtrf, in floating point) after a "
-      "Cuthill-McKee renumbering, in n (b + 1) entries of memory (8 bytes "
-      "each) and about n b^2 operations for n DoFs and bandwidth b. Larger "
-      "systems are not checked: 'Penalty = automatic' then stops with a "
-      "message, a fixed penalty is solved unchecked and reported as such. "
+      "Positive definiteness of K is checked by a sparse Cholesky "
+      "factorization (CHOLMOD, in floating point, with a fill-reducing "
+      "ordering) if its factor stores at most this many values (8 bytes "
+      "each; the peak memory is larger, 2.45 GB for 2.1e8; the ordering "
+      "tells before the factorization). Larger systems "
+      "are not checked: 'Penalty = automatic' then stops with a message, a "
+      "fixed penalty is solved unchecked and reported as such. "
       "At most 1e9 entries (8 GB).");
     prm.leave_subsection();
   }

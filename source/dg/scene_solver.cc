@@ -80,21 +80,24 @@ namespace ddfem::dg
         {
           AssertThrow(
             false,
-            ExcMessage(
-              "The DG system (" + std::to_string(K.m()) +
-              " DoFs) could not be solved with Linear solver/Type = " +
-              linear_solver.method() + ": " + failure.what() +
-              ". Either the matrix is singular (a rigid motion that no "
-              "boundary condition holds, or a fixed DG/Penalty too small), "
-              "or the loads, prescribed displacements or materials are "
-              "beyond the range of double precision (a load far too large "
-              "for a material far too soft, say)" +
-              (linear_solver.method() == "direct" ?
-                 std::string(".") :
-                 std::string("; an iterative solver may also just fail: "
-                             "try Type = direct."))));
+            ExcMessage("The DG system (" + std::to_string(K.m()) +
+                       " DoFs) could not be solved with Linear solver/Type = " +
+                       linear_solver.method() + ": " + failure.what() +
+                       ". Either " + unsolvable_system_causes() +
+                       (linear_solver.method() == "direct" ?
+                          std::string(".") :
+                          std::string("; or the iterative solver just "
+                                      "failed: try Type = direct."))));
         }
     };
+    // Iterative solves leave round-off that can keep the corotated
+    // iteration from its tolerance at high stiffness contrast.
+    if (linear_solver.method() != "direct")
+      dg->stall_hint = " The linear solves were iterative (Linear "
+                       "solver/Type = " +
+                       linear_solver.method() +
+                       "): their round-off can stall the corotated "
+                       "iteration too; try Type = direct.";
     definiteness = dg->settle_penalty(1);
     setup_time   = timer.wall_time();
   }
@@ -225,25 +228,8 @@ namespace ddfem::dg
   SceneSolver::solve()
   {
     Timer timer;
-    try
-      {
-        linear_solves = dg->run();
-      }
-    catch (const ExceptionBase &e)
-      {
-        // Iterative solves leave round-off that can keep the corotated
-        // iteration from its tolerance at high stiffness contrast.
-        AssertThrow(parameters.formulation == Parameters::Formulation::linear ||
-                      linear_solver.method() == "direct",
-                    ExcMessage(message_of(e) +
-                               " The linear solves were iterative (Linear "
-                               "solver/Type = " +
-                               linear_solver.method() +
-                               "): their round-off can stall the corotated "
-                               "iteration too; try Type = direct."));
-        throw;
-      }
-    solve_time = timer.wall_time();
+    linear_solves = dg->run();
+    solve_time    = timer.wall_time();
     return linear_solves;
   }
 

@@ -6,7 +6,6 @@
 #include <deal.II/lac/full_matrix.h>
 #include <deal.II/lac/lapack_full_matrix.h>
 #include <deal.II/lac/sparse_direct.h>
-#include <deal.II/lac/sparsity_tools.h>
 #include <deal.II/meshworker/mesh_loop.h>
 #include <deal.II/meshworker/scratch_data.h>
 
@@ -20,14 +19,6 @@
 #include <array>
 #include <cmath>
 #include <sstream>
-
-extern "C" void
-dpbtrf_(const char *uplo,
-        const int  *n,
-        const int  *kd,
-        double     *ab,
-        const int  *ldab,
-        int        *info);
 
 namespace ddfem::dg
 {
@@ -43,6 +34,19 @@ namespace ddfem::dg
         default:
           return "not checked";
       }
+  }
+
+
+
+  std::string
+  unsolvable_system_causes()
+  {
+    return "the matrix is singular (a rigid motion that no boundary "
+           "condition holds, or a fixed DG/Penalty too small: check it with "
+           "'Penalty = automatic' on a smaller grid), or the loads, "
+           "prescribed displacements or materials are beyond the range of "
+           "double precision (a load far too large for a material far too "
+           "soft, say)";
   }
 
 
@@ -790,57 +794,35 @@ namespace ddfem::dg
 
   template <int dim>
   Definiteness
-  System<dim>::check_definiteness() const
+  System<dim>::check_definiteness()
   {
-    // Banded Cholesky (LAPACK dpbtrf) after a Cuthill-McKee renumbering:
-    // O(n b^2) time and n (b + 1) memory for bandwidth b.
-    const unsigned int     n = matrix.m();
-    DynamicSparsityPattern dsp(n, n);
-    for (unsigned int i = 0; i < n; ++i)
-      for (auto e = sparsity.begin(i); e != sparsity.end(i); ++e)
-        dsp.add(i, e->column());
-    std::vector<types::global_dof_index> renumbered(n);
-    SparsityTools::reorder_Cuthill_McKee(dsp, renumbered);
-    types::global_dof_index band = 0;
-    for (unsigned int i = 0; i < n; ++i)
-      for (auto e = sparsity.begin(i); e != sparsity.end(i); ++e)
-        band = std::max<types::global_dof_index>(
-          band,
-          std::abs(static_cast<long long>(renumbered[i]) -
-                   static_cast<long long>(renumbered[e->column()])));
-    const double entries = double(n) * (band + 1);
-    if (entries > parameters.definiteness_check_limit)
-      return Definiteness::not_checked;
+    solver::SparseCholesky cholesky;
+    return check_definiteness(cholesky);
+  }
 
-    // Lower band storage: ab(i - j, j) = K(i, j) for i >= j.
-    const int           kd = band, ldab = band + 1, size = n;
-    std::vector<double> ab(static_cast<std::size_t>(entries), 0.);
-    for (unsigned int i = 0; i < n; ++i)
-      for (auto e = matrix.begin(i); e != matrix.end(i); ++e)
-        {
-          const auto r = renumbered[i], c = renumbered[e->column()];
-          if (r >= c)
-            ab[(r - c) + static_cast<std::size_t>(c) * ldab] = e->value();
-        }
-    const char          uplo = 'L';
-    int                 info = 0;
-    std::vector<double> diagonal(n);
-    for (unsigned int j = 0; j < n; ++j)
-      diagonal[j] = ab[static_cast<std::size_t>(j) * ldab];
-    dpbtrf_(&uplo, &size, &kd, ab.data(), &ldab, &info);
-    if (info != 0)
+
+
+  template <int dim>
+  Definiteness
+  System<dim>::check_definiteness(solver::SparseCholesky &cholesky)
+  {
+    // Sparse Cholesky (CHOLMOD, with a fill-reducing ordering): its
+    // symbolic analysis gives the size of the factor before any numerical
+    // work.
+    factor_entries = cholesky.analyze(matrix);
+    if (factor_entries > parameters.definiteness_check_limit)
+      return Definiteness::not_checked;
+    if (!cholesky.factorize(matrix))
       return Definiteness::not_positive_definite;
     // A matrix that is singular in exact arithmetic (a penalty at the
     // threshold, a free rigid motion) can factorize in floating point with a
     // pivot at round-off level: 12 digits of a diagonal entry cancelled are
-    // taken as a zero pivot. The smallest ratio in the DG tests is 3e-10
-    // (thin elements), and a stiffness contrast of 1e6 stays above 8.9e-11
-    // up to eta = 2^30; beyond a contrast of 1e10 the check is unreliable in
-    // floating point either way (settle_penalty() names that cause).
-    for (unsigned int j = 0; j < n; ++j)
-      if (std::pow(ab[static_cast<std::size_t>(j) * ldab], 2) <
-          singular_pivot_ratio * diagonal[j])
-        return Definiteness::not_positive_definite;
+    // taken as a zero pivot. The smallest ratio in the DG tests is 9e-9
+    // (thin elements), and a stiffness contrast of 1e6 stays above 1.1e-10
+    // up to eta = 2^30; settle_penalty() names the materials that take the
+    // check beyond floating point.
+    if (cholesky.smallest_pivot_ratio() < singular_pivot_ratio)
+      return Definiteness::not_positive_definite;
     return Definiteness::positive_definite;
   }
 
@@ -851,18 +833,22 @@ namespace ddfem::dg
   System<dim>::settle_penalty(const double t)
   {
     penalty_doublings = 0;
+    solver::SparseCholesky cholesky;
     if (is_continuous)
       {
         assemble(0, t);
-        return check_definiteness();
+        return check_definiteness(cholesky);
       }
     parameters.check_penalty(parameters.flux, "DG/Flux = babuska-zlamal");
     // Materials beyond what the check resolves in floating point are a
     // cause of their own (measured on prm/default.prm with Method = dg): a
     // nearly incompressible one loses its divergence-free modes in
     // round-off (one material passes at lambda/mu = 5e10, nu =
-    // 0.49999999999, and fails at 5e12), and a stiffness contrast of 1e11
-    // or more fails at eta >= 100 (1e10 passes up to eta = 1e4).
+    // 0.49999999999, and fails at 5e12), and where a stiff part is held
+    // only by a soft one its pivots fall to about 0.2 / (contrast eta) of
+    // their diagonal (palettes E = 1, 1e3 and 1e7 to 1e10 Pa): contrast 1e7
+    // passes up to eta = 1e4, 1e9 up to eta = 100, 1e10 only at the
+    // automatic eta = 4.
     double incompressibility = 0, softest = data.materials[0].mu, stiffest = 0;
     for (const CellMaterial &m : data.materials)
       {
@@ -876,15 +862,18 @@ namespace ddfem::dg
                 "check in floating point (lambda/mu up to "
              << incompressibility << "; 5e10 still passes): use a smaller "
              << "Poisson ratio.";
-    if (stiffest / softest > 1e10)
+    if (stiffest / softest > 1e7)
       limits << " Or the shear moduli, which span a factor of "
              << stiffest / softest
-             << ", differ too much for the check in floating point (1e10 "
-                "passes up to eta = 1e4; a larger penalty makes it worse).";
+             << ", differ too much for the check in floating point: where a "
+                "stiff part is held only by a soft one, its pivots fall to "
+                "about 0.2 / (that factor x eta) of their diagonal, and below "
+                "1e-12 they count as zero (a factor of 1e9 passes up to eta "
+                "= 100; a larger penalty makes it worse).";
     if (!parameters.automatic_penalty())
       {
         assemble(parameters.penalty, t);
-        const Definiteness d = check_definiteness();
+        const Definiteness d = check_definiteness(cholesky);
         std::ostringstream eta;
         eta << parameters.penalty;
         AssertThrow(d != Definiteness::not_positive_definite,
@@ -903,18 +892,20 @@ namespace ddfem::dg
     for (; penalty_doublings <= 30; ++penalty_doublings, eta *= 2)
       {
         assemble(eta, t);
-        const Definiteness d = check_definiteness();
-        std::ostringstream limit;
+        const Definiteness d = check_definiteness(cholesky);
+        std::ostringstream limit, entries;
         limit << parameters.definiteness_check_limit;
+        entries << factor_entries;
         AssertThrow(
           d != Definiteness::not_checked,
           ExcMessage(
-            "DG/Penalty = automatic checks positive definiteness by a banded "
-            "Cholesky factorization, but the band of this system (" +
-            std::to_string(dof_handler.n_dofs()) +
-            " DoFs) holds more entries than DG/Definiteness check limit = " +
-            limit.str() +
-            ". Give a fixed DG/Penalty or raise the limit. For the "
+            "DG/Penalty = automatic checks positive definiteness by a sparse "
+            "Cholesky factorization, but its factor for this system (" +
+            std::to_string(dof_handler.n_dofs()) + " DoFs) stores " +
+            entries.str() +
+            " values, more than DG/Definiteness check limit = " + limit.str() +
+            " (8 bytes each). Raise the limit or give a fixed DG/Penalty. "
+            "For the "
             "penalty, take twice the value found automatically on a "
             "coarser grid of the same part: eq. 7 scales it with the "
             "cells, but the smallest stable value also depends on the "
@@ -949,24 +940,19 @@ namespace ddfem::dg
         catch (const ExceptionBase &e)
           {
             AssertThrow(false,
-                        ExcMessage(
-                          "UMFPACK could not factorize the DG system (" +
-                          std::to_string(dof_handler.n_dofs()) +
-                          " DoFs): " + message_of(e) +
-                          " A singular matrix means a rigid motion that no "
-                          "boundary condition holds, or a fixed DG/Penalty "
-                          "too small (check it with 'Penalty = automatic' "
-                          "on a smaller grid); lack of memory, a grid too "
-                          "large."));
+                        ExcMessage("UMFPACK could not factorize the DG "
+                                   "system (" +
+                                   std::to_string(dof_handler.n_dofs()) +
+                                   " DoFs): " + message_of(e) + " Either " +
+                                   unsolvable_system_causes() +
+                                   ", or memory ran out (a grid too large)."));
           }
         direct.vmult(solution, rhs);
       }
     constraints.distribute(solution);
     AssertThrow(all_finite(solution),
-                ExcMessage("The DG solution is not finite: the loads, the "
-                           "prescribed displacements or the materials are "
-                           "beyond the range of double precision (a load "
-                           "far too large for a material far too soft, say)."));
+                ExcMessage("The DG solution is not finite: either " +
+                           unsolvable_system_causes() + "."));
     solve_time = timer.wall_time();
   }
 
@@ -1034,7 +1020,8 @@ namespace ddfem::dg
                           ". Use more DG/Load steps or DG/Corotation "
                           "iterations. (A slender part compressed to its "
                           "buckling load stalls the iteration at any step "
-                          "size: doc/dg.md, 'Compressed past buckling'.)"));
+                          "size: doc/dg.md, 'Compressed past buckling'.)" +
+                          stall_hint));
             if (it > 1)
               {
                 // d = r_k-1 - r_k, so that omega_k = omega_k-1 (1 + r_k.d

@@ -1,11 +1,28 @@
 #include <cholmod.h>
 #include <ddfem/solver/sparse_cholesky.h>
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace ddfem::solver
 {
+  namespace
+  {
+    /// Whether a matrix entry lies on or above the diagonal.
+    template <typename Entry>
+    bool
+    is_upper(const Entry &entry)
+    {
+      return entry.column() <= static_cast<unsigned int>(entry.row());
+    }
+  } // namespace
+
+
+
   struct SparseCholesky::Data
   {
     cholmod_common common;
@@ -14,7 +31,9 @@ namespace ddfem::solver
     /// factorization.
     cholmod_sparse *matrix = nullptr;
     cholmod_factor *factor = nullptr;
-    bool            valid  = false;
+    /// The entries of L the analysis predicts.
+    double factor_entries = 0;
+    bool   valid          = false;
     /// The solution and the workspace of the solves, kept between them.
     cholmod_dense *x = nullptr, *y = nullptr, *e = nullptr;
   };
@@ -54,24 +73,19 @@ namespace ddfem::solver
 
 
 
-  bool
-  SparseCholesky::factorize(const SparseMatrix<double> &K)
+  double
+  SparseCholesky::analyze(const SparseMatrix<double> &K)
   {
-    cholmod_common &c = data->common;
-    const int       n = K.m();
-    data->valid       = false;
-
-    // Row r of the symmetric K is its column r; CHOLMOD reads the entries
-    // of column r on and above the diagonal (stype 1).
-    const auto upper = [](const auto &entry) {
-      return entry.column() <= static_cast<unsigned int>(entry.row());
-    };
     if (data->matrix == nullptr)
       {
+        cholmod_common &c = data->common;
+        const int       n = K.m();
+        // Row r of the symmetric K is its column r; CHOLMOD reads the
+        // entries of column r on and above the diagonal (stype 1).
         std::size_t nnz = 0;
         for (int r = 0; r < n; ++r)
           for (auto entry = K.begin(r); entry != K.end(r); ++entry)
-            nnz += upper(*entry);
+            nnz += is_upper(*entry);
         data->matrix =
           cholmod_allocate_sparse(n, n, nnz, false, true, 1, CHOLMOD_REAL, &c);
         if (data->matrix == nullptr)
@@ -83,7 +97,7 @@ namespace ddfem::solver
           {
             columns[r] = k;
             for (auto entry = K.begin(r); entry != K.end(r); ++entry)
-              if (upper(*entry))
+              if (is_upper(*entry))
                 rows[k++] = entry->column();
           }
         columns[n]   = k;
@@ -93,14 +107,30 @@ namespace ddfem::solver
             clear();
             throw std::runtime_error("CHOLMOD: the analysis failed (memory?)");
           }
+        // Supernodes store their blocks with the zeros that amalgamation
+        // adds (xsize); a simplicial factor holds its nonzeros (lnz).
+        data->factor_entries =
+          data->factor->is_super ? data->factor->xsize : c.lnz;
       }
+    return data->factor_entries;
+  }
+
+
+
+  bool
+  SparseCholesky::factorize(const SparseMatrix<double> &K)
+  {
+    cholmod_common &c = data->common;
+    const int       n = K.m();
+    data->valid       = false;
+    analyze(K);
     Assert(data->matrix->nrow == static_cast<std::size_t>(n),
            ExcMessage("The sparsity pattern changed without clear()."));
     double     *values = static_cast<double *>(data->matrix->x);
     std::size_t k      = 0;
     for (int r = 0; r < n; ++r)
       for (auto entry = K.begin(r); entry != K.end(r); ++entry)
-        if (upper(*entry))
+        if (is_upper(*entry))
           values[k++] = entry->value();
 
     cholmod_factorize(data->matrix, data->factor, &c);
@@ -121,6 +151,62 @@ namespace ddfem::solver
   SparseCholesky::factorized() const
   {
     return data->valid;
+  }
+
+
+
+  double
+  SparseCholesky::smallest_pivot_ratio() const
+  {
+    Assert(data->valid, ExcMessage("No Cholesky factor to read."));
+    const cholmod_factor &L         = *data->factor;
+    const cholmod_sparse &K         = *data->matrix;
+    const int            *K_columns = static_cast<const int *>(K.p);
+    const int            *K_rows    = static_cast<const int *>(K.i);
+    const double         *K_values  = static_cast<const double *>(K.x);
+    const double         *L_values  = static_cast<const double *>(L.x);
+    const int            *perm      = static_cast<const int *>(L.Perm);
+    // The pivot of column j of L: L_jj^2 (L L^T) or D_jj (L D L^T, where
+    // the diagonal holds D).
+    std::vector<double> pivots(L.n);
+    if (L.is_super)
+      {
+        // Supernode s holds columns super[s] to super[s + 1] - 1 as a
+        // column-major block of pi[s + 1] - pi[s] rows whose first rows are
+        // those columns.
+        const int *super = static_cast<const int *>(L.super);
+        const int *pi    = static_cast<const int *>(L.pi);
+        const int *px    = static_cast<const int *>(L.px);
+        for (std::size_t s = 0; s < L.nsuper; ++s)
+          for (int j = super[s]; j < super[s + 1]; ++j)
+            pivots[j] = std::pow(
+              L_values[px[s] + (j - super[s]) * (pi[s + 1] - pi[s] + 1)], 2);
+      }
+    else
+      {
+        const int *L_columns = static_cast<const int *>(L.p);
+        for (std::size_t j = 0; j < L.n; ++j)
+          pivots[j] = L.is_ll ? std::pow(L_values[L_columns[j]], 2) :
+                                L_values[L_columns[j]];
+      }
+    // A simplicial L D L^T factorizes an indefinite K too (it fails only on
+    // a zero pivot); K is positive definite exactly if every pivot is
+    // positive (Sylvester's law of inertia). A pivot or diagonal entry that
+    // is not positive (or NaN) gives 0.
+    double ratio = std::numeric_limits<double>::max();
+    for (std::size_t j = 0; j < L.n; ++j)
+      {
+        // Row j of L is row perm[j] of K.
+        const int column = perm[j];
+        for (int k = K_columns[column]; k < K_columns[column + 1]; ++k)
+          if (K_rows[k] == column)
+            {
+              if (!(pivots[j] > 0 && K_values[k] > 0))
+                return 0;
+              ratio = std::min(ratio, pivots[j] / K_values[k]);
+            }
+      }
+    return ratio;
   }
 
 

@@ -5,7 +5,8 @@
 // that leave rigid motions free (of the whole solid, or of a part joined to
 // the rest by an edge only), loads that are not finite, a study method
 // named twice, a rotation of 180 degrees or more per load step, a material
-// too close to incompressible for the definiteness check.
+// too close to incompressible for the definiteness check, a stiffness
+// contrast too large for it.
 
 #include <ddfem/app/application.h>
 
@@ -131,6 +132,18 @@ main(int argc, char **argv)
                         "E=1e5 nu=0.4999999999999; E=1e5 nu=0.4999999999999; "
                         "E=1e5 nu=0.4999999999999\nend\n",
            "");
+  // Layers of stiffness contrast 1e10 at eta = 1e4: a stiff layer held by
+  // a soft one has pivots at round-off level; the message names the
+  // contrast.
+  run_case("extreme_contrast",
+           testing::cantilever("4, 16, 4", "0; 0; -100") +
+             "set Method = dg\nsubsection Geometry\n  set Voxel size = "
+             "0.02\nend\n" +
+             testing::layers("0.04",
+                             "y",
+                             "E=1 nu=0.45; E=1e10 nu=0.45; "
+                             "E=1e3 nu=0.45"),
+           "set Penalty = 1e4\n");
   // Loads beyond double precision for the material: the solution is not
   // finite, which is an error, not a result.
   run_case("infinite_solution",

@@ -9,7 +9,9 @@
 //   1e-9, and the iterative solvers need as many fixed-point solves;
 // - where multigrid fails (nu_0499.prm: FE_DGQ(2) at nu = 0.499, 500 CG
 //   iterations do not reach 1e-12) the run stops with a message that
-//   names the solver and suggests the direct one;
+//   names the solver and suggests the direct one, once, also for the
+//   corotated formulation; a corotated iteration that runs out of
+//   iterations with iterative solves suggests it too;
 // - FE_DGP has no support points for the multigrid's rigid body modes:
 //   cg-amg is an error that names Linear solver/Type.
 
@@ -95,6 +97,20 @@ main(int argc, char **argv)
                         std::vector<std::string>{
                           "Linear solver/Type = cg-amg: CG did not converge",
                           "try Type = direct"}),
+        std::make_tuple("nu_0499.prm",
+                        std::vector<std::string>{"DG/Formulation=corotated",
+                                                 "Linear solver/Type=cg-amg"},
+                        std::vector<std::string>{
+                          "Linear solver/Type = cg-amg: CG did not converge",
+                          "try Type = direct"}),
+        std::make_tuple(
+          "corotated_twist.prm",
+          std::vector<std::string>{"DG/Corotation iterations=2",
+                                   "Linear solver/Type=cg-cholesky"},
+          std::vector<std::string>{
+            "did not converge in DG/Corotation iterations = 2",
+            "The linear solves were iterative",
+            "try Type = direct"}),
         std::make_tuple("contrast_1e6.prm",
                         std::vector<std::string>{"DG/Element=FE_DGP",
                                                  "Linear solver/Type=cg-amg"},
@@ -107,11 +123,19 @@ main(int argc, char **argv)
                                             settings,
                                             screen)
                            .first;
+      // Each expected text appears exactly once.
       bool found = true;
       for (const std::string &text : expected)
-        found = found && screen.str().find(text) != std::string::npos;
-      std::cout << prm << " with " << settings.back() << ": exit status "
-                << status << ", the message as expected: " << std::boolalpha
-                << found << std::endl;
+        {
+          const std::size_t first = screen.str().find(text);
+          found                   = found && first != std::string::npos &&
+                  screen.str().find(text, first + 1) == std::string::npos;
+        }
+      std::cout << prm << " with";
+      for (const std::string &setting : settings)
+        std::cout << " " << setting;
+      std::cout << ": exit status " << status
+                << ", the message as expected: " << std::boolalpha << found
+                << std::endl;
     }
 }

@@ -6,7 +6,7 @@
 // automatic penalty (start at 1, double) ends positive definite; with BZ it
 // is rejected (it would always stop at eta = 1). A cube clamped weakly on
 // its x- face, with hanging faces. Every definiteness verdict of
-// System::check_definiteness() (banded Cholesky) is compared with the sign
+// System::check_definiteness() (sparse Cholesky) is compared with the sign
 // of the smallest eigenvalue of the dense matrix (LAPACK dsyevx). A matrix
 // that is singular in exact arithmetic can pass Cholesky in floating point
 // with a pivot at round-off level; the check must reject it (one square of
@@ -40,7 +40,7 @@ namespace
   /// System::check_definiteness() of @p system, and whether the smallest
   /// eigenvalue of the dense matrix has the sign that verdict implies.
   std::string
-  definiteness(const dg::System<3> &system)
+  definiteness(dg::System<3> &system)
   {
     const SparseMatrix<double> &K = system.matrix;
     LAPACKFullMatrix<double>    dense(K.m());

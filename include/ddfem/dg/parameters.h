@@ -115,9 +115,9 @@ namespace ddfem::dg
     unsigned int corotation_iterations = 50;
     /// 'Corotation tolerance': relative change of the solution.
     double corotation_tolerance = 1e-8;
-    /// 'Definiteness check limit': largest band (matrix entries) of the
-    /// Cholesky check.
-    double definiteness_check_limit = 5e7;
+    /// 'Definiteness check limit': most entries of the Cholesky factor
+    /// of the definiteness check.
+    double definiteness_check_limit = 3e8;
   };
 } // namespace ddfem::dg
 

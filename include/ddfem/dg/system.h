@@ -16,6 +16,7 @@
 #include <deal.II/lac/vector.h>
 
 #include <ddfem/dg/parameters.h>
+#include <ddfem/solver/sparse_cholesky.h>
 
 #include <cmath>
 #include <functional>
@@ -100,13 +101,20 @@ namespace ddfem::dg
     /// The Cholesky factorization failed, or a pivot ratio fell below
     /// singular_pivot_ratio.
     not_positive_definite,
-    /// The band is larger than 'Definiteness check limit'.
+    /// The Cholesky factor would hold more entries than 'Definiteness
+    /// check limit'.
     not_checked
   };
 
   /// "positive definite", "NOT positive definite" or "not checked".
   std::string
   to_string(const Definiteness d);
+
+  /// Why a DG system can have no finite solution, for the messages of
+  /// every solver that fails on one ("the matrix is singular (...), or
+  /// ...").
+  std::string
+  unsolvable_system_causes();
 
   /**
    * The stiffness matrix, load vector and solution of linear (or
@@ -157,13 +165,13 @@ namespace ddfem::dg
              const Vector<double> *current = nullptr);
 
     /**
-     * Checks the assembled matrix for positive definiteness by a banded
-     * Cholesky factorization after a Cuthill-McKee renumbering, if the band
-     * holds at most 'Definiteness check limit' entries. A pivot at
+     * Checks the assembled matrix for positive definiteness by a sparse
+     * Cholesky factorization (CHOLMOD), if its factor holds at most
+     * 'Definiteness check limit' entries (factor_entries). A pivot at
      * round-off level (singular_pivot_ratio) counts as a failure.
      */
     Definiteness
-    check_definiteness() const;
+    check_definiteness();
 
     /**
      * Settles the penalty and assembles at load factor @p t: with
@@ -249,6 +257,11 @@ namespace ddfem::dg
                        Vector<double>             &x,
                        const Vector<double>       &b)>
       linear_solver;
+    /// Appended to the message of a corotated iteration that does not
+    /// converge: what the caller's solver setting may have to do with it.
+    std::string stall_hint;
+    /// Entries of the Cholesky factor of the last check_definiteness().
+    double factor_entries = 0;
     /// Penalty doublings of the last settle_penalty() (0 if fixed).
     unsigned int penalty_doublings = 0;
 
@@ -270,6 +283,11 @@ namespace ddfem::dg
     Vector<double> solution;
 
   private:
+    /// check_definiteness() with @p cholesky, which keeps its ordering
+    /// between the checks of one sparsity pattern (the penalty doublings).
+    Definiteness
+    check_definiteness(solver::SparseCholesky &cholesky);
+
     /// Rebuilds the strong Dirichlet constraints at load factor @p t.
     void
     make_constraints(const double t);

@@ -11,13 +11,15 @@ namespace ddfem::solver
   using namespace dealii;
 
   /**
-   * Sparse Cholesky factorization K = L L^T of a symmetric positive definite
-   * matrix with CHOLMOD (SuiteSparse, supernodal, METIS or AMD ordering).
-   * The ordering and the structure of L are computed by the first
-   * factorization after construction or clear(); later factorizations (the
-   * Newton tangents of one model, same sparsity pattern) only do the
-   * numerical work. Its solve can precondition
-   * an iterative solver with the factor of an earlier matrix.
+   * Sparse Cholesky factorization of a symmetric positive definite matrix
+   * with CHOLMOD (SuiteSparse; METIS or AMD ordering): supernodal L L^T, or
+   * simplicial L D L^T for small or very sparse matrices, as CHOLMOD
+   * chooses. The ordering and the structure of L are computed by analyze(),
+   * or by the first factorization after construction or clear(); later
+   * factorizations (the Newton tangents of one model, the penalties of a
+   * definiteness check: same sparsity pattern) only do the numerical work.
+   * Its solve can precondition an iterative solver with the factor of an
+   * earlier matrix.
    */
   class SparseCholesky
   {
@@ -40,9 +42,21 @@ namespace ddfem::solver
     clear();
 
     /**
+     * Computes the ordering and the structure of L for the sparsity pattern
+     * of @p K, unless they are held already, and returns the number of
+     * values L will store (8 bytes each; the factorization's peak memory is
+     * larger). Throws std::runtime_error if CHOLMOD runs out of memory.
+     */
+    double
+    analyze(const SparseMatrix<double> &K);
+
+    /**
      * Factorizes the symmetric matrix @p K, reading its upper triangle.
-     * Returns false, and holds no factor, if @p K is not positive definite.
-     * Throws std::runtime_error if CHOLMOD fails otherwise (out of memory).
+     * Returns false, and holds no factor, where CHOLMOD finds @p K not
+     * positive definite: always with L L^T, only at a zero pivot with
+     * L D L^T, whose factor of an indefinite K still solves with it
+     * (smallest_pivot_ratio() tells). Throws std::runtime_error if CHOLMOD
+     * fails otherwise (out of memory).
      */
     bool
     factorize(const SparseMatrix<double> &K);
@@ -50,6 +64,16 @@ namespace ddfem::solver
     /// Whether a factor is held.
     bool
     factorized() const;
+
+    /**
+     * The smallest ratio of a pivot (L_jj^2, or D_jj of L D L^T) to the
+     * diagonal entry of K it came from (in CHOLMOD's ordering), from the
+     * last factorize(): in (0, 1] if K is positive definite, at round-off
+     * level if K is singular in exact arithmetic, and 0 if a pivot is not
+     * positive (K indefinite).
+     */
+    double
+    smallest_pivot_ratio() const;
 
     /// @p x = K^{-1} @p b with the factor of the last factorize().
     void
