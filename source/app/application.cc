@@ -291,7 +291,7 @@ namespace ddfem::app
               << dg_parameters.element_name() << "(" << dg_parameters.degree
               << ")^3), flux " << dg_parameters.flux_name() << ", "
               << system.matrix.n_nonzero_elements() << " nonzeros, linear "
-              << "solver " << linear_solver.method() << "\n"
+              << "solver " << solver.linear_solver_name() << "\n"
               << "  penalty eta = " << system.penalty()
               << (dg_parameters.automatic_penalty() ?
                     " (automatic, " + std::to_string(system.penalty_doublings) +

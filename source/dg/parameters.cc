@@ -85,11 +85,11 @@ namespace ddfem::dg
       "Positive definiteness of K is checked by a sparse Cholesky "
       "factorization (CHOLMOD, in floating point, with a fill-reducing "
       "ordering) if its factor stores at most this many values (8 bytes "
-      "each; the peak memory is larger, 2.45 GB for 2.1e8; the ordering "
-      "tells before the factorization). Larger systems "
-      "are not checked: 'Penalty = automatic' then stops with a message, a "
-      "fixed penalty is solved unchecked and reported as such. "
-      "At most 1e9 entries (8 GB).");
+      "each; a run's peak memory is larger: 2.45 GB for a DG cube of 98304 "
+      "DoFs, whose factor stores 2.1e8; the ordering tells the number "
+      "before the factorization). Larger systems are not checked: "
+      "'Penalty = automatic' then stops with a message, a fixed penalty is "
+      "solved unchecked and reported as such. At most 1e9 (8 GB).");
     prm.leave_subsection();
   }
 

@@ -98,6 +98,10 @@ namespace ddfem::dg
                        linear_solver.method() +
                        "): their round-off can stall the corotated "
                        "iteration too; try Type = direct.";
+    // A linear system is solved with the factor of its definiteness check
+    // where the check ran: the same matrix, factorized once.
+    dg->solve_with_check_factor =
+      parameters.formulation == Parameters::Formulation::linear;
     definiteness = dg->settle_penalty(1);
     setup_time   = timer.wall_time();
   }
@@ -235,6 +239,15 @@ namespace ddfem::dg
 
 
 
+  std::string
+  SceneSolver::linear_solver_name() const
+  {
+    return dg->solves_with_check_factor() ? "cholesky of the penalty check" :
+                                            linear_solver.method();
+  }
+
+
+
   Tensor<1, 3>
   SceneSolver::point_value(const Point<3> &p) const
   {
@@ -280,7 +293,7 @@ namespace ddfem::dg
     summary["cells"]              = triangulation.n_active_cells();
     summary["dofs"]               = dg->dof_handler.n_dofs();
     summary["nonzeros"]           = dg->matrix.n_nonzero_elements();
-    summary["linear_solver"]      = linear_solver.method();
+    summary["linear_solver"]      = linear_solver_name();
     summary["linear_iterations"]  = linear_iterations;
     summary["linear_solves"]      = linear_solves;
     summary["time_setup_s"]       = setup_time;

@@ -397,6 +397,11 @@ namespace ddfem::dg
     AssertThrow(current == nullptr || (!is_continuous && n_components == dim),
                 ExcMessage("The corotated formulation needs a "
                            "discontinuous vector-valued element."));
+    if (factor_of_matrix)
+      {
+        check_factor.clear();
+        factor_of_matrix = false;
+      }
     eta_used = eta;
     make_constraints(t);
     matrix = 0;
@@ -809,8 +814,8 @@ namespace ddfem::dg
     // Sparse Cholesky (CHOLMOD, with a fill-reducing ordering): its
     // symbolic analysis gives the size of the factor before any numerical
     // work.
-    factor_entries = cholesky.analyze(matrix);
-    if (factor_entries > parameters.definiteness_check_limit)
+    factor_values = cholesky.analyze(matrix);
+    if (factor_values > parameters.definiteness_check_limit)
       return Definiteness::not_checked;
     if (!cholesky.factorize(matrix))
       return Definiteness::not_positive_definite;
@@ -833,11 +838,21 @@ namespace ddfem::dg
   System<dim>::settle_penalty(const double t)
   {
     penalty_doublings = 0;
-    solver::SparseCholesky cholesky;
+    // One factor serves the doublings (the ordering is kept) and, if asked
+    // for, the solve of the matrix it passed.
+    check_factor.clear();
+    factor_of_matrix   = false;
+    const auto settled = [this](const Definiteness d) {
+      factor_of_matrix =
+        solve_with_check_factor && d == Definiteness::positive_definite;
+      if (!factor_of_matrix)
+        check_factor.clear();
+      return d;
+    };
     if (is_continuous)
       {
         assemble(0, t);
-        return check_definiteness(cholesky);
+        return settled(check_definiteness(check_factor));
       }
     parameters.check_penalty(parameters.flux, "DG/Flux = babuska-zlamal");
     // Materials beyond what the check resolves in floating point are a
@@ -873,7 +888,7 @@ namespace ddfem::dg
     if (!parameters.automatic_penalty())
       {
         assemble(parameters.penalty, t);
-        const Definiteness d = check_definiteness(cholesky);
+        const Definiteness d = check_definiteness(check_factor);
         std::ostringstream eta;
         eta << parameters.penalty;
         AssertThrow(d != Definiteness::not_positive_definite,
@@ -886,23 +901,23 @@ namespace ddfem::dg
                          std::string(".") :
                          std::string(" or 'automatic'.")) +
                       limits.str()));
-        return d;
+        return settled(d);
       }
     double eta = 1;
     for (; penalty_doublings <= 30; ++penalty_doublings, eta *= 2)
       {
         assemble(eta, t);
-        const Definiteness d = check_definiteness(cholesky);
-        std::ostringstream limit, entries;
+        const Definiteness d = check_definiteness(check_factor);
+        std::ostringstream limit, values;
         limit << parameters.definiteness_check_limit;
-        entries << factor_entries;
+        values << factor_values;
         AssertThrow(
           d != Definiteness::not_checked,
           ExcMessage(
             "DG/Penalty = automatic checks positive definiteness by a sparse "
             "Cholesky factorization, but its factor for this system (" +
             std::to_string(dof_handler.n_dofs()) + " DoFs) stores " +
-            entries.str() +
+            values.str() +
             " values, more than DG/Definiteness check limit = " + limit.str() +
             " (8 bytes each). Raise the limit or give a fixed DG/Penalty. "
             "For the "
@@ -911,7 +926,7 @@ namespace ddfem::dg
             "cells, but the smallest stable value also depends on the "
             "part's boundary and materials."));
         if (d == Definiteness::positive_definite)
-          return d;
+          return settled(d);
       }
     AssertThrow(false,
                 ExcMessage("DG/Penalty = automatic: no penalty up to 2^30 "
@@ -928,7 +943,9 @@ namespace ddfem::dg
   System<dim>::solve()
   {
     Timer timer;
-    if (linear_solver)
+    if (factor_of_matrix)
+      check_factor.vmult(solution, rhs);
+    else if (linear_solver)
       linear_solver(matrix, solution, rhs);
     else
       {

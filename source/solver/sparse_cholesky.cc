@@ -31,9 +31,9 @@ namespace ddfem::solver
     /// factorization.
     cholmod_sparse *matrix = nullptr;
     cholmod_factor *factor = nullptr;
-    /// The entries of L the analysis predicts.
-    double factor_entries = 0;
-    bool   valid          = false;
+    /// The values L will store, from the analysis.
+    double factor_values = 0;
+    bool   valid         = false;
     /// The solution and the workspace of the solves, kept between them.
     cholmod_dense *x = nullptr, *y = nullptr, *e = nullptr;
   };
@@ -109,10 +109,10 @@ namespace ddfem::solver
           }
         // Supernodes store their blocks with the zeros that amalgamation
         // adds (xsize); a simplicial factor holds its nonzeros (lnz).
-        data->factor_entries =
+        data->factor_values =
           data->factor->is_super ? data->factor->xsize : c.lnz;
       }
-    return data->factor_entries;
+    return data->factor_values;
   }
 
 

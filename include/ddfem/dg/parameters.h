@@ -115,8 +115,8 @@ namespace ddfem::dg
     unsigned int corotation_iterations = 50;
     /// 'Corotation tolerance': relative change of the solution.
     double corotation_tolerance = 1e-8;
-    /// 'Definiteness check limit': most entries of the Cholesky factor
-    /// of the definiteness check.
+    /// 'Definiteness check limit': most values the Cholesky factor of
+    /// the definiteness check may store.
     double definiteness_check_limit = 3e8;
   };
 } // namespace ddfem::dg

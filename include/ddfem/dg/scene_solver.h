@@ -52,6 +52,12 @@ namespace ddfem::dg
     void
     setup();
 
+    /// The solver of the linear systems: "cholesky of the penalty check"
+    /// for a linear system whose definiteness check passed (solved with
+    /// that check's factor), else the scene's 'Linear solver'.
+    std::string
+    linear_solver_name() const;
+
     /// Solves (linear or corotated); returns the number of linear solves.
     unsigned int
     solve();

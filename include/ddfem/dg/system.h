@@ -101,7 +101,7 @@ namespace ddfem::dg
     /// The Cholesky factorization failed, or a pivot ratio fell below
     /// singular_pivot_ratio.
     not_positive_definite,
-    /// The Cholesky factor would hold more entries than 'Definiteness
+    /// The Cholesky factor would store more values than 'Definiteness
     /// check limit'.
     not_checked
   };
@@ -167,7 +167,7 @@ namespace ddfem::dg
     /**
      * Checks the assembled matrix for positive definiteness by a sparse
      * Cholesky factorization (CHOLMOD), if its factor holds at most
-     * 'Definiteness check limit' entries (factor_entries). A pivot at
+     * 'Definiteness check limit' values (factor_values). A pivot at
      * round-off level (singular_pivot_ratio) counts as a failure.
      */
     Definiteness
@@ -187,8 +187,9 @@ namespace ddfem::dg
     Definiteness
     settle_penalty(const double t);
 
-    /// Solves the assembled system into solution: with linear_solver if
-    /// it is set, else with UMFPACK.
+    /// Solves the assembled system into solution: with the factor of the
+    /// definiteness check if solves_with_check_factor(), else with
+    /// linear_solver if it is set, else with UMFPACK.
     void
     solve();
 
@@ -257,11 +258,27 @@ namespace ddfem::dg
                        Vector<double>             &x,
                        const Vector<double>       &b)>
       linear_solver;
+    /**
+     * Whether settle_penalty() keeps the Cholesky factor of a passed check
+     * for solve(), as long as the matrix is not assembled anew. The factor
+     * is exact, so it saves the solve's own factorization or iterations;
+     * off by default, so that solve() times a solve of its own (the cost
+     * study) and the factor's memory is freed.
+     */
+    bool solve_with_check_factor = false;
+
+    /// Whether solve() will use the factor of the definiteness check.
+    bool
+    solves_with_check_factor() const
+    {
+      return factor_of_matrix;
+    }
+
     /// Appended to the message of a corotated iteration that does not
     /// converge: what the caller's solver setting may have to do with it.
     std::string stall_hint;
-    /// Entries of the Cholesky factor of the last check_definiteness().
-    double factor_entries = 0;
+    /// Values the Cholesky factor of the last check_definiteness() stores.
+    double factor_values = 0;
     /// Penalty doublings of the last settle_penalty() (0 if fixed).
     unsigned int penalty_doublings = 0;
 
@@ -287,6 +304,12 @@ namespace ddfem::dg
     /// between the checks of one sparsity pattern (the penalty doublings).
     Definiteness
     check_definiteness(solver::SparseCholesky &cholesky);
+
+    /// The factor of the checks of settle_penalty(); kept after them while
+    /// factor_of_matrix.
+    solver::SparseCholesky check_factor;
+    /// Whether check_factor is the factor of the assembled matrix.
+    bool factor_of_matrix = false;
 
     /// Rebuilds the strong Dirichlet constraints at load factor @p t.
     void
