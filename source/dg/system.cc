@@ -837,22 +837,37 @@ namespace ddfem::dg
   Definiteness
   System<dim>::settle_penalty(const double t)
   {
-    penalty_doublings = 0;
     // One factor serves the doublings (the ordering is kept) and, if asked
-    // for, the solve of the matrix it passed.
+    // for, the solve of the matrix it passed; on an error it is freed.
     check_factor.clear();
-    factor_of_matrix   = false;
-    const auto settled = [this](const Definiteness d) {
-      factor_of_matrix =
-        solve_with_check_factor && d == Definiteness::positive_definite;
-      if (!factor_of_matrix)
+    factor_of_matrix = false;
+    try
+      {
+        const Definiteness d = search_penalty(t);
+        factor_of_matrix =
+          solve_with_check_factor && d == Definiteness::positive_definite;
+        if (!factor_of_matrix)
+          check_factor.clear();
+        return d;
+      }
+    catch (...)
+      {
         check_factor.clear();
-      return d;
-    };
+        throw;
+      }
+  }
+
+
+
+  template <int dim>
+  Definiteness
+  System<dim>::search_penalty(const double t)
+  {
+    penalty_doublings = 0;
     if (is_continuous)
       {
         assemble(0, t);
-        return settled(check_definiteness(check_factor));
+        return check_definiteness(check_factor);
       }
     parameters.check_penalty(parameters.flux, "DG/Flux = babuska-zlamal");
     // Materials beyond what the check resolves in floating point are a
@@ -901,7 +916,7 @@ namespace ddfem::dg
                          std::string(".") :
                          std::string(" or 'automatic'.")) +
                       limits.str()));
-        return settled(d);
+        return d;
       }
     double eta = 1;
     for (; penalty_doublings <= 30; ++penalty_doublings, eta *= 2)
@@ -926,7 +941,7 @@ namespace ddfem::dg
             "cells, but the smallest stable value also depends on the "
             "part's boundary and materials."));
         if (d == Definiteness::positive_definite)
-          return settled(d);
+          return d;
       }
     AssertThrow(false,
                 ExcMessage("DG/Penalty = automatic: no penalty up to 2^30 "

@@ -55,7 +55,8 @@ namespace ddfem::solver
       "space). auto: cg-cholesky up to 'Direct solver limit' unknowns, "
       "cg-amg above (Method = dg: direct up to the limit, since the "
       "corotated iteration needs exact solves at high stiffness "
-      "contrast).");
+      "contrast; a linear DG system whose definiteness check passed is "
+      "solved with the check's Cholesky factor, whatever the type).");
     prm.declare_entry(
       "Tolerance",
       "1e-2",

@@ -246,7 +246,9 @@ namespace ddfem::dg
     double integration_time = 0;
     /// Wall time (s) of the last assembly spent in adding into K and F.
     double assembly_time = 0;
-    /// Wall time (s) of the last solve (factorization and substitution).
+    /// Wall time (s) of the last solve (factorization and substitution;
+    /// the substitution only with the check's factor, whose factorization
+    /// settle_penalty() did).
     double solve_time = 0;
 
     /**
@@ -300,6 +302,11 @@ namespace ddfem::dg
     Vector<double> solution;
 
   private:
+    /// settle_penalty() but for the factor's fate: the search (or the
+    /// check of a fixed penalty), factorizing into check_factor.
+    Definiteness
+    search_penalty(const double t);
+
     /// check_definiteness() with @p cholesky, which keeps its ordering
     /// between the checks of one sparsity pattern (the penalty doublings).
     Definiteness
