@@ -63,47 +63,52 @@ namespace ddfem::dg
 
     dg =
       std::make_unique<System<3>>(triangulation, *element, 3, parameters, data);
-    // A DG solve is a result, not a Newton step: the iterative solvers
-    // reduce the residual to round-off (1e-12). 'auto' takes the direct
-    // solver where it fits: the corotated iteration stalled at a change of
-    // 1e-6 with cg-cholesky's inexact solves at stiffness contrast 1e6
-    // (tests/stability/rigid_rotation.cc).
-    linear_solver.initialize(dg->dof_handler, timer_output, "direct");
-    dg->linear_solver = [this](const SparseMatrix<double> &K,
-                               Vector<double>             &x,
-                               const Vector<double>       &b) {
-      try
-        {
-          linear_iterations += linear_solver.solve(K, x, b, 1e-12);
-        }
-      catch (const solver::LinearSolver::Failure &failure)
-        {
-          AssertThrow(
-            false,
-            ExcMessage("The DG system (" + std::to_string(K.m()) +
-                       " DoFs) could not be solved with Linear solver/Type = " +
-                       linear_solver.method() + ": " + failure.what() +
-                       ". Either " + unsolvable_system_causes() +
-                       (linear_solver.method() == "direct" ?
-                          std::string(".") :
-                          std::string("; or the iterative solver just "
-                                      "failed: try Type = direct."))));
-        }
-    };
-    // Iterative solves leave round-off that can keep the corotated
-    // iteration from its tolerance at high stiffness contrast.
-    if (linear_solver.method() != "direct")
-      dg->stall_hint = " The linear solves were iterative (Linear "
-                       "solver/Type = " +
-                       linear_solver.method() +
-                       "): their round-off can stall the corotated "
-                       "iteration too; try Type = direct.";
     // A linear system is solved with the factor of its definiteness check
     // where the check ran: the same matrix, factorized once.
     dg->solve_with_check_factor =
       parameters.formulation == Parameters::Formulation::linear;
     definiteness = dg->settle_penalty(1);
-    setup_time   = timer.wall_time();
+    // Otherwise (corotated, or unchecked) the scene's linear solver.
+    if (!dg->solves_with_check_factor())
+      {
+        // A DG solve is a result, not a Newton step: the iterative solvers
+        // reduce the residual to round-off (1e-12). 'auto' takes the direct
+        // solver where it fits: the corotated iteration stalled at a change of
+        // 1e-6 with cg-cholesky's inexact solves at stiffness contrast 1e6
+        // (tests/stability/rigid_rotation.cc).
+        linear_solver.initialize(dg->dof_handler, timer_output, "direct");
+        dg->linear_solver = [this](const SparseMatrix<double> &K,
+                                   Vector<double>             &x,
+                                   const Vector<double>       &b) {
+          try
+            {
+              linear_iterations += linear_solver.solve(K, x, b, 1e-12);
+            }
+          catch (const solver::LinearSolver::Failure &failure)
+            {
+              AssertThrow(
+                false,
+                ExcMessage(
+                  "The DG system (" + std::to_string(K.m()) +
+                  " DoFs) could not be solved with Linear solver/Type = " +
+                  linear_solver.method() + ": " + failure.what() + ". Either " +
+                  unsolvable_system_causes() +
+                  (linear_solver.method() == "direct" ?
+                     std::string(".") :
+                     std::string("; or the iterative solver just "
+                                 "failed: try Type = direct."))));
+            }
+        };
+        // Iterative solves leave round-off that can keep the corotated
+        // iteration from its tolerance at high stiffness contrast.
+        if (linear_solver.method() != "direct")
+          dg->stall_hint = " The linear solves were iterative (Linear "
+                           "solver/Type = " +
+                           linear_solver.method() +
+                           "): their round-off can stall the corotated "
+                           "iteration too; try Type = direct.";
+      }
+    setup_time = timer.wall_time();
   }
 
 
