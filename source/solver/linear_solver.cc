@@ -50,7 +50,8 @@ namespace ddfem::solver
       "gradients preconditioned by the CHOLMOD Cholesky factor of an "
       "earlier tangent, refactorized when the CG iterations grow (see "
       "'Cholesky factorization cost'; UMFPACK for a tangent that is not "
-      "positive definite, and the next 10). cg-amg: conjugate gradients with "
+      "positive definite, and the next 10 solves). cg-amg: conjugate "
+      "gradients with "
       "Trilinos ML algebraic multigrid (rigid body modes as near null "
       "space). auto: cg-cholesky up to 'Direct solver limit' unknowns, "
       "cg-amg above (Method = dg: direct up to the limit, since the "
@@ -101,7 +102,7 @@ namespace ddfem::solver
       Patterns::Integer(0),
       "auto: when CG fails (an indefinite tangent near buckling, "
       "say) on a system of at most this many unknowns, that and "
-      "the next 10 systems are solved directly.");
+      "the next 10 solves are direct.");
     prm.leave_subsection();
   }
 
@@ -321,9 +322,10 @@ namespace ddfem::solver
         amg.initialize(trilinos_matrix, list);
       }
 
-    TimerOutput::Scope scope(*timer, "linear solve");
     try
       {
+        // Closed before a fallback to the direct solver times its own.
+        TimerOutput::Scope scope(*timer, "linear solve");
         last_iterations = solve_with_cg(
           K, x, b, amg, max_iterations, std::min(forcing, tolerance));
       }

@@ -142,6 +142,11 @@ namespace ddfem::solver
                                "-unknown matrix failed (status " +
                                std::to_string(c.status) + "; out of memory?)");
     data->valid = (c.status == CHOLMOD_OK);
+    // A simplicial L D L^T factorizes an indefinite K too, failing only on
+    // a zero pivot; K is not positive definite where a pivot is not
+    // positive.
+    if (data->valid && !data->factor->is_ll && smallest_pivot_ratio() == 0)
+      data->valid = false;
     return data->valid;
   }
 
@@ -189,10 +194,9 @@ namespace ddfem::solver
           pivots[j] = L.is_ll ? std::pow(L_values[L_columns[j]], 2) :
                                 L_values[L_columns[j]];
       }
-    // A simplicial L D L^T factorizes an indefinite K too (it fails only on
-    // a zero pivot); K is positive definite exactly if every pivot is
-    // positive (Sylvester's law of inertia). A pivot or diagonal entry that
-    // is not positive (or NaN) gives 0.
+    // K is positive definite exactly if every pivot is positive
+    // (Sylvester's law of inertia). A pivot or diagonal entry that is not
+    // positive (or NaN) gives 0.
     double ratio = std::numeric_limits<double>::max();
     for (std::size_t j = 0; j < L.n; ++j)
       {

@@ -195,7 +195,7 @@ namespace ddfem::solver
       Patterns::Double(1e-14, 1e-2),
       "From 1e-14 to 1e-2. Converged when the residual at the free unknowns is this "
       "fraction of the largest of (the largest residual seen in the "
-      "increment, the external load).");
+      "increment, the external load at the free unknowns).");
     prm.leave_subsection();
   }
 
@@ -620,6 +620,9 @@ namespace ddfem::solver
         r(d.index) = 0;
       return r.l2_norm();
     };
+    // Loads on held nodes go into reactions, not into the residual.
+    Vector<double> free_load(external_force);
+    const double   free_load_norm = free_residual_norm(free_load);
 
     // Up to max_iterations Newton steps; the state after the last one is
     // tested for convergence too.
@@ -650,8 +653,7 @@ namespace ddfem::solver
             u, t, &residual, &constraints, &system_matrix, &rhs, min_J);
         }
         const double residual_norm = free_residual_norm(residual);
-        reference =
-          std::max({reference, residual_norm, t * external_force.l2_norm()});
+        reference = std::max({reference, residual_norm, t * free_load_norm});
 
         pcout << "    Newton " << std::setw(2) << iteration
               << ": |R| = " << std::scientific << std::setprecision(3)

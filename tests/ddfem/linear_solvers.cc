@@ -4,7 +4,8 @@
 // 1. the CHOLMOD Cholesky factor solves K x = b to round-off and agrees
 //    with UMFPACK; a refactorization on the same pattern (another matrix)
 //    is as accurate; a matrix that is not positive definite is reported,
-//    and leaves no factor;
+//    and leaves no factor, also where CHOLMOD's simplicial L D L^T
+//    (a tridiagonal matrix) would factorize it;
 // 2. cg-cholesky factorizes the first tangent (1 iteration), solves the
 //    next, nearby tangent by a few CG iterations with the old factor to the
 //    requested tolerance, factorizes again when a tangent is too far from
@@ -15,7 +16,8 @@
 //    than the average cost per solve of its factor (the factorization
 //    counted as 'Cholesky factorization cost') makes the next system be
 //    factorized at once, and one that needs more than the CG solves before
-//    it, but not more than that average, does not.
+//    it, but not more than that average, does not;
+// 3. auto's cg-amg hands a system on which CG fails to UMFPACK.
 
 #include <deal.II/lac/sparse_direct.h>
 
@@ -113,6 +115,27 @@ main(int argc, char **argv)
               << cholesky.factorize(indefinite)
               << ", factor held: " << cholesky.factorized() << std::endl;
   }
+  {
+    // A tridiagonal matrix, which CHOLMOD factorizes as a simplicial
+    // L D L^T; that factorization fails only on a zero pivot, so the
+    // pivots decide.
+    const unsigned int m = 20;
+    SparsityPattern    pattern(m, m, 3);
+    for (unsigned int i = 0; i < m; ++i)
+      for (unsigned int j = (i > 0 ? i - 1 : 0); j < std::min(m, i + 2); ++j)
+        pattern.add(i, j);
+    pattern.compress();
+    SparseMatrix<double> T(pattern);
+    for (unsigned int i = 0; i < m; ++i)
+      for (unsigned int j = (i > 0 ? i - 1 : 0); j < std::min(m, i + 2); ++j)
+        T.set(i, j, i == j ? 2. : -1.);
+    solver::SparseCholesky cholesky;
+    std::cout << "Tridiagonal " << m << " x " << m
+              << ", positive definite: " << cholesky.factorize(T);
+    T.set(m / 2, m / 2, -2.);
+    std::cout << "; one diagonal entry negated: " << cholesky.factorize(T)
+              << ", factor held: " << cholesky.factorized() << std::endl;
+  }
 
   std::cout << "cg-cholesky (Cholesky tolerance 1e-8, factorization cost 20)"
             << std::endl;
@@ -190,5 +213,47 @@ main(int argc, char **argv)
           "/ 5, factorized",
           K3,
           1e-12);
+  }
+
+  // auto above its direct solver limit is cg-amg; a CG that fails (here:
+  // one iteration allowed) hands the system to UMFPACK, whose timer
+  // section is entered after CG's is left (deal.II's debug library
+  // checks). On the block above, multigrid is a single level, solved
+  // exactly (at most 2000 unknowns); this tangent has more.
+  std::cout << "auto with cg-amg, CG limited to 1 iteration" << std::endl;
+  {
+    testing::Problem     large(testing::cantilever("8, 8, 8", "0; 0; 0") + R"(
+      subsection Layout
+        set Type = random
+      end)");
+    const unsigned int   m = large.discretization->dof_handler.n_dofs();
+    SparseMatrix<double> K;
+    Vector<double>       u(m), residual, x(m), b(m);
+    large.solver->residual_and_tangent(u, 1., residual, K);
+    double trace = 0;
+    for (unsigned int i = 0; i < m; ++i)
+      trace += K.diag_element(i);
+    for (unsigned int i = 0; i < m; ++i)
+      K.diag_element(i) += 1e-3 * trace / m;
+    for (auto &v : b)
+      v = uniform(random);
+    ParameterHandler prm;
+    solver::LinearSolver::declare_parameters(prm);
+    prm.parse_input_from_string(R"(
+      subsection Linear solver
+        set Type = auto
+        set Direct solver limit = 0
+        set Maximum iterations = 1
+      end)");
+    solver::LinearSolver linear_solver;
+    linear_solver.parse_parameters(prm);
+    TimerOutput timer(std::cout, TimerOutput::never, TimerOutput::wall_times);
+    linear_solver.initialize(large.discretization->dof_handler, timer);
+    std::cout << "  " << m << " unknowns, method: " << linear_solver.method()
+              << ", iterations: " << linear_solver.solve(K, x, b)
+              << " (CG's 1, then UMFPACK's 1)" << std::endl;
+    testing::check_below("  relative residual",
+                         relative_residual(K, x, b),
+                         1e-10);
   }
 }

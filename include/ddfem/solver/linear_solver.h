@@ -28,7 +28,8 @@ namespace ddfem::solver
    *   since the last factorization (which counts as 'Cholesky
    *   factorization cost' iterations), or when CG needs more than that
    *   cost, so a few factorizations serve a whole load path; a system that
-   *   is not positive definite goes to UMFPACK, and so do the next 10;
+   *   is not positive definite goes to UMFPACK, and so do the next 10
+   *   solves (Newton's retries of a shifted tangent count too);
    * - conjugate gradients preconditioned by Trilinos ML algebraic multigrid
    *   whose near null space are the six rigid body modes ('cg-amg'). The
    *   hierarchy is kept across Newton iterations and rebuilt only when CG
@@ -113,7 +114,7 @@ namespace ddfem::solver
                    const Vector<double>       &b);
 
     /**
-     * solve_directly(), and the next 10 systems too: called where the
+     * solve_directly(), and the next 10 solves too: called where the
      * iterative solver cannot handle a tangent (cg-amg failed, or the
      * tangent is indefinite for cg-cholesky), since the tangents that
      * follow are likely as hard.

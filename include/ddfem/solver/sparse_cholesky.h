@@ -52,11 +52,10 @@ namespace ddfem::solver
 
     /**
      * Factorizes the symmetric matrix @p K, reading its upper triangle.
-     * Returns false, and holds no factor, where CHOLMOD finds @p K not
-     * positive definite: always with L L^T, only at a zero pivot with
-     * L D L^T, whose factor of an indefinite K still solves with it
-     * (smallest_pivot_ratio() tells). Throws std::runtime_error if CHOLMOD
-     * fails otherwise (out of memory).
+     * Returns false, and holds no factor, where @p K is not positive
+     * definite: a pivot that is not positive (CHOLMOD's L D L^T would
+     * factorize an indefinite K; this checks its pivots). Throws
+     * std::runtime_error if CHOLMOD fails otherwise (out of memory).
      */
     bool
     factorize(const SparseMatrix<double> &K);
@@ -68,9 +67,8 @@ namespace ddfem::solver
     /**
      * The smallest ratio of a pivot (L_jj^2, or D_jj of L D L^T) to the
      * diagonal entry of K it came from (in CHOLMOD's ordering), from the
-     * last factorize(): in (0, 1] if K is positive definite, at round-off
-     * level if K is singular in exact arithmetic, and 0 if a pivot is not
-     * positive (K indefinite).
+     * last successful factorize(): in (0, 1] for a positive definite K,
+     * at round-off level if K is singular in exact arithmetic.
      */
     double
     smallest_pivot_ratio() const;
