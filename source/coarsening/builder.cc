@@ -132,6 +132,13 @@ namespace ddfem::coarsening
     prm.leave_subsection();
     solver::check_point_offset(coarse_point_offset, 1);
     solver::check_point_offset(hierarchy.point_offset, 2);
+  }
+
+
+
+  void
+  DatabaseBuilder::check_input(const scene::Palette &palette) const
+  {
     AssertThrow(!database_file.empty(),
                 ExcMessage("Database/File must name a file."));
     AssertThrow(fitting.held_out_every <= sampling.n_directions,
@@ -147,27 +154,6 @@ namespace ddfem::coarsening
                 ExcMessage("Database/Representatives (compression) needs "
                            "Database/Scope = all: only a complete database "
                            "can be compressed."));
-  }
-
-
-
-  DatabaseSettings
-  DatabaseBuilder::settings(const scene::Palette &palette) const
-  {
-    DatabaseSettings settings;
-    settings.palette      = DatabaseSettings::describe(palette);
-    settings.with_void    = with_void;
-    settings.sampling     = sampling;
-    settings.fitting      = fitting;
-    settings.point_offset = coarse_point_offset;
-    return settings;
-  }
-
-
-
-  void
-  DatabaseBuilder::check_input(const scene::Palette &palette) const
-  {
     const unsigned int n_ids = palette.size() + (with_void ? 1 : 0);
     AssertThrow(n_ids <= 9,
                 ExcMessage("Metamaterial databases support at most 9 "
@@ -193,6 +179,20 @@ namespace ddfem::coarsening
         (std::filesystem::path(database_file) / "metamaterials.h5").string() +
         ")."));
     check_creatable(directory(), "Database/File");
+  }
+
+
+
+  DatabaseSettings
+  DatabaseBuilder::settings(const scene::Palette &palette) const
+  {
+    DatabaseSettings settings;
+    settings.palette      = DatabaseSettings::describe(palette);
+    settings.with_void    = with_void;
+    settings.sampling     = sampling;
+    settings.fitting      = fitting;
+    settings.point_offset = coarse_point_offset;
+    return settings;
   }
 
 
@@ -228,7 +228,11 @@ namespace ddfem::coarsening
     Database database(settings, palette.size());
     if (std::filesystem::exists(database_file))
       {
-        database = Database::load(database_file);
+        // The file's level 2 too, so that a damaged one is an error before
+        // any fit, also for a level-1 build, which keeps it; build() reads
+        // it again.
+        Hierarchy level2;
+        database = Database::load(database_file, &level2);
         AssertThrow(database.palette() == settings.palette,
                     ExcMessage("The metamaterial database '" + database_file +
                                "' was built for the palette [" +

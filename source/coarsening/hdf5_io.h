@@ -170,12 +170,17 @@ namespace ddfem::coarsening::hdf5
     check(H5Sget_simple_extent_dims(space, shape.data(), nullptr) == rank,
           "has the dataset " + name + " with an unreadable shape");
     // The elements the dataset stores bound those of its shape, whose
-    // product is checked factor by factor so that it cannot overflow.
-    const Handle      type(H5Dget_type(set), H5Tclose);
-    const std::size_t size   = type.valid() ? H5Tget_size(type) : 0;
-    const hsize_t     bytes  = H5Dget_storage_size(set);
-    const hsize_t     stored = size > 0 ? bytes / size : 0;
-    hsize_t           n      = 1;
+    // product is checked factor by factor so that it cannot overflow. A
+    // chunked dataset may be compressed (h5repack -f GZIP): deflate stores
+    // at least one byte per 1032.
+    const Handle type(H5Dget_type(set), H5Tclose);
+    const Handle creation(H5Dget_create_plist(set), H5Pclose);
+    const bool   chunked =
+      creation.valid() && H5Pget_layout(creation) == H5D_CHUNKED;
+    const std::size_t size  = type.valid() ? H5Tget_size(type) : 0;
+    const hsize_t     bytes = H5Dget_storage_size(set);
+    const hsize_t stored = size > 0 ? (chunked ? 1032 : 1) * bytes / size : 0;
+    hsize_t       n      = 1;
     for (const hsize_t d : shape)
       {
         check(d == 0 || n <= stored / d,

@@ -496,8 +496,15 @@ namespace ddfem::coarsening
                                           {hsize_t(n_level1_keys)});
     const hsize_t n1 = dataset_length(file, "level2/class key");
     class_key = read_dataset<std::int64_t>(file, "level2/class key", {n1});
-    for (const auto c : class_of)
-      check(c >= 0 && hsize_t(c) <= n1, "has an invalid level-2 class table");
+    // A class (c < n1) only for a combination with a level-1 entry, so
+    // that covers() cannot take a class table for another file's entries.
+    for (std::size_t k = 0; k < n_level1_keys; ++k)
+      if (!(class_of[k] >= 0 && hsize_t(class_of[k]) <= n1 &&
+            (hsize_t(class_of[k]) == n1 || has_entry(k))))
+        check(false,
+              "has an invalid level-2 class table (key " + std::to_string(k) +
+                ": a class out of range, or one for a combination without "
+                "a level-1 entry)");
     for (hsize_t c = 0; c < n1; ++c)
       check(class_key[c] >= 0 && std::size_t(class_key[c]) < n_level1_keys &&
               has_entry(class_key[c]) && hsize_t(class_of[class_key[c]]) == c,

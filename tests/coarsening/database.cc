@@ -145,7 +145,8 @@ namespace
   /**
    * Copies @p original to @p copy and passes the values and the shape of
    * its dataset @p name (of HDF5 type @p type) to @p edit, which may change
-   * both; the dataset is then written anew.
+   * both; the dataset is then written anew, compressed (chunks and deflate,
+   * as h5repack -f GZIP writes it) if @p compress.
    */
   template <typename T>
   void
@@ -153,7 +154,8 @@ namespace
     const std::string &original,
     const std::string &copy,
     const std::string &name,
-    const std::function<void(std::vector<T> &, std::vector<hsize_t> &)> &edit)
+    const std::function<void(std::vector<T> &, std::vector<hsize_t> &)> &edit,
+    const bool compress = false)
   {
     static_assert(
       std::is_same_v<T, double> || std::is_same_v<T, std::int64_t> ||
@@ -178,9 +180,16 @@ namespace
     H5Dclose(set);
     edit(values, dims);
     H5Ldelete(file, name.c_str(), H5P_DEFAULT);
-    space = H5Screate_simple(dims.size(), dims.data(), nullptr);
-    set   = H5Dcreate2(
-      file, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    space                = H5Screate_simple(dims.size(), dims.data(), nullptr);
+    const hid_t creation = H5Pcreate(H5P_DATASET_CREATE);
+    if (compress)
+      {
+        H5Pset_chunk(creation, dims.size(), dims.data());
+        H5Pset_deflate(creation, 9);
+      }
+    set = H5Dcreate2(
+      file, name.c_str(), type, space, H5P_DEFAULT, creation, H5P_DEFAULT);
+    H5Pclose(creation);
     H5Dwrite(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data());
     H5Dclose(set);
     H5Sclose(space);
@@ -1253,6 +1262,18 @@ main()
       H5Sclose(space);
       H5Fclose(file);
     }
+    // A valid file compressed by h5repack (gzip): the mostly -1 lookup table
+    // takes a small fraction of its elements' bytes.
+    edit_dataset<std::int32_t>(
+      "small.h5",
+      "gzip.h5",
+      "lookup/entry",
+      [](std::vector<std::int32_t> &, std::vector<hsize_t> &) {},
+      true);
+    std::cout << "compressed lookup table loads, same entries: "
+              << same_entries(Database::load("gzip.h5"),
+                              Database::load("small.h5"))
+              << std::endl;
     expect_error("dataset shape beyond its storage",
                  [] { Database::load("huge_shape.h5"); });
     edit_dataset<std::int64_t>("small.h5",
@@ -1266,8 +1287,8 @@ main()
                  [] { Database::load("huge_count.h5"); });
     {
       // Level-2 tables naming a level-1 combination that has no entry: as
-      // the only required block (so that the blocks stay sorted), or as a
-      // class key.
+      // the only required block (so that the blocks stay sorted), as a
+      // class key, or with a class of its own.
       const Database lazy2   = Database::load("lazy2.h5");
       std::int64_t   missing = 0;
       while (lazy2.contains(lazy2.combinations().combination(missing)))
@@ -1296,6 +1317,26 @@ main()
             Database::load("bad_level2.h5", &level2);
           });
         }
+      // A class for that combination, which would let a lookup send its
+      // blocks to another combination's class.
+      edit_dataset<std::int32_t>("lazy2.h5",
+                                 "bad_level2.h5",
+                                 "level2/class of",
+                                 [&](std::vector<std::int32_t> &values,
+                                     std::vector<hsize_t> &) {
+                                   values[missing] = 0;
+                                 });
+      expect_error("level-2 class of a combination without a level-1 entry",
+                   [] {
+                     Hierarchy level2;
+                     Database::load("bad_level2.h5", &level2);
+                   });
+      // A level-1 build keeps the file's level 2: it stops on opening,
+      // before any fit.
+      expect_error("level-1 build of a file with a damaged level 2", [] {
+        std::ostringstream log;
+        builder("bad_level2.h5", false, "scene").open(palette(), log);
+      });
     }
     expect_error("other palette", [&log] {
       builder("small.h5", false)

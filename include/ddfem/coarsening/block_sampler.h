@@ -116,8 +116,9 @@ namespace ddfem::coarsening
      * 8 records, one per point of the child's rule
      * solver::coarse_quadrature(1, @p child_point_offset) (point j in the
      * child's octant j). Fine voxels have the 2-point Gauss rule of the
-     * default offset; level-1 metamaterials have the offset their
-     * database was fitted with. At least one child must be solid.
+     * default offset; level-1 metamaterials (their child fits,
+     * Database::lookup(c, Fit::child)) have coarsening::child_point_offset,
+     * the Gauss rule too. At least one child must be solid.
      */
     explicit BlockSampler(
       const std::array<std::vector<material::MaterialPoint>, 8> &children,

@@ -65,7 +65,9 @@ namespace ddfem::coarsening
     /// "Discretization/Coarse point offset" and "Level-2 point offset".
     static void
     declare_parameters(ParameterHandler &prm);
-    /// Reads and validates what declare_parameters() declares.
+    /// Reads what declare_parameters() declares and validates the point
+    /// offsets, which every coarse model uses; check_input() validates the
+    /// rest, which only database builds and ddfem models use.
     void
     parse_parameters(ParameterHandler &prm);
 
@@ -91,9 +93,10 @@ namespace ddfem::coarsening
 
     /**
      * Throws ExcMessage if a database for @p palette cannot be built with
-     * these settings (more than 9 material ids, void included; lambda < 0)
-     * or Database/File's
-     * directory cannot be made. Writes nothing.
+     * these settings (no Database/File, more held-out patterns than
+     * patterns, compression of a lazy build, more than 9 material ids,
+     * void included; lambda < 0) or Database/File's directory cannot be
+     * made. Writes nothing.
      */
     void
     check_input(const scene::Palette &palette) const;
@@ -114,7 +117,8 @@ namespace ddfem::coarsening
      * After check_input(), loads the database for @p palette from
      * Database/File, or starts an empty one if there is none, and adds what the
      * file's journal holds. Throws ExcMessage if the file was built for another
-     * palette or with other settings. Reads only: call it under lock() if
+     * palette or with other settings, or fails the checks of Database::load()
+     * (its level 2's included). Reads only: call it under lock() if
      * build() follows.
      */
     Database
