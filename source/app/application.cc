@@ -44,13 +44,33 @@ namespace ddfem::app
       "nested subsections are separated by '/'. --print-parameters lists\n"
       "every parameter with its documentation and default.\n";
 
-    /// The scene's name: 'Scene name', or the stem of @p prm_file.
+    /**
+     * The scene's name: 'Scene name', or the stem of @p prm_file. Throws
+     * ExcMessage if it is not UTF-8 text, which the JSON results need.
+     */
     std::string
     scene_name_of(ParameterHandler &prm, const std::string &prm_file)
     {
-      const std::string name = prm.get("Scene name");
-      return name.empty() ? std::filesystem::path(prm_file).stem().string() :
-                            name;
+      const std::string given = prm.get("Scene name");
+      const std::string name =
+        given.empty() ? std::filesystem::path(prm_file).stem().string() : given;
+      try
+        {
+          nlohmann::json(name).dump();
+        }
+      catch (const nlohmann::json::type_error &)
+        {
+          AssertThrow(false,
+                      ExcMessage(std::string("The scene name (") +
+                                 (given.empty() ?
+                                    "the parameter file's name; 'Scene name' "
+                                    "is empty" :
+                                    "'Scene name'") +
+                                 ") is not UTF-8 text, which summary.json "
+                                 "and comparison.json need. Set 'Scene "
+                                 "name' to UTF-8 text."));
+        }
+      return name;
     }
 
     /// 'Output directory' and 'Screen timings' of subsection "Output".
@@ -209,6 +229,8 @@ namespace ddfem::app
         else if (method != "fine")
           database.parse_parameters(prm);
         scene.parse_parameters(prm);
+        if (method == "ddfem")
+          database.check_input(scene.palette);
         AssertThrow(method != "dg" || scene.n_edits() == 0,
                     ExcMessage("Layout/Edits is not supported with Method = "
                                "dg (a DG run solves the base state only): "

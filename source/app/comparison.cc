@@ -402,6 +402,11 @@ namespace ddfem::app
     out << "Comparison of scene \"" << scene_name << "\": grid "
         << scene.grid.describe() << ", " << scene.n_edits() << " material edit"
         << (scene.n_edits() == 1 ? "" : "s") << std::endl;
+    // The database settings matter to the ddfem models alone.
+    if (std::any_of(configurations.begin(),
+                    configurations.end(),
+                    [](const Configuration &c) { return c.name == "ddfem"; }))
+      database.check_input(scene.palette);
 
     // The models, set up in order (the fine one first) before anything is
     // solved or written: invalid input (a grid that does not coarsen, a

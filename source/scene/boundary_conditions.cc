@@ -357,15 +357,15 @@ namespace ddfem::scene
                 condition.axis =
                   parse_point(Utilities::split_string_list(prm.get("Axis")),
                               where + "/Axis");
-                // Its length must be computable: 1e200 would overflow to
-                // infinity and normalize to the zero vector.
-                AssertThrow(condition.axis.norm() > 0 &&
-                              std::isfinite(condition.axis.norm()),
+                // Scaled by its largest component first, so that its length
+                // neither overflows (1e200) nor underflows (1e-200).
+                double largest = 0;
+                for (unsigned int d = 0; d < 3; ++d)
+                  largest = std::max(largest, std::abs(condition.axis[d]));
+                AssertThrow(largest > 0,
                             ExcMessage(where +
-                                       "/Axis must not be the zero vector, "
-                                       "and its length must be finite (give "
-                                       "components between 1e-300 and "
-                                       "1e150 in size)."));
+                                       "/Axis must not be the zero vector."));
+                condition.axis /= largest;
                 condition.axis /= condition.axis.norm();
                 condition.angle = prm.get_double("Angle") * numbers::PI / 180.;
                 condition.constrained.assign(3, true);

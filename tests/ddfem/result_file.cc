@@ -1,7 +1,8 @@
 // ResultFile writes a result in one piece: nothing under the result's name
 // until commit(), no temporary left behind by an uncommitted or failed
 // write, and errors that name the file and the parameter. remove_earlier()
-// also removes the temporary file a killed run left.
+// also removes the temporary file a killed run left. check_creatable()
+// leaves nothing behind.
 
 #include <deal.II/base/exceptions.h>
 
@@ -84,6 +85,13 @@ main()
     file.commit();
   });
   print_names(dir, "after the failed commit");
+
+  // check_creatable() makes and removes again what create_directories()
+  // would make, "a" of "a/../b" included.
+  print_error("a creatable path through '..'", [&]() {
+    check_creatable(dir + "/x/./a/../b", "Output/Output directory");
+  });
+  print_names(dir, "after the check");
 
   // A killed run's temporary files: remove_earlier() removes them with the
   // result, and also where the result was never written.

@@ -12,7 +12,6 @@
 //   (7.6e-16 measured; the bound is 1e-14.) No body force here: with it,
 //   the last Newton step's inexact CG solve, which the reductions steer,
 //   left differences of 6.9e-13 in a trial, not round-off.
-// The harness starts the test with one thread.
 
 #include <deal.II/base/multithread_info.h>
 

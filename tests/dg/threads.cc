@@ -3,7 +3,6 @@
 // two, and so the same solution (doc/dg.md): a heterogeneous cantilever of
 // 2 x 8 x 2 cells, FE_DGQ(2), both fluxes, linear and corotated (warped
 // with the rotations of a twisted state), and a cube with hanging faces.
-// The harness starts the test with one thread.
 
 #include <deal.II/base/multithread_info.h>
 

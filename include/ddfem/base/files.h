@@ -114,7 +114,9 @@ namespace ddfem
     std::error_code                    error;
     std::filesystem::path              partial;
     if (!path.empty())
-      for (const auto &part : std::filesystem::path(path).lexically_normal())
+      // Component by component as written, as create_directories() goes:
+      // in "a/../b" it makes a too.
+      for (const auto &part : std::filesystem::path(path))
         {
           partial /= part;
           if (!std::filesystem::exists(partial, error) &&
