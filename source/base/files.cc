@@ -28,6 +28,19 @@ namespace ddfem
 
 
 
+  bool
+  sync_to_disk(const std::string &path)
+  {
+    const int descriptor = ::open(path.c_str(), O_RDONLY);
+    if (descriptor < 0)
+      return false;
+    const bool synced = (::fsync(descriptor) == 0);
+    ::close(descriptor);
+    return synced;
+  }
+
+
+
   ResultFile::ResultFile(const std::string &file, const std::string &where)
     : file(file)
     , where(where)

@@ -1,6 +1,7 @@
 #include <deal.II/base/exceptions.h>
 
 #include <ddfem/base/exceptions.h>
+#include <ddfem/base/files.h>
 #include <ddfem/base/parsing.h>
 #include <ddfem/coarsening/block_sampler.h>
 #include <ddfem/coarsening/database.h>
@@ -522,6 +523,10 @@ namespace ddfem::coarsening
         if (level2 != nullptr && !level2->empty())
           level2->save(h5);
         AssertThrow(h5.close_now(), ExcMessage("HDF5 could not close it."));
+        // On the disk before it replaces the old file, and before the
+        // caller removes the journal of its entries.
+        AssertThrow(sync_to_disk(temporary),
+                    ExcMessage("It could not be flushed to the disk."));
       }
     catch (const ExceptionBase &e)
       {
@@ -546,6 +551,9 @@ namespace ddfem::coarsening
                 ExcMessage("Cannot replace the database file " + file +
                            " (Database/File): " + error.message() +
                            ". Its journal keeps the new entries."));
+    // The rename itself (best effort: not every file system syncs a
+    // directory).
+    sync_to_disk(std::filesystem::absolute(file).parent_path().string());
   }
 
 

@@ -191,6 +191,14 @@ namespace ddfem
   remove_earlier(const std::string &file, const std::string &where);
 
   /**
+   * Flushes the file or directory @p path to the disk (fsync): written data
+   * that must survive a crash of the machine, not only of the process,
+   * before what replaces or depends on it. Returns false if that failed.
+   */
+  bool
+  sync_to_disk(const std::string &path);
+
+  /**
    * check_creatable() of @p directory and check_writable() of each of
    * @p files (names in it); @p where names the parameter the directory
    * comes from.
