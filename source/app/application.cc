@@ -248,40 +248,33 @@ namespace ddfem::app
        * Throws before anything is solved or written if a result could not
        * be written: the output directory cannot be created, or something
        * other than a regular file is in the way of summary.json,
-       * parameters.prm or the files @p files (names in the output
-       * directory).
+       * parameters.prm or the VTU files of @p n_states scene states (0: a
+       * DG run's solution.vtu only).
        */
       void
-      check_output(std::vector<std::string> files) const
+      check_output(const unsigned int n_states) const
       {
-        files.insert(files.end(), {"summary.json", "parameters.prm"});
-        check_writable_in(directory, files, "Output/Output directory");
-      }
-
-      /// check_output() for a simulation of the continuous models, whose
-      /// VTU files of every scene state are checked too.
-      void
-      check_simulation_output() const
-      {
-        check_output({});
-        vtu.check_writable(directory, scene.n_edits() + 1);
+        check_writable_in(directory,
+                          {"summary.json", "parameters.prm"},
+                          "Output/Output directory");
+        vtu.check_writable(directory, n_states);
       }
 
       /**
        * Creates the output directory, removes the results an earlier run
-       * left there under the names this run writes (summary.json and the
-       * files @p files; the continuous models' VTU files are VtuWriter's)
-       * and writes parameters.prm into it (after check_output() with the
-       * same @p files). A run that fails from here on leaves only results
-       * of its own.
+       * left there under the names this run writes (summary.json and every
+       * VTU file, VtuWriter::remove_earlier()) and writes parameters.prm
+       * into it (after check_output()). A run that fails from here on
+       * leaves only results of its own.
        */
       void
-      prepare_output(const ParameterHandler  &prm,
-                     std::vector<std::string> files) const
+      prepare_output(const ParameterHandler &prm) const
       {
         create_directories(directory, "Output/Output directory");
-        files.push_back("summary.json");
-        remove_earlier_in(directory, files, "Output/Output directory");
+        remove_earlier_in(directory,
+                          {"summary.json"},
+                          "Output/Output directory");
+        report::VtuWriter::remove_earlier(directory);
         ResultFile used(directory + "/parameters.prm",
                         "Output/Output directory");
         prm.print_parameters(used.stream(), ParameterHandler::ShortPRM);
@@ -327,11 +320,9 @@ namespace ddfem::app
         // corotated iteration that does not converge writes nothing).
         // Every VTU file of an earlier run is removed, solution.vtu with
         // them (a DG run writes no continuous states).
-        check_output({});
-        vtu.check_writable(directory, 0);
+        check_output(0);
         const unsigned int solves = solver.solve();
-        prepare_output(prm, {});
-        report::VtuWriter::remove_earlier(directory);
+        prepare_output(prm);
         if (vtu.enabled())
           solver.write_vtu(directory + "/solution.vtu");
 
@@ -379,7 +370,7 @@ namespace ddfem::app
         Timer total;
         // Files that could not be written are found before a database
         // preparation or a solve.
-        check_simulation_output();
+        check_output(scene.n_edits() + 1);
         // The coarse material source: the database (completed lazily for
         // this scene's blocks, in every edited state) or a baseline.
         std::optional<coarsening::Database>    level1;
@@ -439,8 +430,7 @@ namespace ddfem::app
               << linear_solver.method() << std::endl;
 
         // All input is valid: from here on, results are written.
-        prepare_output(prm, {});
-        report::VtuWriter::remove_earlier(directory);
+        prepare_output(prm);
         nlohmann::json summary;
         summary["scene"]           = scene_name;
         summary["method"]          = method;

@@ -549,14 +549,17 @@ namespace ddfem::coarsening
     {
       const std::vector<Entry> journaled =
         Journal::read(journal_of, fingerprint, level2.n_representatives());
-      for (const Entry &e : journaled)
-        if (std::none_of(level2.entries.begin(),
-                         level2.entries.end(),
-                         [&e](const Entry &f) { return f.key == e.key; }))
-          level2.entries.push_back(e);
-      std::sort(level2.entries.begin(),
-                level2.entries.end(),
-                [](const Entry &a, const Entry &b) { return a.key < b.key; });
+      level2.entries.insert(level2.entries.end(),
+                            journaled.begin(),
+                            journaled.end());
+      // Of a key held twice, the first: the file's fit.
+      sort_by_key(level2.entries);
+      level2.entries.erase(std::unique(level2.entries.begin(),
+                                       level2.entries.end(),
+                                       [](const Entry &a, const Entry &b) {
+                                         return a.key == b.key;
+                                       }),
+                           level2.entries.end());
       return journaled.size();
     }
 
@@ -781,9 +784,7 @@ namespace ddfem::coarsening
                   ++n_own;
               }
         const auto has = [&level2](const std::size_t r) {
-          return std::any_of(level2.entries.begin(),
-                             level2.entries.end(),
-                             [r](const Entry &e) { return e.key == r; });
+          return has_key(level2.entries, r);
         };
         const std::size_t n_journaled =
           add_journaled(level2, level2_journal, level2_fingerprint);
@@ -840,9 +841,7 @@ namespace ddfem::coarsening
               out,
               show_progress);
           }
-        std::sort(level2.entries.begin(),
-                  level2.entries.end(),
-                  [](const Entry &a, const Entry &b) { return a.key < b.key; });
+        sort_by_key(level2.entries);
         if (!needed.empty() || n_journaled > 0)
           {
             database.save(database_file, &level2);

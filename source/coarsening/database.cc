@@ -782,7 +782,10 @@ namespace ddfem::coarsening
           const std::uint64_t                     seed,
           std::vector<unsigned int>               required)
   {
-    Assert(!features.empty(), ExcInternalError());
+    AssertThrow(!features.empty(),
+                ExcMessage("Farthest point sampling needs at least one "
+                           "point: a database without entries can be "
+                           "neither compressed nor clustered for level 2."));
     std::sort(required.begin(), required.end());
     required.erase(std::unique(required.begin(), required.end()),
                    required.end());

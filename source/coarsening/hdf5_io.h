@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -171,22 +172,25 @@ namespace ddfem::coarsening::hdf5
           "has the dataset " + name + " with an unreadable shape");
     // The elements the dataset stores bound those of its shape, whose
     // product is checked factor by factor so that it cannot overflow. A
-    // chunked dataset may be compressed (h5repack -f GZIP): deflate stores
+    // filtered dataset may be compressed (h5repack -f GZIP): deflate stores
     // at least one byte per 1032.
     const Handle type(H5Dget_type(set), H5Tclose);
     const Handle creation(H5Dget_create_plist(set), H5Pclose);
-    const bool   chunked =
-      creation.valid() && H5Pget_layout(creation) == H5D_CHUNKED;
+    const bool   filtered   = creation.valid() && H5Pget_nfilters(creation) > 0;
     const std::size_t size  = type.valid() ? H5Tget_size(type) : 0;
     const hsize_t     bytes = H5Dget_storage_size(set);
-    const hsize_t stored = size > 0 ? (chunked ? 1032 : 1) * bytes / size : 0;
-    hsize_t       n      = 1;
+    const hsize_t     most  = std::numeric_limits<hsize_t>::max();
+    hsize_t           stored = size > 0 ? bytes / size : 0;
+    if (filtered)
+      stored = stored > most / 1032 ? most : 1032 * stored;
+    hsize_t n = 1;
     for (const hsize_t d : shape)
       {
         check(d == 0 || n <= stored / d,
               "has the dataset " + name + " of shape " + describe(shape) +
                 ", more elements than the " + std::to_string(bytes) +
-                " bytes it stores (corrupt file?)");
+                " bytes it stores can hold (corrupt file" +
+                (filtered ? ", or compressed beyond gzip's ratio?)" : "?)"));
         n *= d;
       }
     return shape;

@@ -345,9 +345,7 @@ namespace ddfem::coarsening
             entries.back().key = match->second;
           }
       }
-    std::sort(entries.begin(),
-              entries.end(),
-              [](const Entry &a, const Entry &b) { return a.key < b.key; });
+    sort_by_key(entries);
   }
 
 

@@ -118,7 +118,9 @@ main(int argc, char **argv)
   {
     // A tridiagonal matrix, which CHOLMOD factorizes as a simplicial
     // L D L^T; that factorization fails only on a zero pivot, so the
-    // pivots decide.
+    // pivots decide. With 1.5 on the diagonal (and -1 beside it) the
+    // matrix is indefinite (eigenvalues 1.5 - 2 cos(k pi / 21)) with a
+    // positive diagonal: its fourth pivot is negative.
     const unsigned int m = 20;
     SparsityPattern    pattern(m, m, 3);
     for (unsigned int i = 0; i < m; ++i)
@@ -132,8 +134,9 @@ main(int argc, char **argv)
     solver::SparseCholesky cholesky;
     std::cout << "Tridiagonal " << m << " x " << m
               << ", positive definite: " << cholesky.factorize(T);
-    T.set(m / 2, m / 2, -2.);
-    std::cout << "; one diagonal entry negated: " << cholesky.factorize(T)
+    for (unsigned int i = 0; i < m; ++i)
+      T.set(i, i, 1.5);
+    std::cout << "; with 1.5 on the diagonal: " << cholesky.factorize(T)
               << ", factor held: " << cholesky.factorized() << std::endl;
   }
 
@@ -218,8 +221,9 @@ main(int argc, char **argv)
   // auto above its direct solver limit is cg-amg; a CG that fails (here:
   // one iteration allowed) hands the system to UMFPACK, whose timer
   // section is entered after CG's is left (deal.II's debug library
-  // checks). On the block above, multigrid is a single level, solved
-  // exactly (at most 2000 unknowns); this tangent has more.
+  // checks it: the Debug run of scripts/setup.sh --test). On the block above,
+  // multigrid is a single level, solved exactly (at most 2000 unknowns); this
+  // tangent has more.
   std::cout << "auto with cg-amg, CG limited to 1 iteration" << std::endl;
   {
     testing::Problem     large(testing::cantilever("8, 8, 8", "0; 0; 0") + R"(

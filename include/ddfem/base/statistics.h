@@ -20,7 +20,13 @@ namespace ddfem
   quantile(const std::vector<double> &sorted, const double q)
   {
     Assert(!sorted.empty(), dealii::ExcEmptyObject());
-    return sorted[std::min<std::size_t>(sorted.size() - 1, q * sorted.size())];
+    const std::size_t n = sorted.size();
+    // floor(q n), also where q n rounds below an integer (0.29 * 100 is
+    // 28.999999999999996): the largest i with i / n <= q.
+    std::size_t i = std::min<std::size_t>(n - 1, q * n);
+    while (i + 1 < n && double(i + 1) / n <= q)
+      ++i;
+    return sorted[i];
   }
 
   /// Whether every value of @p values (a vector of doubles) is finite.

@@ -77,6 +77,26 @@ namespace ddfem::coarsening
                             });
   }
 
+  /// Whether @p entries (sorted by key) hold one of key @p key.
+  inline bool
+  has_key(const std::vector<Entry> &entries, const std::size_t key)
+  {
+    const auto e = find_key(entries, key);
+    return e != entries.end() && e->key == key;
+  }
+
+  /// Sorts @p entries by key (find_key() and has_key() need it), keeping
+  /// the order of entries of equal keys.
+  inline void
+  sort_by_key(std::vector<Entry> &entries)
+  {
+    std::stable_sort(entries.begin(),
+                     entries.end(),
+                     [](const Entry &a, const Entry &b) {
+                       return a.key < b.key;
+                     });
+  }
+
   /// Which of a first-level entry's two fits of the same samples.
   enum class Fit
   {
@@ -307,7 +327,8 @@ namespace ddfem::coarsening
    * any, it starts from a point drawn with @p seed. If more than @p k
    * points are required, the @p k are sampled among those alone. Fewer
    * than @p k are picked if the points to sample from have fewer distinct
-   * features (farthest_point_sampling()).
+   * features (farthest_point_sampling()). Throws ExcMessage if there are no
+   * @p features.
    */
   Clustering
   cluster(const std::vector<std::vector<double>> &features,
