@@ -43,6 +43,27 @@ namespace
     r -= b;
     return r.l2_norm() / b.l2_norm();
   }
+
+  /// The tangent @p K of @p problem at a random displacement (seed 11) of
+  /// components up to @p amplitude, shifted by 1e-3 of its mean diagonal.
+  void
+  shifted_tangent(testing::Problem     &problem,
+                  const double          amplitude,
+                  SparseMatrix<double> &K)
+  {
+    const unsigned int n = problem.discretization->dof_handler.n_dofs();
+    std::mt19937       same(11);
+    std::uniform_real_distribution<double> uniform(-1, 1);
+    Vector<double>                         u(n), residual;
+    for (auto &v : u)
+      v = amplitude * uniform(same);
+    problem.solver->residual_and_tangent(u, 1., residual, K);
+    double trace = 0;
+    for (unsigned int i = 0; i < n; ++i)
+      trace += K.diag_element(i);
+    for (unsigned int i = 0; i < n; ++i)
+      K.diag_element(i) += 1e-3 * trace / n;
+  }
 } // namespace
 
 
@@ -63,22 +84,10 @@ main(int argc, char **argv)
   // Tangents at two displacements (strains of about 1 % and 2 %), each
   // shifted by 1e-3 of its mean diagonal, and a matrix far from both: the
   // second tangent with the diagonal of half its rows multiplied by 10.
-  const auto tangent = [&](const double amplitude, SparseMatrix<double> &K) {
-    Vector<double> u(n), residual;
-    std::mt19937   same(11);
-    for (auto &v : u)
-      v = amplitude * uniform(same);
-    problem.solver->residual_and_tangent(u, 1., residual, K);
-    double trace = 0;
-    for (unsigned int i = 0; i < n; ++i)
-      trace += K.diag_element(i);
-    for (unsigned int i = 0; i < n; ++i)
-      K.diag_element(i) += 1e-3 * trace / n;
-  };
   SparseMatrix<double> K0, K1, K2;
-  tangent(5e-5, K0);
-  tangent(1e-4, K1);
-  tangent(1e-4, K2);
+  shifted_tangent(problem, 5e-5, K0);
+  shifted_tangent(problem, 1e-4, K1);
+  shifted_tangent(problem, 1e-4, K2);
   for (unsigned int i = 0; i < n / 2; ++i)
     K2.diag_element(i) *= 10;
   Vector<double> b(n), x(n), y(n);
@@ -232,13 +241,8 @@ main(int argc, char **argv)
       end)");
     const unsigned int   m = large.discretization->dof_handler.n_dofs();
     SparseMatrix<double> K;
-    Vector<double>       u(m), residual, x(m), b(m);
-    large.solver->residual_and_tangent(u, 1., residual, K);
-    double trace = 0;
-    for (unsigned int i = 0; i < m; ++i)
-      trace += K.diag_element(i);
-    for (unsigned int i = 0; i < m; ++i)
-      K.diag_element(i) += 1e-3 * trace / m;
+    Vector<double>       x(m), b(m);
+    shifted_tangent(large, 0, K);
     for (auto &v : b)
       v = uniform(random);
     ParameterHandler prm;
