@@ -391,6 +391,35 @@ namespace ddfem::app
 
 
 
+  std::vector<std::string>
+  Comparison::result_files()
+  {
+    return {"comparison.json",
+            "comparison.csv",
+            "error_vs_time.dat",
+            "error_vs_time.gnuplot",
+            "error_vs_time.png"};
+  }
+
+
+
+  std::vector<std::string>
+  Comparison::model_directories(const std::string &directory)
+  {
+    std::vector<std::string> result;
+    for (const std::string fine : {"fine", "fine-amg", "fine-direct"})
+      result.push_back(model_directory(directory, fine, 0));
+    for (const auto method : {coarsening::CoarseningMethod::ddfem,
+                              coarsening::CoarseningMethod::naive,
+                              coarsening::CoarseningMethod::average})
+      for (const unsigned int level : {1u, 2u})
+        result.push_back(
+          model_directory(directory, coarsening::to_string(method), level));
+    return result;
+  }
+
+
+
   int
   Comparison::run(const ParameterHandler &prm,
                   scene::Scene           &scene,
@@ -460,31 +489,21 @@ namespace ddfem::app
     // and their files (each model's VTU files of every state too) must be
     // writable before the database is prepared and anything runs.
     report::check_gnuplot();
-    const std::vector<std::string> files = {"comparison.json",
-                                            "comparison.csv",
-                                            "error_vs_time.dat",
-                                            "error_vs_time.gnuplot",
-                                            "error_vs_time.png"};
+    // A simulation's summary.json, too, must not be taken for this run's.
+    std::vector<std::string> files = result_files();
+    files.push_back("summary.json");
     // The directories of this run's VTU files, one per model, and those
     // where an earlier run may have left some that would be taken for this
     // run's: the output directory (a simulation's) and the directories of
-    // the coarse models this run does not compare.
+    // the models this run does not compare.
     std::vector<std::string> model_directories, other_directories = {directory};
     for (const Configuration &config : configurations)
       model_directories.push_back(
         model_directory(directory, config.name, config.level));
-    for (const auto method : {coarsening::CoarseningMethod::ddfem,
-                              coarsening::CoarseningMethod::naive,
-                              coarsening::CoarseningMethod::average})
-      for (const unsigned int level : {1u, 2u})
-        {
-          const std::string d =
-            model_directory(directory, coarsening::to_string(method), level);
-          if (std::find(model_directories.begin(),
-                        model_directories.end(),
-                        d) == model_directories.end())
-            other_directories.push_back(d);
-        }
+    for (const std::string &d : Comparison::model_directories(directory))
+      if (std::find(model_directories.begin(), model_directories.end(), d) ==
+          model_directories.end())
+        other_directories.push_back(d);
     check_writable_in(directory, files, "Output/Output directory");
     for (const std::string &d : model_directories)
       {

@@ -679,6 +679,7 @@ end
         }
       std::cout << "\n" << std::endl;
     };
+  // A simulation removes a comparison's results too.
   for (const std::string method : {"fine", "dg"})
     run_with_earlier_vtu("stale_vtu_" + method,
                          cantilever + "set Method = " + method + "\n",
@@ -688,7 +689,11 @@ end
                           "solution.vtu",
                           "edit-3.pvd",
                           "edit-3-0001.vtu",
-                          "notes.vtu"});
+                          "notes.vtu",
+                          "comparison.csv",
+                          "error_vs_time.png",
+                          "naive-L1/solution-0001.vtu",
+                          "fine-direct/solution.pvd"});
   // Results that could not be written are found before anything runs: the
   // output directory keeps only what was there.
   run_in_existing_directory("summary_blocked", "summary.json", cantilever, {});
@@ -703,11 +708,12 @@ end
                             cantilever,
                             compare_naive);
   // A compare run removes the VTU files of models it does not compare too,
-  // and those of a simulation in its output directory.
+  // and a simulation's results in its output directory.
   run_with_earlier_vtu("stale_vtu_compare",
                        cantilever,
                        compare_naive,
-                       {"solution.pvd",
+                       {"summary.json",
+                        "solution.pvd",
                         "naive-L2/solution.pvd",
                         "ddfem-L1/edit-1-0002.vtu",
                         "fine/edit-2-0001.vtu"});

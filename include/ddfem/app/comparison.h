@@ -46,6 +46,16 @@ namespace ddfem::app
     void
     parse_parameters(ParameterHandler &prm);
 
+    /// The result files a comparison writes into its output directory: its
+    /// tables and the plot's files.
+    static std::vector<std::string>
+    result_files();
+
+    /// Every directory in @p directory where a comparison may write the
+    /// VTU files of a model: one per model it can compare.
+    static std::vector<std::string>
+    model_directories(const std::string &directory);
+
     /**
      * Runs the comparison of @p scene (named @p scene_name) and writes its
      * results to @p directory, with @p prm (the parameters of the run) as
