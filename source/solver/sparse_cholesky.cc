@@ -45,6 +45,10 @@ namespace ddfem::solver
   {
     cholmod_start(&data->common);
     data->common.print = 0;
+    // Simplicial factors as L L^T too, not L D L^T: that fails on a pivot
+    // that is not positive, as the supernodal one does, where L D L^T would
+    // factorize an indefinite matrix.
+    data->common.final_ll = true;
   }
 
 
@@ -142,11 +146,6 @@ namespace ddfem::solver
                                "-unknown matrix failed (status " +
                                std::to_string(c.status) + "; out of memory?)");
     data->valid = (c.status == CHOLMOD_OK);
-    // A simplicial L D L^T factorizes an indefinite K too, failing only on
-    // a zero pivot; K is not positive definite where a pivot is not
-    // positive.
-    if (data->valid && !data->factor->is_ll && smallest_pivot_ratio() == 0)
-      data->valid = false;
     return data->valid;
   }
 
@@ -167,13 +166,18 @@ namespace ddfem::solver
     const cholmod_factor &L         = *data->factor;
     const cholmod_sparse &K         = *data->matrix;
     const int            *K_columns = static_cast<const int *>(K.p);
-    const int            *K_rows    = static_cast<const int *>(K.i);
     const double         *K_values  = static_cast<const double *>(K.x);
     const double         *L_values  = static_cast<const double *>(L.x);
     const int            *perm      = static_cast<const int *>(L.Perm);
-    // The pivot of column j of L: L_jj^2 (L L^T) or D_jj (L D L^T, where
-    // the diagonal holds D).
-    std::vector<double> pivots(L.n);
+    Assert(L.is_ll, ExcInternalError());
+    // The pivot L_jj^2 of column j of L over the diagonal entry of K it
+    // came from: row j of L is row perm[j] of K, and column r of K starts
+    // with its diagonal entry (deal.II stores it first in row r, which
+    // factorize() copies in order).
+    const auto ratio = [&](const std::size_t j, const double L_jj) {
+      return L_jj * L_jj / K_values[K_columns[perm[j]]];
+    };
+    double smallest = std::numeric_limits<double>::max();
     if (L.is_super)
       {
         // Supernode s holds columns super[s] to super[s + 1] - 1 as a
@@ -184,33 +188,18 @@ namespace ddfem::solver
         const int *px    = static_cast<const int *>(L.px);
         for (std::size_t s = 0; s < L.nsuper; ++s)
           for (int j = super[s]; j < super[s + 1]; ++j)
-            pivots[j] = std::pow(
-              L_values[px[s] + (j - super[s]) * (pi[s + 1] - pi[s] + 1)], 2);
+            smallest = std::min(
+              smallest,
+              ratio(
+                j, L_values[px[s] + (j - super[s]) * (pi[s + 1] - pi[s] + 1)]));
       }
     else
       {
         const int *L_columns = static_cast<const int *>(L.p);
         for (std::size_t j = 0; j < L.n; ++j)
-          pivots[j] = L.is_ll ? std::pow(L_values[L_columns[j]], 2) :
-                                L_values[L_columns[j]];
+          smallest = std::min(smallest, ratio(j, L_values[L_columns[j]]));
       }
-    // K is positive definite exactly if every pivot is positive
-    // (Sylvester's law of inertia). A pivot or diagonal entry that is not
-    // positive (or NaN) gives 0.
-    double ratio = std::numeric_limits<double>::max();
-    for (std::size_t j = 0; j < L.n; ++j)
-      {
-        // Row j of L is row perm[j] of K.
-        const int column = perm[j];
-        for (int k = K_columns[column]; k < K_columns[column + 1]; ++k)
-          if (K_rows[k] == column)
-            {
-              if (!(pivots[j] > 0 && K_values[k] > 0))
-                return 0;
-              ratio = std::min(ratio, pivots[j] / K_values[k]);
-            }
-      }
-    return ratio;
+    return smallest;
   }
 
 

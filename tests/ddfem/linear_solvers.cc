@@ -4,8 +4,8 @@
 // 1. the CHOLMOD Cholesky factor solves K x = b to round-off and agrees
 //    with UMFPACK; a refactorization on the same pattern (another matrix)
 //    is as accurate; a matrix that is not positive definite is reported,
-//    and leaves no factor, also where CHOLMOD's simplicial L D L^T
-//    (a tridiagonal matrix) would factorize it;
+//    and leaves no factor, also a simplicial factor (a tridiagonal matrix),
+//    which CHOLMOD's default L D L^T would accept;
 // 2. cg-cholesky factorizes the first tangent (1 iteration), solves the
 //    next, nearby tangent by a few CG iterations with the old factor to the
 //    requested tolerance, factorizes again when a tangent is too far from
@@ -125,9 +125,10 @@ main(int argc, char **argv)
               << ", factor held: " << cholesky.factorized() << std::endl;
   }
   {
-    // A tridiagonal matrix, which CHOLMOD factorizes as a simplicial
-    // L D L^T; that factorization fails only on a zero pivot, so the
-    // pivots decide. With 1.5 on the diagonal (and -1 beside it) the
+    // A tridiagonal matrix, which CHOLMOD factorizes simplicially: by
+    // default as L D L^T, which fails only on a zero pivot, so the pivots
+    // must be positive for it to pass. With 1.5 on the diagonal (and -1
+    // beside it) the
     // matrix is indefinite (eigenvalues 1.5 - 2 cos(k pi / 21)) with a
     // positive diagonal: its fourth pivot is negative.
     const unsigned int m = 20;

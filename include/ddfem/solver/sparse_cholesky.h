@@ -12,9 +12,8 @@ namespace ddfem::solver
 
   /**
    * Sparse Cholesky factorization of a symmetric positive definite matrix
-   * with CHOLMOD (SuiteSparse; METIS or AMD ordering): supernodal L L^T, or
-   * simplicial L D L^T for small or very sparse matrices, as CHOLMOD
-   * chooses. The ordering and the structure of L are computed by analyze(),
+   * with CHOLMOD (SuiteSparse; METIS or AMD ordering): L L^T, supernodal,
+   * or simplicial for small or very sparse matrices, as CHOLMOD chooses. The ordering and the structure of L are computed by analyze(),
    * or by the first factorization after construction or clear(); later
    * factorizations (the Newton tangents of one model, the penalties of a
    * definiteness check: same sparsity pattern) only do the numerical work.
@@ -53,9 +52,8 @@ namespace ddfem::solver
     /**
      * Factorizes the symmetric matrix @p K, reading its upper triangle.
      * Returns false, and holds no factor, where @p K is not positive
-     * definite: a pivot that is not positive (CHOLMOD's L D L^T would
-     * factorize an indefinite K; this checks its pivots). Throws
-     * std::runtime_error if CHOLMOD fails otherwise (out of memory).
+     * definite (a pivot that is not positive). Throws std::runtime_error
+     * if CHOLMOD fails otherwise (out of memory).
      */
     bool
     factorize(const SparseMatrix<double> &K);
@@ -65,7 +63,7 @@ namespace ddfem::solver
     factorized() const;
 
     /**
-     * The smallest ratio of a pivot (L_jj^2, or D_jj of L D L^T) to the
+     * The smallest ratio of a pivot (L_jj^2) to the
      * diagonal entry of K it came from (in CHOLMOD's ordering), from the
      * last successful factorize(): in (0, 1] for a positive definite K,
      * at round-off level if K is singular in exact arithmetic.
