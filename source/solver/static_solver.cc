@@ -912,8 +912,11 @@ namespace ddfem::solver
             // The voxel of the block at this corner.
             const unsigned int bit =
               (w - 1) * ((v & 1) + w * (((v >> 1) & 1) + w * (v >> 2)));
+            // Of values equal up to round-off (symmetric vertices), the
+            // first in cell order, so that the vertex reported does not
+            // depend on the solver's round-off.
             const double J = determinant(F[v]);
-            if (((solid >> bit) & 1) != 0 && J < smallest)
+            if (((solid >> bit) & 1) != 0 && J < smallest - 1e-9 * std::abs(J))
               {
                 smallest = J;
                 where    = fe_values.quadrature_point(v) + shift;
