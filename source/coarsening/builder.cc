@@ -228,11 +228,7 @@ namespace ddfem::coarsening
     Database database(settings, palette.size());
     if (std::filesystem::exists(database_file))
       {
-        // The file's level 2 too, so that a damaged one is an error before
-        // any fit, also for a level-1 build, which keeps it; build() reads
-        // it again.
-        Hierarchy level2;
-        database = Database::load(database_file, &level2);
+        database = Database::load(database_file);
         AssertThrow(database.palette() == settings.palette,
                     ExcMessage("The metamaterial database '" + database_file +
                                "' was built for the palette [" +
@@ -643,6 +639,13 @@ namespace ddfem::coarsening
             base_blocks = std::move(blocks);
         }
     const std::vector<Combination> todo = database.missing(wanted);
+    // The file's level 2, read (and checked) before any fit: a level-1
+    // build keeps it, since its tables and fits are keyed by combination
+    // and new level-1 entries leave them valid (a level-2 build renews
+    // tables that do not cover them).
+    Hierarchy level2;
+    if (std::filesystem::exists(database_file))
+      Database::load(database_file, &level2);
     // The entries open() recovered from the journal of a build killed
     // before its save are in @p database but perhaps not in the file: a
     // journal makes the build save, which retires it.
@@ -714,14 +717,10 @@ namespace ddfem::coarsening
     // it is. Tables that predate a level-1 entry or a block this build
     // needs (lazy mode) are built anew; they keep the blocks required
     // before, and the fits of compositions they still represent.
-    Hierarchy level2;
-    bool      new_tables = false;
-    // The file's level 2 is kept by a level-1 build too: its tables and
-    // fits are keyed by combination, so new level-1 entries leave them
-    // valid (a level-2 build renews tables that do not cover them).
+    bool new_tables = false;
     // Compression changes the level-1 models level 2 was sampled from.
-    if (!compressed_now && std::filesystem::exists(database_file))
-      Database::load(database_file, &level2);
+    if (compressed_now)
+      level2 = Hierarchy();
     const std::string level2_journal = database_file + ".level2";
     const std::string level2_fingerprint =
       database.fingerprint() + " | " + hierarchy.fingerprint();

@@ -503,9 +503,11 @@ namespace ddfem::coarsening
               "has an invalid level-2 class table (key " + std::to_string(k) +
                 ": a class out of range, or one for a combination without "
                 "a level-1 entry)");
+    // A class key in its own class (which gives it a level-1 entry, as
+    // checked above).
     for (hsize_t c = 0; c < n1; ++c)
       check(class_key[c] >= 0 && std::size_t(class_key[c]) < n_level1_keys &&
-              has_entry(class_key[c]) && hsize_t(class_of[class_key[c]]) == c,
+              hsize_t(class_of[class_key[c]]) == c,
             "has an invalid level-2 class key " + std::to_string(c) +
               " (no level-1 entry, or not in its own class)");
     hsize_t n_previous = n1;

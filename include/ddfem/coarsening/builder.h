@@ -117,8 +117,8 @@ namespace ddfem::coarsening
      * After check_input(), loads the database for @p palette from
      * Database/File, or starts an empty one if there is none, and adds what the
      * file's journal holds. Throws ExcMessage if the file was built for another
-     * palette or with other settings, or fails the checks of Database::load()
-     * (its level 2's included). Reads only: call it under lock() if
+     * palette or with other settings, or fails the checks of
+     * Database::load(). Reads only: call it under lock() if
      * build() follows.
      */
     Database
@@ -143,7 +143,8 @@ namespace ddfem::coarsening
      * required; the new tables require those and the earlier ones, and
      * keep the fits of compositions they still represent. With Levels = 2,
      * a grid of @p scene_grids whose size is not a multiple of 4 is an
-     * error before anything is fitted.
+     * error before anything is fitted. So, at either level, is a file
+     * whose level 2 fails the checks of Database::load().
      */
     void
     build(const scene::Palette                &palette,
