@@ -244,52 +244,35 @@ namespace ddfem::app
       }
 
     private:
-      /// The result files an earlier run may have left in the output
-      /// directory: a simulation's summary.json and a comparison's.
-      static std::vector<std::string>
-      earlier_results()
-      {
-        std::vector<std::string> files = Comparison::result_files();
-        files.push_back("summary.json");
-        return files;
-      }
-
       /**
        * Throws before anything is solved or written if a result could not
        * be written: the output directory cannot be created, or something
        * other than a regular file is in the way of summary.json,
        * parameters.prm or the VTU files of @p n_states scene states (0: a
        * DG run's solution.vtu only), or of an earlier run's results that
-       * prepare_output() removes.
+       * prepare_output() removes (check_earlier_results()).
        */
       void
       check_output(const unsigned int n_states) const
       {
-        std::vector<std::string> files = earlier_results();
-        files.push_back("parameters.prm");
-        check_writable_in(directory, files, "Output/Output directory");
+        check_writable_in(directory,
+                          {"parameters.prm"},
+                          "Output/Output directory");
+        check_earlier_results(directory, vtu);
         vtu.check_writable(directory, n_states);
-        for (const std::string &d : Comparison::model_directories(directory))
-          vtu.check_writable(d, 0);
       }
 
       /**
        * Creates the output directory, removes the results an earlier run
-       * left there (summary.json, a comparison's tables and plot, and every
-       * VTU file, VtuWriter::remove_earlier(), a comparison's models' too),
-       * and writes parameters.prm into it (after check_output()). A run
-       * that fails from here on leaves only results of its own.
+       * left there (remove_earlier_results()) and writes parameters.prm
+       * into it (after check_output()). A run that fails from here on
+       * leaves only results of its own.
        */
       void
       prepare_output(const ParameterHandler &prm) const
       {
         create_directories(directory, "Output/Output directory");
-        remove_earlier_in(directory,
-                          earlier_results(),
-                          "Output/Output directory");
-        report::VtuWriter::remove_earlier(directory);
-        for (const std::string &d : Comparison::model_directories(directory))
-          report::VtuWriter::remove_earlier(d);
+        remove_earlier_results(directory);
         ResultFile used(directory + "/parameters.prm",
                         "Output/Output directory");
         prm.print_parameters(used.stream(), ParameterHandler::ShortPRM);

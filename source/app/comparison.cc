@@ -73,6 +73,36 @@ namespace ddfem::app
              (level > 0 ? "-L" + std::to_string(level) : "");
     }
 
+    /// The result files of a simulation and a comparison in the output
+    /// directory: summary.json, the tables and the plot's files.
+    const std::vector<std::string> result_files = {"summary.json",
+                                                   "comparison.json",
+                                                   "comparison.csv",
+                                                   "error_vs_time.dat",
+                                                   "error_vs_time.gnuplot",
+                                                   "error_vs_time.png"};
+
+    /// The fine configurations of every comparison: name and linear solver
+    /// ("" for the scene's).
+    const std::vector<std::pair<std::string, std::string>> fine_runs =
+      {{"fine", ""}, {"fine-amg", "cg-amg"}, {"fine-direct", "direct"}};
+
+    /// The directory of every model a comparison can have in @p directory.
+    std::vector<std::string>
+    all_model_directories(const std::string &directory)
+    {
+      std::vector<std::string> result;
+      for (const auto &[name, solver] : fine_runs)
+        result.push_back(model_directory(directory, name, 0));
+      for (const auto method : {coarsening::CoarseningMethod::ddfem,
+                                coarsening::CoarseningMethod::naive,
+                                coarsening::CoarseningMethod::average})
+        for (const unsigned int level : {1u, 2u})
+          result.push_back(
+            model_directory(directory, coarsening::to_string(method), level));
+      return result;
+    }
+
     /// "nx x ny x nz" of @p grid coarsened @p level times.
     std::string
     grid_text(const scene::VoxelGrid &grid, const unsigned int level)
@@ -381,9 +411,8 @@ namespace ddfem::app
       configurations.push_back(std::move(c));
     };
     configurations.clear();
-    add("fine", 0, "");
-    add("fine-amg", 0, "cg-amg");
-    add("fine-direct", 0, "direct");
+    for (const auto &[name, solver] : fine_runs)
+      add(name, 0, solver);
     for (const int level : level_list)
       for (const std::string &name : method_names)
         add(name, level, "");
@@ -391,31 +420,24 @@ namespace ddfem::app
 
 
 
-  std::vector<std::string>
-  Comparison::result_files()
+  void
+  check_earlier_results(const std::string       &directory,
+                        const report::VtuWriter &vtu)
   {
-    return {"comparison.json",
-            "comparison.csv",
-            "error_vs_time.dat",
-            "error_vs_time.gnuplot",
-            "error_vs_time.png"};
+    check_writable_in(directory, result_files, "Output/Output directory");
+    for (const std::string &d : all_model_directories(directory))
+      vtu.check_writable(d, 0);
   }
 
 
 
-  std::vector<std::string>
-  Comparison::model_directories(const std::string &directory)
+  void
+  remove_earlier_results(const std::string &directory)
   {
-    std::vector<std::string> result;
-    for (const std::string fine : {"fine", "fine-amg", "fine-direct"})
-      result.push_back(model_directory(directory, fine, 0));
-    for (const auto method : {coarsening::CoarseningMethod::ddfem,
-                              coarsening::CoarseningMethod::naive,
-                              coarsening::CoarseningMethod::average})
-      for (const unsigned int level : {1u, 2u})
-        result.push_back(
-          model_directory(directory, coarsening::to_string(method), level));
-    return result;
+    remove_earlier_in(directory, result_files, "Output/Output directory");
+    report::VtuWriter::remove_earlier(directory);
+    for (const std::string &d : all_model_directories(directory))
+      report::VtuWriter::remove_earlier(d);
   }
 
 
@@ -489,30 +511,16 @@ namespace ddfem::app
     // and their files (each model's VTU files of every state too) must be
     // writable before the database is prepared and anything runs.
     report::check_gnuplot();
-    // A simulation's summary.json, too, must not be taken for this run's.
-    std::vector<std::string> files = result_files();
-    files.push_back("summary.json");
-    // The directories of this run's VTU files, one per model, and those
-    // where an earlier run may have left some that would be taken for this
-    // run's: the output directory (a simulation's) and the directories of
-    // the models this run does not compare.
-    std::vector<std::string> model_directories, other_directories = {directory};
+    check_earlier_results(directory, vtu);
+    vtu.check_writable(directory, 0);
     for (const Configuration &config : configurations)
-      model_directories.push_back(
-        model_directory(directory, config.name, config.level));
-    for (const std::string &d : Comparison::model_directories(directory))
-      if (std::find(model_directories.begin(), model_directories.end(), d) ==
-          model_directories.end())
-        other_directories.push_back(d);
-    check_writable_in(directory, files, "Output/Output directory");
-    for (const std::string &d : model_directories)
       {
+        const std::string d =
+          model_directory(directory, config.name, config.level);
         if (vtu.enabled())
           check_creatable(d, "Output/Output directory");
         vtu.check_writable(d, scene.n_edits() + 1);
       }
-    for (const std::string &d : other_directories)
-      vtu.check_writable(d, 0);
 
     // The database, completed lazily for this scene's blocks in every
     // state. A ddfem level without a baseline model on the same mesh is
@@ -552,14 +560,8 @@ namespace ddfem::app
     // next to them, and a run that stops with an error before its tables
     // are written removes its own (a plot that fails leaves the tables and
     // the VTU files it would draw from).
-    const auto remove_results = [&]() {
-      remove_earlier_in(directory, files, "Output/Output directory");
-      for (const auto *list : {&model_directories, &other_directories})
-        for (const std::string &d : *list)
-          report::VtuWriter::remove_earlier(d);
-    };
     create_directories(directory, "Output/Output directory");
-    remove_results();
+    remove_earlier_results(directory);
     bool tables_written = false;
     try
       {
@@ -578,7 +580,7 @@ namespace ddfem::app
         if (!tables_written)
           try
             {
-              remove_results();
+              remove_earlier_results(directory);
             }
           catch (...)
             {}

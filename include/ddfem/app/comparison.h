@@ -35,6 +35,25 @@ namespace ddfem::app
    * re-coarsening only the changed blocks. Declared in the prm subsection
    * "Comparison".
    */
+  /**
+   * Throws ExcMessage naming Output/Output directory before anything is
+   * solved if remove_earlier_results() could not remove what it removes
+   * from @p directory (VTU files of the directory itself aside, which each
+   * run type checks with its own states).
+   */
+  void
+  check_earlier_results(const std::string       &directory,
+                        const report::VtuWriter &vtu);
+
+  /**
+   * Removes what an earlier simulation or comparison left in the output
+   * directory @p directory, so that none of it is taken for this run's:
+   * summary.json, the comparison's tables and plot, and every VTU file
+   * there and in the directory of every model a comparison can have.
+   */
+  void
+  remove_earlier_results(const std::string &directory);
+
   class Comparison
   {
   public:
@@ -46,15 +65,6 @@ namespace ddfem::app
     void
     parse_parameters(ParameterHandler &prm);
 
-    /// The result files a comparison writes into its output directory: its
-    /// tables and the plot's files.
-    static std::vector<std::string>
-    result_files();
-
-    /// Every directory in @p directory where a comparison may write the
-    /// VTU files of a model: one per model it can compare.
-    static std::vector<std::string>
-    model_directories(const std::string &directory);
 
     /**
      * Runs the comparison of @p scene (named @p scene_name) and writes its
