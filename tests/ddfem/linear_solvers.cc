@@ -128,9 +128,8 @@ main(int argc, char **argv)
     // A tridiagonal matrix, which CHOLMOD factorizes simplicially: by
     // default as L D L^T, which fails only on a zero pivot, so the pivots
     // must be positive for it to pass. With 1.5 on the diagonal (and -1
-    // beside it) the
-    // matrix is indefinite (eigenvalues 1.5 - 2 cos(k pi / 21)) with a
-    // positive diagonal: its fourth pivot is negative.
+    // beside it) the matrix is indefinite (eigenvalues 1.5 - 2 cos(k pi /
+    // 21)) with a positive diagonal: its fourth pivot is negative.
     const unsigned int m = 20;
     SparsityPattern    pattern(m, m, 3);
     for (unsigned int i = 0; i < m; ++i)

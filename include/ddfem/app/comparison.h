@@ -21,21 +21,6 @@ namespace ddfem::app
   class ModelRun;
 
   /**
-   * Run type "compare": error against run time (DDFEM paper, section 6).
-   * Solves one scene in one process with the fine model (with the scene's
-   * linear solver, with cg-amg if that is another one, and, up to a size
-   * limit, with UMFPACK at every Newton iteration) and with every
-   * coarse method at every coarsening level asked for; measures each
-   * coarse solution's vertex error against the fine one, the least error
-   * any field on each coarse grid can have (report::grid_fit(): what the
-   * grid costs whatever the materials), and every run's wall time; writes
-   * comparison.csv, comparison.json, error_vs_time.png (gnuplot) and VTU files
-   * of every solution, and prints the table. With material edits in the scene,
-   * every state (before the first edit and after each) is compared, the models
-   * re-coarsening only the changed blocks. Declared in the prm subsection
-   * "Comparison".
-   */
-  /**
    * Throws ExcMessage naming Output/Output directory before anything is
    * solved if remove_earlier_results() could not remove what it removes
    * from @p directory (VTU files of the directory itself aside, which each
@@ -54,6 +39,21 @@ namespace ddfem::app
   void
   remove_earlier_results(const std::string &directory);
 
+  /**
+   * Run type "compare": error against run time (DDFEM paper, section 6).
+   * Solves one scene in one process with the fine model (with the scene's
+   * linear solver, with cg-amg if that is another one, and, up to a size
+   * limit, with UMFPACK at every Newton iteration) and with every
+   * coarse method at every coarsening level asked for; measures each
+   * coarse solution's vertex error against the fine one, the least error
+   * any field on each coarse grid can have (report::grid_fit(): what the
+   * grid costs whatever the materials), and every run's wall time; writes
+   * comparison.csv, comparison.json, error_vs_time.png (gnuplot) and VTU files
+   * of every solution, and prints the table. With material edits in the scene,
+   * every state (before the first edit and after each) is compared, the models
+   * re-coarsening only the changed blocks. Declared in the prm subsection
+   * "Comparison".
+   */
   class Comparison
   {
   public:
@@ -64,7 +64,6 @@ namespace ddfem::app
     /// Reads "Comparison" and everything the runs need from @p prm.
     void
     parse_parameters(ParameterHandler &prm);
-
 
     /**
      * Runs the comparison of @p scene (named @p scene_name) and writes its

@@ -12,10 +12,11 @@ namespace ddfem::solver
 
   /**
    * Sparse Cholesky factorization of a symmetric positive definite matrix
-   * with CHOLMOD (SuiteSparse; METIS or AMD ordering): L L^T, supernodal,
-   * or simplicial for small or very sparse matrices, as CHOLMOD chooses. The ordering and the structure of L are computed by analyze(),
-   * or by the first factorization after construction or clear(); later
-   * factorizations (the Newton tangents of one model, the penalties of a
+   * with CHOLMOD (SuiteSparse; the better of an AMD and a METIS ordering):
+   * L L^T, supernodal, or simplicial for small or very sparse matrices, as
+   * CHOLMOD chooses. The ordering and the structure of L are computed by
+   * analyze(), or by the first factorization after construction or clear();
+   * later factorizations (the Newton tangents of one model, the penalties of a
    * definiteness check: same sparsity pattern) only do the numerical work.
    * Its solve can precondition an iterative solver with the factor of an
    * earlier matrix.
