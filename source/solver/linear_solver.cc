@@ -50,7 +50,8 @@ namespace ddfem::solver
       "gradients preconditioned by the CHOLMOD Cholesky factor of an "
       "earlier tangent, refactorized when the CG iterations grow (see "
       "'Cholesky factorization cost'; UMFPACK for a tangent that is not "
-      "positive definite, and the next 10 solves). cg-amg: conjugate "
+      "positive definite, and the next 1, 2, 4 or 8 solves while "
+      "factorizations keep failing). cg-amg: conjugate "
       "gradients with "
       "Trilinos ML algebraic multigrid (rigid body modes as near null "
       "space). auto: cg-cholesky up to 'Direct solver limit' unknowns, "
@@ -146,6 +147,7 @@ namespace ddfem::solver
     if (requested == "auto")
       chosen = (n <= direct_limit) ? small_systems : "cg-amg";
     degree = dof_handler.get_fe().degree;
+    cholesky.clear();
     reset();
     if (chosen != "cg-amg")
       return;
@@ -181,7 +183,8 @@ namespace ddfem::solver
   {
     iterations_after_setup = 0;
     direct_solves_left     = 0;
-    cholesky.clear();
+    indefinite_factors     = 0;
+    cholesky.drop_factor();
   }
 
 
@@ -189,9 +192,10 @@ namespace ddfem::solver
   unsigned int
   LinearSolver::fall_back_to_direct(const SparseMatrix<double> &K,
                                     Vector<double>             &x,
-                                    const Vector<double>       &b)
+                                    const Vector<double>       &b,
+                                    const unsigned int          next)
   {
-    direct_solves_left = 10;
+    direct_solves_left = next;
     return solve_directly(K, x, b);
   }
 
@@ -269,9 +273,17 @@ namespace ddfem::solver
       TimerOutput::Scope scope(*timer, "factorization / preconditioner");
       positive_definite = cholesky.factorize(K);
     }
-    // An indefinite tangent (past a bifurcation, say).
+    // An indefinite tangent (past a bifurcation, or in the first Newton
+    // iterations after a large material edit). The next 1, 2, 4, then 8
+    // solves are direct while factorizations keep failing: past a
+    // bifurcation tangents stay indefinite for many iterations, after an
+    // edit for a few.
     if (!positive_definite)
-      return iterations + fall_back_to_direct(K, x, b);
+      {
+        const unsigned int next = 1u << std::min(indefinite_factors++, 3u);
+        return iterations + fall_back_to_direct(K, x, b, next);
+      }
+    indefinite_factors = 0;
     TimerOutput::Scope scope(*timer, "linear solve");
     cholesky.vmult(x, b);
     last_iterations    = 1;
@@ -333,7 +345,7 @@ namespace ddfem::solver
       {
         iterations_after_setup = 0;
         if (requested == "auto" && x.size() <= fallback_limit)
-          return failure.last_step + fall_back_to_direct(K, x, b);
+          return failure.last_step + fall_back_to_direct(K, x, b, 10);
         throw Failure("CG did not converge in " +
                       std::to_string(failure.last_step) +
                       " iterations (indefinite or ill-conditioned tangent?)");

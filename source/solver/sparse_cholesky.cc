@@ -86,6 +86,14 @@ namespace ddfem::solver
 
 
 
+  void
+  SparseCholesky::drop_factor()
+  {
+    data->valid = false;
+  }
+
+
+
   double
   SparseCholesky::analyze(const SparseMatrix<double> &K)
   {

@@ -11,8 +11,9 @@
 //    requested tolerance, factorizes again when a tangent is too far from
 //    the factored one (CG needs more than 'Cholesky factorization cost'
 //    iterations), and hands an indefinite tangent to UMFPACK (after CG
-//    fails), and the next 10 systems at once; the eleventh is factorized
-//    again and the twelfth solved by CG; a solve that needs more iterations
+//    fails), and the next 1, 2, 4, then 8 systems at once while
+//    factorizations keep failing, until a factorization succeeds; a solve
+//    that needs more iterations
 //    than the average cost per solve of its factor (the factorization
 //    counted as 'Cholesky factorization cost') makes the next system be
 //    factorized at once, and one that needs more than the CG solves before
@@ -186,20 +187,30 @@ main(int argc, char **argv)
     for (unsigned int i = 0; i < n; i += 7)
       indefinite.diag_element(i) = -indefinite.diag_element(i);
     solve("indefinite tangent, UMFPACK", indefinite, 1e-10);
-    // The next 10 systems go to UMFPACK at once (1 iteration, no CG), then
-    // CG takes over again.
-    solve("the same again, UMFPACK at once", indefinite, 1e-10);
-    // K0 and K1 in turn: CG with the factor of the other would need more
-    // than one iteration.
-    bool direct = true;
-    for (unsigned int i = 0; i < 9; ++i)
-      direct = direct && linear_solver.solve(i % 2 ? K0 : K1, x, b) == 1;
-    std::cout << "  nine more systems, UMFPACK at once: "
-              << (direct ? "yes" : "NO") << std::endl;
+    // While factorizations keep failing, the next 1, 2, 4, then 8 systems
+    // go to UMFPACK at once (D); then a factorization is tried again (F:
+    // the section "factorization / preconditioner" is entered twice, for
+    // the factorization and for UMFPACK).
+    const auto factorization_calls = [&timer]() {
+      return timer.get_summary_data(
+        TimerOutput::n_calls)["factorization / preconditioner"];
+    };
+    const auto solve_indefinite = [&](const unsigned int n_systems) {
+      std::string pattern;
+      for (unsigned int i = 0; i < n_systems; ++i)
+        {
+          const double calls = factorization_calls();
+          linear_solver.solve(indefinite, x, b);
+          pattern += (factorization_calls() - calls == 2 ? 'F' : 'D');
+        }
+      return pattern;
+    };
+    std::cout << "  27 more indefinite systems: " << solve_indefinite(27)
+              << std::endl;
     // Then K1 is factorized (the indefinite matrix left no factor), and
     // K0 is solved by CG with that factor.
-    solve("the eleventh, Cholesky factor of K1", K1, 1e-12);
-    solve("the twelfth, K0 by CG with K1's factor", K0, 1e-8);
+    solve("then K1, Cholesky factor of K1", K1, 1e-12);
+    solve("K0 by CG with K1's factor", K0, 1e-8);
     // Matrices a little way from K1 toward the far one need more CG
     // iterations with K1's factor. The factorization counts as 20 of them:
     // a solve that needs more than the CG solves before it, but not more
@@ -225,6 +236,10 @@ main(int argc, char **argv)
           "/ 5, factorized",
           K3,
           1e-12);
+    // A factorization that succeeded ends the run of failures: the next
+    // indefinite system is followed by one direct solve only.
+    std::cout << "  4 indefinite systems after it: " << solve_indefinite(4)
+              << std::endl;
   }
 
   // auto above its direct solver limit is cg-amg; a CG that fails (here:

@@ -28,8 +28,9 @@ namespace ddfem::solver
    *   since the last factorization (which counts as 'Cholesky
    *   factorization cost' iterations), or when CG needs more than that
    *   cost, so a few factorizations serve a whole load path; a system that
-   *   is not positive definite goes to UMFPACK, and so do the next 10
-   *   solves (Newton's retries of a shifted tangent count too);
+   *   is not positive definite goes to UMFPACK, and so do the next 1, 2,
+   *   4, then 8 solves while factorizations keep failing (Newton's retries
+   *   of a shifted tangent count too);
    * - conjugate gradients preconditioned by Trilinos ML algebraic multigrid
    *   whose near null space are the six rigid body modes ('cg-amg'). The
    *   hierarchy is kept across Newton iterations and rebuilt only when CG
@@ -76,7 +77,8 @@ namespace ddfem::solver
                const std::string   &small_systems = "cg-cholesky");
 
     /// Forgets the factor and the multigrid hierarchy of earlier tangents,
-    /// as after a material edit: the next solve builds them anew.
+    /// as after a material edit: the next solve builds them anew (a factor
+    /// keeps its ordering, since the sparsity pattern stays the same).
     void
     reset();
 
@@ -114,7 +116,7 @@ namespace ddfem::solver
                    const Vector<double>       &b);
 
     /**
-     * solve_directly(), and the next 10 solves too: called where the
+     * solve_directly(), and the @p next solves too: called where the
      * iterative solver cannot handle a tangent (cg-amg failed, or the
      * tangent is indefinite for cg-cholesky), since the tangents that
      * follow are likely as hard.
@@ -122,7 +124,8 @@ namespace ddfem::solver
     unsigned int
     fall_back_to_direct(const SparseMatrix<double> &K,
                         Vector<double>             &x,
-                        const Vector<double>       &b);
+                        const Vector<double>       &b,
+                        const unsigned int          next);
 
     /// 'Type' as given, and the method it resolved to for this system.
     std::string requested, chosen;
@@ -145,6 +148,9 @@ namespace ddfem::solver
     /// Systems still to be solved directly after a cg-amg failure ('auto')
     /// or an indefinite tangent (cg-cholesky).
     unsigned int direct_solves_left = 0;
+    /// cg-cholesky: factorizations in a row that found the tangent
+    /// indefinite.
+    unsigned int indefinite_factors = 0;
     /// Polynomial degree of the element (for the AMG settings).
     unsigned int degree = 1;
     /// Receives the solver's timing sections.

@@ -41,6 +41,12 @@ namespace ddfem::solver
     void
     clear();
 
+    /// Drops the factor but keeps the ordering and the structure of L: the
+    /// next factorize() of a matrix with the same sparsity pattern (the
+    /// tangent after a material edit) does only the numerical work.
+    void
+    drop_factor();
+
     /**
      * Computes the ordering and the structure of L for the sparsity pattern
      * of @p K, unless they are held already, and returns the number of
