@@ -682,7 +682,11 @@ namespace ddfem::app
                 << " DoFs, " << row.linear_solver << ": "
                 << (row.result.statistics.converged ? "converged" :
                                                       "NOT converged")
-                << " in " << row.result.statistics.load_steps << " load steps, "
+                << (row.result.statistics.from_last_state ?
+                      std::string(" from the last state, ") :
+                      " in " +
+                        std::to_string(row.result.statistics.load_steps) +
+                        " load steps, ")
                 << row.result.statistics.newton_iterations
                 << " Newton iterations, max |u| = " << std::setprecision(4)
                 << row.result.max_displacement << " m" << std::setprecision(6)

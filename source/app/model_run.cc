@@ -68,6 +68,7 @@ namespace ddfem::app
   {
     nlohmann::json json;
     json["converged"]              = statistics.converged;
+    json["from_last_state"]        = statistics.from_last_state;
     json["load_steps"]             = statistics.load_steps;
     json["step_cuts"]              = statistics.step_cuts;
     json["newton_iterations"]      = statistics.newton_iterations;

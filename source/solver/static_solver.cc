@@ -196,6 +196,14 @@ namespace ddfem::solver
       "From 1e-14 to 1e-2. Converged when the residual at the free unknowns is this "
       "fraction of the largest of (the largest residual seen in the "
       "increment, the external load at the free unknowns).");
+    prm.declare_entry(
+      "Start after edit",
+      "last state",
+      Patterns::Selection("last state|rest"),
+      "Where the solve after a material edit (Layout/Edits) starts. 'last "
+      "state': Newton's method at the full load from the equilibrium "
+      "before the edit, then the load steps from rest only if that fails. "
+      "'rest': the load steps from rest, as in the first solve.");
     prm.leave_subsection();
   }
 
@@ -205,10 +213,11 @@ namespace ddfem::solver
   StaticSolver::Parameters::parse_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Nonlinear solver");
-    load_steps     = prm.get_integer("Load steps");
-    minimum_step   = prm.get_double("Minimum load step");
-    max_iterations = prm.get_integer("Maximum Newton iterations");
-    tolerance      = prm.get_double("Newton tolerance");
+    load_steps            = prm.get_integer("Load steps");
+    minimum_step          = prm.get_double("Minimum load step");
+    max_iterations        = prm.get_integer("Maximum Newton iterations");
+    tolerance             = prm.get_double("Newton tolerance");
+    start_from_last_state = (prm.get("Start after edit") == "last state");
     prm.leave_subsection();
   }
 
@@ -325,6 +334,7 @@ namespace ddfem::solver
     pattern.copy_from(dsp);
     system_matrix.reinit(pattern);
     displacement.reinit(n);
+    at_full_load = false;
     linear_solver.initialize(dof_handler, timer);
     update_materials();
 
@@ -782,7 +792,31 @@ namespace ddfem::solver
   StaticSolver::Statistics
   StaticSolver::solve(const std::function<void(unsigned int, double)> &on_step)
   {
-    Statistics     statistics;
+    Statistics statistics;
+    if (at_full_load && parameters.start_from_last_state)
+      {
+        pcout << "  From the last state: load factor 1" << std::endl;
+        Vector<double> u = displacement;
+        if (newton(1., u, statistics))
+          {
+            const double vertex_J = smallest_vertex_jacobian(u).first;
+            if (vertex_J > 0)
+              {
+                statistics.min_vertex_J    = vertex_J;
+                statistics.from_last_state = true;
+                statistics.load_steps      = 1;
+                statistics.converged       = true;
+                displacement               = u;
+                on_step(1, 1.);
+                return statistics;
+              }
+          }
+        pcout << "  No equilibrium from the last state; the load steps "
+                 "start from rest"
+              << std::endl;
+        statistics.min_J = 1;
+      }
+    at_full_load                       = false;
     const double   nominal             = 1. / parameters.load_steps;
     double         step                = nominal;
     double         t                   = 0;
@@ -879,6 +913,7 @@ namespace ddfem::solver
           }
       }
     statistics.converged = true;
+    at_full_load         = true;
     return statistics;
   }
 

@@ -58,6 +58,10 @@ namespace ddfem::solver
       unsigned int max_iterations = 30;
       /// Relative residual tolerance of Newton's method.
       double tolerance = 1e-8;
+      /// Whether a solve after a converged one (after a material edit)
+      /// starts with Newton's method at the full load from that solve's
+      /// state, before it steps the load from rest.
+      bool start_from_last_state = true;
     };
 
     /// What a solve did.
@@ -65,6 +69,9 @@ namespace ddfem::solver
     {
       /// Whether the full load (t = 1) was reached.
       bool converged = false;
+      /// Whether the full load was reached from the last solve's state
+      /// (Parameters::start_from_last_state), in one increment.
+      bool from_last_state = false;
       /// Accepted load increments.
       unsigned int load_steps = 0;
       /// Load increments that failed and were retried with half the step
@@ -135,7 +142,11 @@ namespace ddfem::solver
     /**
      * Steps the load factor from 0 to 1. After each accepted increment,
      * calls @p on_step with the increment's number (from 1) and its load
-     * factor.
+     * factor. If the last solve reached the full load and
+     * Parameters::start_from_last_state is set, Newton's method first
+     * tries the full load from that state (one increment, to load factor
+     * 1), and the load steps from rest follow only if it fails: after a
+     * material edit the new equilibrium is usually near the old one.
      */
     Statistics
     solve(const std::function<void(unsigned int, double)> &on_step);
@@ -238,6 +249,9 @@ namespace ddfem::solver
     Vector<double> external_force;
     /// The last accepted state (m).
     Vector<double> displacement;
+    /// Whether #displacement is an equilibrium at the full load, of the
+    /// materials of the last solve.
+    bool at_full_load = false;
   };
 } // namespace ddfem::solver
 
