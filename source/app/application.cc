@@ -462,7 +462,8 @@ namespace ddfem::app
               pcout << " from the last state after ";
             else
               pcout << " after " << statistics.load_steps << " load steps and ";
-            pcout << statistics.newton_iterations << " Newton iterations\n"
+            pcout << statistics.newton_iterations << " Newton iterations"
+                  << statistics.failed_start_note() << "\n"
                   << "  min J = " << std::setprecision(4) << result.min_J
                   << " at the quadrature points, " << statistics.min_vertex_J
                   << " at the vertices, max |u| = " << result.max_displacement

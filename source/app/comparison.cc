@@ -688,7 +688,9 @@ namespace ddfem::app
                         std::to_string(row.result.statistics.load_steps) +
                         " load steps, ")
                 << row.result.statistics.newton_iterations
-                << " Newton iterations, max |u| = " << std::setprecision(4)
+                << " Newton iterations"
+                << row.result.statistics.failed_start_note()
+                << ", max |u| = " << std::setprecision(4)
                 << row.result.max_displacement << " m" << std::setprecision(6)
                 << std::endl;
             rows.push_back(std::move(row));

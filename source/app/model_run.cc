@@ -67,13 +67,14 @@ namespace ddfem::app
   ModelRun::Result::to_json() const
   {
     nlohmann::json json;
-    json["converged"]              = statistics.converged;
-    json["from_last_state"]        = statistics.from_last_state;
-    json["load_steps"]             = statistics.load_steps;
-    json["step_cuts"]              = statistics.step_cuts;
-    json["newton_iterations"]      = statistics.newton_iterations;
-    json["linear_iterations"]      = statistics.linear_iterations;
-    json["regularized_iterations"] = statistics.regularized_iterations;
+    json["converged"]               = statistics.converged;
+    json["from_last_state"]         = statistics.from_last_state;
+    json["failed_start_iterations"] = statistics.failed_start_iterations;
+    json["load_steps"]              = statistics.load_steps;
+    json["step_cuts"]               = statistics.step_cuts;
+    json["newton_iterations"]       = statistics.newton_iterations;
+    json["linear_iterations"]       = statistics.linear_iterations;
+    json["regularized_iterations"]  = statistics.regularized_iterations;
     if (!statistics.converged)
       json["failure"] = statistics.failure;
     json["min_J"]            = min_J;

@@ -345,7 +345,8 @@ namespace ddfem::solver
       {
         iterations_after_setup = 0;
         if (requested == "auto" && x.size() <= fallback_limit)
-          return failure.last_step + fall_back_to_direct(K, x, b, 10);
+          return failure.last_step +
+                 fall_back_to_direct(K, x, b, direct_solves_after_cg_failure);
         throw Failure("CG did not converge in " +
                       std::to_string(failure.last_step) +
                       " iterations (indefinite or ill-conditioned tangent?)");

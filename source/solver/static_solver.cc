@@ -223,6 +223,17 @@ namespace ddfem::solver
 
 
 
+  std::string
+  StaticSolver::Statistics::failed_start_note() const
+  {
+    if (failed_start_iterations == 0)
+      return "";
+    return " (" + std::to_string(failed_start_iterations) +
+           " of them in a failed start from the last state)";
+  }
+
+
+
   StaticSolver::StaticSolver(
     const Discretization            &discretization,
     const scene::BoundaryConditions &boundary_conditions,
@@ -792,29 +803,29 @@ namespace ddfem::solver
   StaticSolver::Statistics
   StaticSolver::solve(const std::function<void(unsigned int, double)> &on_step)
   {
-    Statistics statistics;
+    Statistics  statistics;
+    std::string inverted;
     if (at_full_load && parameters.start_from_last_state)
       {
         pcout << "  From the last state: load factor 1" << std::endl;
         Vector<double> u = displacement;
-        if (newton(1., u, statistics))
+        if (converge(1., u, statistics, inverted))
           {
-            const double vertex_J = smallest_vertex_jacobian(u).first;
-            if (vertex_J > 0)
-              {
-                statistics.min_vertex_J    = vertex_J;
-                statistics.from_last_state = true;
-                statistics.load_steps      = 1;
-                statistics.converged       = true;
-                displacement               = u;
-                on_step(1, 1.);
-                return statistics;
-              }
+            statistics.from_last_state = true;
+            statistics.converged       = true;
+            accept(u, 1., statistics, on_step);
+            return statistics;
           }
-        pcout << "  No equilibrium from the last state; the load steps "
-                 "start from rest"
-              << std::endl;
-        statistics.min_J = 1;
+        pcout << "  No equilibrium from the last state"
+              << (inverted.empty() ? "" :
+                                     " (Newton's method converged to a "
+                                     "state that " +
+                                       inverted + ")")
+              << "; the load steps start from rest" << std::endl;
+        statistics.failed_start_iterations = statistics.newton_iterations;
+        statistics.min_J                   = 1;
+        // The factor of that far-off state would only cost CG iterations.
+        linear_solver.reset();
       }
     at_full_load                       = false;
     const double   nominal             = 1. / parameters.load_steps;
@@ -847,49 +858,40 @@ namespace ddfem::solver
               u = displacement;
           }
         const double accepted_min_J = statistics.min_J;
-        if (newton(t_new, u, statistics))
+        if (converge(t_new, u, statistics, inverted))
           {
-            // A state that turns a cell inside out at a vertex solves the
-            // discrete equations but is no deformation. A shorter increment
-            // leads to the same state, so the solve stops.
-            const auto [vertex_J, vertex] = smallest_vertex_jacobian(u);
-            if (!(vertex_J > 0))
-              {
-                std::ostringstream message;
-                message << "the load increment to load factor " << t_new
-                        << " converged to a state that turns the cell at "
-                        << format_point(vertex)
-                        << " m inside out at that vertex (det F = "
-                        << std::setprecision(3) << vertex_J
-                        << " there, positive at every quadrature point): ";
-                if (discretization.level == 0)
-                  message << "the voxels are too coarse for this "
-                             "deformation. Lower the load or refine the grid "
-                             "(Geometry/Grid size and Geometry/Voxel size)";
-                else
-                  message << "the coarse cells, blocks of "
-                          << (1u << discretization.level)
-                          << " voxels per side, are too coarse for this "
-                             "deformation. Lower the load, or 'Coarsening "
-                             "levels', or use 'Method = fine'";
-                message << "; the last converged state is kept";
-                statistics.failure = message.str();
-                // min_J describes the state kept, not the one rejected.
-                statistics.min_J = accepted_min_J;
-                pcout << "  Stopped: " << statistics.failure << std::endl;
-                return statistics;
-              }
-            statistics.min_vertex_J = vertex_J;
-            last_increment          = u;
+            last_increment = u;
             last_increment -= displacement;
-            last_step    = t_new - t;
-            predict      = true;
-            displacement = u;
-            t            = t_new;
-            ++statistics.load_steps;
-            on_step(statistics.load_steps, t);
+            last_step = t_new - t;
+            predict   = true;
+            t         = t_new;
+            accept(u, t, statistics, on_step);
             if (++successes_since_cut >= 2 && step < nominal)
               step = std::min(nominal, 2 * step), successes_since_cut = 0;
+          }
+        else if (!inverted.empty())
+          {
+            // A shorter increment leads to the same state, so the solve
+            // stops.
+            std::ostringstream message;
+            message << "the load increment to load factor " << t_new
+                    << " converged to a state that " << inverted << ": ";
+            if (discretization.level == 0)
+              message << "the voxels are too coarse for this "
+                         "deformation. Lower the load or refine the grid "
+                         "(Geometry/Grid size and Geometry/Voxel size)";
+            else
+              message << "the coarse cells, blocks of "
+                      << (1u << discretization.level)
+                      << " voxels per side, are too coarse for this "
+                         "deformation. Lower the load, or 'Coarsening "
+                         "levels', or use 'Method = fine'";
+            message << "; the last converged state is kept";
+            statistics.failure = message.str();
+            // min_J describes the state kept, not the one rejected.
+            statistics.min_J = accepted_min_J;
+            pcout << "  Stopped: " << statistics.failure << std::endl;
+            return statistics;
           }
         else
           {
@@ -915,6 +917,47 @@ namespace ddfem::solver
     statistics.converged = true;
     at_full_load         = true;
     return statistics;
+  }
+
+
+
+  bool
+  StaticSolver::converge(const double    t,
+                         Vector<double> &u,
+                         Statistics     &statistics,
+                         std::string    &inverted)
+  {
+    inverted.clear();
+    if (!newton(t, u, statistics))
+      return false;
+    // A state that turns a cell inside out at a vertex solves the discrete
+    // equations but is no deformation.
+    const auto [vertex_J, vertex] = smallest_vertex_jacobian(u);
+    if (!(vertex_J > 0))
+      {
+        std::ostringstream message;
+        message << "turns the cell at " << format_point(vertex)
+                << " m inside out at that vertex (det F = "
+                << std::setprecision(3) << vertex_J
+                << " there, positive at every quadrature point)";
+        inverted = message.str();
+        return false;
+      }
+    statistics.min_vertex_J = vertex_J;
+    return true;
+  }
+
+
+
+  void
+  StaticSolver::accept(Vector<double> &u,
+                       const double    t,
+                       Statistics     &statistics,
+                       const std::function<void(unsigned int, double)> &on_step)
+  {
+    displacement.swap(u);
+    ++statistics.load_steps;
+    on_step(statistics.load_steps, t);
   }
 
 

@@ -3,7 +3,8 @@
 // solve):
 // 1. the CHOLMOD Cholesky factor solves K x = b to round-off and agrees
 //    with UMFPACK; a refactorization on the same pattern (another matrix)
-//    is as accurate; a matrix that is not positive definite is reported,
+//    is as accurate, also after the factor was dropped (as after a material
+//    edit); a matrix that is not positive definite is reported,
 //    and leaves no factor, also a simplicial factor (a tridiagonal matrix),
 //    which CHOLMOD's default L D L^T would accept;
 // 2. cg-cholesky factorizes the first tangent (1 iteration), solves the
@@ -115,6 +116,17 @@ main(int argc, char **argv)
     cholesky.vmult(x, b);
     testing::check_below("  relative residual",
                          relative_residual(K2, x, b),
+                         1e-12);
+    // As after a material edit: the factor goes, and the pattern's
+    // ordering serves the next matrix.
+    cholesky.drop_factor();
+    std::cout << "  factor dropped, factor held: " << cholesky.factorized()
+              << std::endl;
+    std::cout << "  factorized again, positive definite: "
+              << cholesky.factorize(K0) << std::endl;
+    cholesky.vmult(x, b);
+    testing::check_below("  relative residual",
+                         relative_residual(K0, x, b),
                          1e-12);
 
     SparseMatrix<double> indefinite;

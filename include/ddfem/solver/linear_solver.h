@@ -148,6 +148,10 @@ namespace ddfem::solver
     /// Systems still to be solved directly after a cg-amg failure ('auto')
     /// or an indefinite tangent (cg-cholesky).
     unsigned int direct_solves_left = 0;
+    /// 'auto': the solves that go to UMFPACK after CG failed (cg-cholesky
+    /// instead backs off by the factorizations that failed in a row: a
+    /// failed factorization costs less than a failed CG run).
+    static constexpr unsigned int direct_solves_after_cg_failure = 10;
     /// cg-cholesky: factorizations in a row that found the tangent
     /// indefinite.
     unsigned int indefinite_factors = 0;

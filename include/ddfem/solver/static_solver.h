@@ -34,7 +34,8 @@ namespace ddfem::solver
    * and failed linear solves are handled by shifting the tangent by a
    * growing multiple of its diagonal; load increments whose Newton
    * iteration fails are cut in half. Each increment starts from the last
-   * state extrapolated along the last increment.
+   * state extrapolated along the last increment. After a material edit,
+   * Newton's method first tries the full load from the last equilibrium.
    */
   class StaticSolver
   {
@@ -77,8 +78,12 @@ namespace ddfem::solver
       /// Load increments that failed and were retried with half the step
       /// (the failure that ends a solve is not a cut).
       unsigned int step_cuts = 0;
-      /// Newton iterations over all load increments (failed ones included).
+      /// Newton iterations over all load increments (failed ones included,
+      /// and a failed start from the last state).
       unsigned int newton_iterations = 0;
+      /// Newton iterations of a start from the last state that failed,
+      /// before the load steps from rest.
+      unsigned int failed_start_iterations = 0;
       /// Linear solver iterations over all Newton iterations.
       unsigned int linear_iterations = 0;
       /// Newton iterations that needed a regularized tangent.
@@ -90,6 +95,11 @@ namespace ddfem::solver
       double min_vertex_J = 1;
       /// Why the solve stopped early (empty if converged).
       std::string failure;
+
+      /// " (N of them in a failed start from the last state)" after the
+      /// Newton iterations, or nothing.
+      std::string
+      failed_start_note() const;
     };
 
     /// Per-cell results for output.
@@ -212,6 +222,28 @@ namespace ddfem::solver
     /// Newton's method at load factor @p t starting from @p u.
     bool
     newton(const double t, Vector<double> &u, Statistics &statistics);
+
+    /**
+     * newton(), and the test of the state it converged to: returns true if
+     * @p u is an equilibrium at load factor @p t with det F > 0 at every
+     * vertex of a solid voxel (statistics.min_vertex_J is then that
+     * state's). Otherwise returns false, and @p inverted says where a
+     * converged state turns a cell inside out (empty if Newton's method
+     * failed).
+     */
+    bool
+    converge(const double    t,
+             Vector<double> &u,
+             Statistics     &statistics,
+             std::string    &inverted);
+
+    /// Makes @p u (swapped out) the accepted state at load factor @p t:
+    /// counts the increment and calls @p on_step.
+    void
+    accept(Vector<double>                                  &u,
+           const double                                     t,
+           Statistics                                      &statistics,
+           const std::function<void(unsigned int, double)> &on_step);
 
     /// Throws if the Dirichlet nodes leave rigid motions free (see setup()).
     void
