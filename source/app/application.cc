@@ -457,13 +457,8 @@ namespace ddfem::app
             const ModelRun::Result result = run.solve(&vtu);
             converged              = converged && result.statistics.converged;
             const auto &statistics = result.statistics;
-            pcout << (statistics.converged ? "Converged" : "NOT converged");
-            if (statistics.from_last_state)
-              pcout << " from the last state after ";
-            else
-              pcout << " after " << statistics.load_steps << " load steps and ";
-            pcout << statistics.newton_iterations << " Newton iterations"
-                  << statistics.failed_start_note() << "\n"
+            pcout << (statistics.converged ? "Converged " : "NOT converged ")
+                  << statistics.describe() << "\n"
                   << "  min J = " << std::setprecision(4) << result.min_J
                   << " at the quadrature points, " << statistics.min_vertex_J
                   << " at the vertices, max |u| = " << result.max_displacement

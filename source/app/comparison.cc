@@ -680,16 +680,9 @@ namespace ddfem::app
             out << "  " << std::left << std::setw(12) << row.label()
                 << std::right << row.cells << " cells, " << row.dofs
                 << " DoFs, " << row.linear_solver << ": "
-                << (row.result.statistics.converged ? "converged" :
-                                                      "NOT converged")
-                << (row.result.statistics.from_last_state ?
-                      std::string(" from the last state, ") :
-                      " in " +
-                        std::to_string(row.result.statistics.load_steps) +
-                        " load steps, ")
-                << row.result.statistics.newton_iterations
-                << " Newton iterations"
-                << row.result.statistics.failed_start_note()
+                << (row.result.statistics.converged ? "converged " :
+                                                      "NOT converged ")
+                << row.result.statistics.describe()
                 << ", max |u| = " << std::setprecision(4)
                 << row.result.max_displacement << " m" << std::setprecision(6)
                 << std::endl;

@@ -224,12 +224,16 @@ namespace ddfem::solver
 
 
   std::string
-  StaticSolver::Statistics::failed_start_note() const
+  StaticSolver::Statistics::describe() const
   {
-    if (failed_start_iterations == 0)
-      return "";
-    return " (" + std::to_string(failed_start_iterations) +
-           " of them in a failed start from the last state)";
+    std::string text = from_last_state ? "from the last state after " :
+                                         "after " + std::to_string(load_steps) +
+                                           " load steps and ";
+    text += std::to_string(newton_iterations) + " Newton iterations";
+    if (failed_start_iterations > 0)
+      text += " (" + std::to_string(failed_start_iterations) +
+              " of them in a failed start from the last state)";
+    return text;
   }
 
 

@@ -96,10 +96,11 @@ namespace ddfem::solver
       /// Why the solve stopped early (empty if converged).
       std::string failure;
 
-      /// " (N of them in a failed start from the last state)" after the
-      /// Newton iterations, or nothing.
+      /// How the solve went: "after L load steps and N Newton iterations"
+      /// or "from the last state after N Newton iterations", with the
+      /// iterations of a failed start from the last state named.
       std::string
-      failed_start_note() const;
+      describe() const;
     };
 
     /// Per-cell results for output.
