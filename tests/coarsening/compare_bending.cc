@@ -324,6 +324,16 @@ main(int argc, char **argv)
                         "FAILED");
       std::cout << std::endl;
     }
+  // The plot draws the direct run as the fine reference, not the failed
+  // one.
+  std::ifstream failed_script("compare_failed/error_vs_time.gnuplot");
+  std::cout << "  fine runs drawn:";
+  for (std::string line; std::getline(failed_script, line);)
+    if (line.find("rotate by 90") != std::string::npos)
+      std::cout << ' '
+                << line.substr(line.find('\''),
+                               line.find(" at ") - line.find('\''));
+  std::cout << std::endl;
 
   // Those are the errors of a run whose scene solves with the direct solver.
   std::filesystem::remove_all("compare_direct");
