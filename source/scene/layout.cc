@@ -6,6 +6,7 @@
 #include <ddfem/scene/voxel_io.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <random>
 
@@ -444,6 +445,16 @@ namespace ddfem::scene
           }
         grid = VoxelGrid(n, grid.voxel_size(), void_id);
         voxelize(mesh, material, grid);
+        // A mesh in other units than meters, or a flat one, would leave
+        // the grid void, or only the shapes solid.
+        AssertThrow(grid.n_solid_voxels() > 0,
+                    ExcMessage("Surface mesh \"" + surface_file +
+                               "\" (Layout/Surface mesh/File name): it "
+                               "encloses no voxel center of the grid, which "
+                               "spans (0, 0, 0) to " +
+                               format_point(extent) +
+                               " m. Is it closed, with a volume, and in "
+                               "meters?"));
       }
     else
       {
@@ -462,15 +473,20 @@ namespace ddfem::scene
                   }
                 else if (type == "skin")
                   {
+                    // Distances to the faces in voxels, the same
+                    // round-off on both sides: a thickness at a voxel
+                    // center takes as many voxels on each face.
+                    const std::array<unsigned int, 3> index{{i, j, k}};
+                    const double thickness = skin_thickness / grid.voxel_size();
                     for (const std::string &face : skin_faces)
                       for (unsigned int d = 0; d < 3; ++d)
                         {
                           const std::string axis(1, "xyz"[d]);
                           if ((face == "all" || face == axis + "-") &&
-                              c[d] < skin_thickness)
+                              index[d] + 0.5 < thickness)
                             id = skin_material;
                           if ((face == "all" || face == axis + "+") &&
-                              extent[d] - c[d] < skin_thickness)
+                              n[d] - index[d] - 0.5 < thickness)
                             id = skin_material;
                         }
                   }

@@ -75,6 +75,10 @@ namespace ddfem::scene
       std::string text;
       for (unsigned int number = 1; std::getline(in, text); ++number)
         {
+          // Editors on Windows may start a UTF-8 file with a byte order
+          // mark, which is no token.
+          if (number == 1 && text.compare(0, 3, "\xEF\xBB\xBF") == 0)
+            text.erase(0, 3);
           const std::string_view view(text);
           Line line{split(comments ? view.substr(0, view.find('#')) : view),
                     text,
@@ -83,6 +87,29 @@ namespace ddfem::scene
           if (!line.tokens.empty())
             f(line);
         }
+    }
+
+
+
+    // Opens @p filename, or throws an error that starts with @p file and
+    // says where a relative name was looked for.
+    std::ifstream
+    open_for_reading(const std::string       &filename,
+                     const std::string       &file,
+                     const std::ios::openmode mode = std::ios::in)
+    {
+      std::ifstream in(filename, mode);
+      const auto    path = std::filesystem::path(filename);
+      AssertThrow(in && !std::filesystem::is_directory(path),
+                  ExcMessage(file + ": cannot be opened for reading" +
+                             (path.is_relative() ?
+                                " (a relative name is read from the working "
+                                "directory: " +
+                                  std::filesystem::absolute(path).string() +
+                                  ")" :
+                                "") +
+                             "."));
+      return in;
     }
 
 
@@ -449,9 +476,7 @@ namespace ddfem::scene
                   VoxelGrid         &grid)
   {
     const std::string file = "Voxel file \"" + filename + "\"";
-    std::ifstream     in(filename);
-    AssertThrow(in && !std::filesystem::is_directory(filename),
-                ExcMessage(file + ": cannot be opened for reading."));
+    std::ifstream     in   = open_for_reading(filename, file);
 
     const auto       &n      = grid.size();
     const std::string header = size_string(n);
@@ -554,9 +579,7 @@ namespace ddfem::scene
                 ExcMessage(file + ": unknown extension \"" + extension +
                            "\"; expected .stl or .obj."));
 
-    std::ifstream in(filename, std::ios::binary);
-    AssertThrow(in && !std::filesystem::is_directory(filename),
-                ExcMessage(file + ": cannot be opened for reading."));
+    std::ifstream     in = open_for_reading(filename, file, std::ios::binary);
     const std::string content((std::istreambuf_iterator<char>(in)),
                               std::istreambuf_iterator<char>());
 

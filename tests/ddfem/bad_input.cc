@@ -65,9 +65,13 @@ namespace
         const std::string n = f.path().filename().string();
         any = any || n == written || n.rfind(written + ".", 0) == 0;
       }
-    const std::string message =
+    std::string message =
       first_sentence ? err.str().substr(0, err.str().find(". ") + 1) + "\n" :
                        err.str();
+    // Paths under the test's directory, the same on every machine.
+    const std::string here = std::filesystem::current_path().string();
+    for (std::size_t at; (at = message.find(here)) != std::string::npos;)
+      message.replace(at, here.size(), "<test directory>");
     std::cout << "* " << name << ": exit code " << code
               << ", output written: " << std::boolalpha << any << "\n  "
               << message << std::endl;
@@ -484,6 +488,17 @@ main(int argc, char **argv)
   std::ofstream("open.obj")
     << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\n";
   run_case("open_mesh", from_surface_mesh("open.obj"));
+  // A closed tetrahedron written in millimeters: inside the grid's first
+  // voxel, it encloses no voxel center. The shapes would have made the part
+  // solid without the mesh.
+  std::ofstream("millimeters.obj")
+    << "v 0 0 0\nv 0.004 0 0\nv 0 0.004 0\nv 0 0 0.004\n"
+       "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+  run_case("mesh_encloses_no_voxel",
+           from_surface_mesh("millimeters.obj",
+                             "    set Fit to grid = false\n  end\n"
+                             "  set Shapes = box 0 0 0 0.02 0.04 0.02 : 2\n"
+                             "  subsection Surface mesh\n"));
   // A binary STL whose header starts with "solid", cut short: neither its
   // size nor its text fits a format.
   {

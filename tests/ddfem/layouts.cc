@@ -92,6 +92,22 @@ main()
     make_scene(
       "set Type = skin\nsubsection Skin\n set Thickness = 0.02\n set Faces = z+\nend")
       .grid);
+  // A thickness at a voxel center (1.5 voxels) takes as many voxels on
+  // each face, whatever the round-off of the centers' coordinates: the
+  // voxel sizes the reviewer found lopsided, 1 voxel on x- and 2 on x+.
+  for (const std::string h : {"0.1", "0.03", "0.07", "0.013"})
+    {
+      const auto skin =
+        make_scene("set Type = skin\nsubsection Skin\n set Thickness = " +
+                     std::to_string(1.5 * std::stod(h)) +
+                     "\n set Faces = x-, x+\nend",
+                   "10, 1, 1\nset Voxel size = " + h)
+          .grid;
+      std::cout << "skin of 1.5 voxels of " << h << " m on x- and x+: ";
+      for (unsigned int i = 0; i < 10; ++i)
+        std::cout << int(skin(i, 0, 0));
+      std::cout << std::endl;
+    }
   print("sphere r = 0.03 m of id 2 at the center",
         make_scene("set Shapes = sphere 0.04 0.04 0.04 0.03 : 2").grid);
   print("box then cylinder painted in order",
@@ -128,6 +144,19 @@ main()
                          " set File name = roundtrip.txt\nend")
                 .grid;
   std::cout << "voxel file round trip equal: "
+            << (read.data() == random_a.data()) << std::endl;
+  // The same file as a Windows editor may save it, with a UTF-8 byte order
+  // mark.
+  {
+    std::ifstream     in("roundtrip.txt");
+    const std::string text((std::istreambuf_iterator<char>(in)),
+                           std::istreambuf_iterator<char>());
+    std::ofstream("roundtrip_bom.txt") << "\xEF\xBB\xBF" << text;
+  }
+  read = make_scene("set Type = voxel file\nsubsection Voxel file\n"
+                    " set File name = roundtrip_bom.txt\nend")
+           .grid;
+  std::cout << "  with a byte order mark equal: "
             << (read.data() == random_a.data()) << std::endl;
 
   // A closed surface: the octahedron of "radius" 0.0605 m around the
