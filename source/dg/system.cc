@@ -530,17 +530,8 @@ namespace ddfem::dg
           const Tensor<1, dim> &nq  = fv.normal_vector(q);
           const Tensor<1, dim>  n_R = R * nq;
           const double          dx  = fv.JxW(q);
-          if (data.traction)
-            {
-              const Tensor<1, dim> tr = t * data.traction(center, x, nq);
-              for (unsigned int i = 0; i < n; ++i)
-                c.vector[i] += tr[fe.system_to_component_index(i).first] *
-                               fv.shape_value(i, q) * dx;
-            }
-          if (!weak)
-            continue;
           // The condition P (u - g) = 0, P the projection onto the
-          // prescribed components (world frame). For the unrotated
+          // prescribed components (world frame), if weak. For the unrotated
           // displacement u_R = R^T (x + u) - x of the element frame it
           // reads P_R (u_R - g_R) = 0 with P_R = R^T P R and g_R = R^T (x +
           // g) - x, so that only prescribed world components are held, also
@@ -548,12 +539,22 @@ namespace ddfem::dg
           Tensor<1, dim> g;
           Tensor<2, dim> P;
           bool           prescribed = false;
-          for (unsigned int d = 0; d < n_components; ++d)
+          for (unsigned int d = 0; weak && d < n_components; ++d)
             if (data.dirichlet(x, d, t, g[d]))
               {
                 P[d][d]    = 1;
                 prescribed = true;
               }
+          if (data.traction)
+            {
+              // A load on prescribed components goes into the reactions, as
+              // where strong conditions or CG constrain them.
+              Tensor<1, dim> tr = t * data.traction(center, x, nq);
+              tr -= P * tr;
+              for (unsigned int i = 0; i < n; ++i)
+                c.vector[i] += tr[fe.system_to_component_index(i).first] *
+                               fv.shape_value(i, q) * dx;
+            }
           if (!prescribed)
             continue;
           const Tensor<2, dim> P_R = transpose(R) * P * R;
