@@ -45,8 +45,10 @@ namespace ddfem::app
       "every parameter with its documentation and default.\n";
 
     /**
-     * The scene's name: 'Scene name', or the stem of @p prm_file. Throws
-     * ExcMessage if it is not UTF-8 text, which the JSON results need.
+     * The scene's name: 'Scene name', or the stem of @p prm_file, which then
+     * becomes 'Scene name' in @p prm, so that a rerun from the run's
+     * parameters.prm keeps it. Throws ExcMessage if it is not UTF-8 text,
+     * which the JSON results need.
      */
     std::string
     scene_name_of(ParameterHandler &prm, const std::string &prm_file)
@@ -70,6 +72,7 @@ namespace ddfem::app
                                  "and comparison.json need. Set 'Scene "
                                  "name' to UTF-8 text."));
         }
+      prm.set("Scene name", name);
       return name;
     }
 
@@ -292,7 +295,9 @@ namespace ddfem::app
       int
       run_dg(const ParameterHandler &prm)
       {
-        Timer           total;
+        Timer total;
+        // Before the setup, whose penalty check costs most of the solve.
+        check_output(0);
         dg::SceneSolver solver(scene, dg_parameters, linear_solver);
         solver.setup();
         const auto &n      = scene.grid.size();
@@ -318,7 +323,6 @@ namespace ddfem::app
         // corotated iteration that does not converge writes nothing).
         // Every VTU file of an earlier run is removed, solution.vtu with
         // them (a DG run writes no continuous states).
-        check_output(0);
         const unsigned int solves = solver.solve();
         prepare_output(prm);
         if (vtu.enabled())
@@ -757,6 +761,8 @@ namespace ddfem::app
     const boost::io::ios_all_saver out_format(out), err_format(err);
     if (arguments.empty() || arguments[0] == "--help" || arguments[0] == "-h")
       {
+        if (arguments.size() > 1)
+          err << "Error: " << arguments[0] << " takes no arguments.\n";
         (arguments.size() == 1 ? out : err) << usage;
         return arguments.size() == 1 ? 0 : 1;
       }
@@ -787,6 +793,10 @@ namespace ddfem::app
             return 0;
           }
 
+        AssertThrow(arguments[0].rfind("-", 0) != 0,
+                    ExcMessage("Unknown option \"" + arguments[0] +
+                               "\": the parameter file comes first.\n" +
+                               usage));
         const std::string prm_file = arguments[0];
         AssertThrow(!std::filesystem::is_directory(prm_file) &&
                       std::ifstream(prm_file).good(),
@@ -826,7 +836,12 @@ namespace ddfem::app
           }
         for (unsigned int i = 1; i < arguments.size(); ++i)
           {
-            AssertThrow(arguments[i] == "--set" && i + 1 < arguments.size(),
+            AssertThrow(arguments[i] != "--set" || i + 1 < arguments.size(),
+                        ExcMessage(std::string("--set needs a value: --set "
+                                               "\"Subsection/Parameter=value\"."
+                                               "\n") +
+                                   usage));
+            AssertThrow(arguments[i] == "--set",
                         ExcMessage("Unexpected argument \"" + arguments[i] +
                                    "\".\n" + usage));
             apply_override(prm, arguments[++i]);

@@ -289,8 +289,8 @@ namespace ddfem::scene
       "0; 0; 0",
       Patterns::Anything(),
       "Body force per reference volume (N/m^3) at load factor 1: three "
-      "muparser expressions of x, y, z separated by ';'. Gravity is "
-      "'0; 0; -9.81*density'.");
+      "muparser expressions of x, y, z separated by ';'. Gravity on a "
+      "material of density 1000 kg/m^3 is '0; 0; -9.81*1000'.");
     prm.leave_subsection();
   }
 

@@ -904,9 +904,12 @@ namespace ddfem::solver
             if (step < parameters.minimum_step * nominal)
               {
                 std::ostringstream message;
+                message << "the load increment at load factor " << t;
+                if (2 * step < nominal)
+                  message << " failed even when cut to " << 2 * step;
+                else
+                  message << " failed, and no shorter one may follow";
                 message
-                  << "the load increment at load factor " << t
-                  << " failed even when cut to " << 2 * step
                   << " (Nonlinear solver/Minimum load step = "
                   << parameters.minimum_step
                   << " of the nominal increment); the last converged state is kept";

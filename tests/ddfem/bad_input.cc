@@ -468,6 +468,25 @@ main(int argc, char **argv)
     std::cout << "* parameter_file_is_a_directory: exit code " << code << "\n  "
               << err.str() << std::endl;
   }
+  // Command lines: an option where the parameter file belongs, --set
+  // without its value, and --help with an argument.
+  std::ofstream("command_line.prm") << cantilever;
+  for (const std::vector<std::string> &arguments :
+       {std::vector<std::string>{"--version"},
+        std::vector<std::string>{"--set", "Method=dg", "command_line.prm"},
+        std::vector<std::string>{"command_line.prm", "--set"},
+        std::vector<std::string>{"--help", "command_line.prm"}})
+    {
+      std::ostringstream out, err;
+      const int          code = app::run(arguments, out, err);
+      std::cout << "* command line";
+      for (const std::string &a : arguments)
+        std::cout << ' ' << a;
+      // The first line of the message; the usage text follows it.
+      std::cout << ": exit code " << code << "\n  "
+                << err.str().substr(0, err.str().find('\n')) << "\n"
+                << std::endl;
+    }
   std::ofstream("malformed.xml") << "<ParameterHandler><Method>";
   {
     std::ostringstream out, err;

@@ -2,7 +2,8 @@
 // step and a .pvd record that lists them in order, and two runs of the same
 // input write the same bytes. deal.II puts the date and time into a VTU
 // header unless its flags say otherwise, and always into a .pvd record. A
-// run removes the temporary files a killed run left.
+// run removes the temporary files a killed run left. A rerun from a run's
+// parameters.prm gives the same results under the same scene name.
 
 #include <ddfem/app/application.h>
 #include <ddfem/base/files.h>
@@ -78,6 +79,30 @@ main(int argc, char **argv)
                     std::string::npos)
                 << std::endl;
     }
+
+  // A rerun from the parameters.prm a run wrote gives the same results,
+  // and keeps the scene's name, which came from the first run's file name.
+  {
+    std::filesystem::remove_all("rerun");
+    std::ostringstream out, err;
+    std::cout << "rerun from first/parameters.prm: exit code "
+              << app::run({"first/parameters.prm",
+                           "--set",
+                           "Output/Output directory=rerun"},
+                          out,
+                          err)
+              << std::endl;
+    for (const std::string run : {"first", "rerun"})
+      std::cout << "  " << run << "'s scene name: "
+                << nlohmann::json::parse(text_of(run + "/summary.json"))
+                     .at("scene")
+                     .get<std::string>()
+                << std::endl;
+    std::cout << "  the same VTU bytes: " << std::boolalpha
+              << (text_of("first/solution-0003.vtu") ==
+                  text_of("rerun/solution-0003.vtu"))
+              << std::endl;
+  }
 
   std::istringstream record(text_of("first/solution.pvd"));
   for (std::string line; std::getline(record, line);)
