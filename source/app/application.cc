@@ -381,9 +381,10 @@ namespace ddfem::app
         double                                 database_time = 0;
         if (method != "fine")
           {
-            // The voxels must be supported as they are, not only through
+            // The scene must be one the fine model accepts: conditions on
+            // the solid, voxels supported as they are, not only through
             // blocks that bridge a gap between them.
-            solver::require_supported_voxels(scene);
+            solver::check_voxel_scene(scene);
             if (method == "ddfem")
               {
                 // The rest of the input is checked before any fitting.

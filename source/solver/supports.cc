@@ -4,6 +4,7 @@
 #include <ddfem/base/parsing.h>
 #include <ddfem/solver/supports.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <numeric>
@@ -200,25 +201,91 @@ namespace ddfem::solver
 
 
   void
-  require_supported_voxels(const scene::Scene &scene)
+  require_supported_mesh(
+    const Triangulation<3>                         &tria,
+    const std::vector<std::vector<ConstrainedRow>> &cell_rows)
+  {
+    // Parts sharing nodes (vertex-connected cells) and parts sharing faces.
+    Components by_vertex = vertex_connected_parts(tria);
+    Components by_face   = face_connected_parts(tria);
+
+    // Constrained rows per part; per vertex the face-connected parts
+    // touching it.
+    std::map<std::size_t, std::vector<ConstrainedRow>> vertex_rows, face_rows;
+    std::map<std::size_t, std::pair<unsigned int, Point<3>>>
+                                       part_size; // cells, a cell center
+    std::vector<std::set<std::size_t>> parts_at_vertex(tria.n_vertices());
+    for (const auto &cell : tria.active_cell_iterators())
+      {
+        const unsigned int c  = cell->active_cell_index();
+        const std::size_t  pv = by_vertex.find(c), pf = by_face.find(c);
+        auto              &size = part_size[pf];
+        if (size.first++ == 0)
+          size.second = cell->center();
+        for (const unsigned int v : cell->vertex_indices())
+          parts_at_vertex[cell->vertex_index(v)].insert(pf);
+        for (const ConstrainedRow &row : cell_rows[c])
+          {
+            vertex_rows[pv].push_back(row);
+            face_rows[pf].push_back(row);
+          }
+      }
+
+    // Every vertex-connected part needs Dirichlet nodes fixing all six
+    // rigid motions.
+    require_supported_parts(tria, by_vertex, vertex_rows, "node");
+
+    // A face-connected part that hangs on its neighbors only by nodes on
+    // one edge or corner is a mechanism: count shared nodes as pinned.
+    for (const auto &cell : tria.active_cell_iterators())
+      for (const unsigned int v : cell->vertex_indices())
+        if (parts_at_vertex[cell->vertex_index(v)].size() > 1)
+          for (unsigned int d = 0; d < 3; ++d)
+            face_rows[by_face.find(cell->active_cell_index())].emplace_back(
+              cell->vertex(v), d);
+    for (const auto &[part, size] : part_size)
+      {
+        const unsigned int fixed = fixed_rigid_modes(face_rows[part]);
+        AssertThrow(
+          fixed == 6,
+          ExcMessage(
+            std::to_string(size.first) + " voxel(s) around " +
+            format_point(size.second) +
+            " m are attached to the rest only along an edge or at a "
+            "corner, which leaves " +
+            std::to_string(6 - fixed) +
+            " free mechanism motion(s). Fill or empty the voxels at the "
+            "joint so parts share faces."));
+      }
+  }
+
+
+
+  void
+  check_voxel_scene(const scene::Scene &scene)
   {
     Triangulation<3> tria;
     scene::make_voxel_mesh(scene.grid, 0, tria);
-    Components parts = vertex_connected_parts(tria);
-    std::map<std::size_t, std::vector<ConstrainedRow>> rows;
-    std::vector<bool> seen(tria.n_vertices(), false);
+    const scene::BoundaryConditions &bc = scene.boundary_conditions;
+
+    // Every condition acts on a node or a boundary face of the voxels.
+    std::vector<Point<3>> face_centers;
+    for (const auto &cell : tria.active_cell_iterators())
+      for (const unsigned int f : cell->face_indices())
+        if (cell->face(f)->at_boundary())
+          face_centers.push_back(cell->face(f)->center());
+    bc.check_regions(std::vector<Point<3>>(tria.get_vertices().begin(),
+                                           tria.get_vertices().end()),
+                     face_centers);
+
+    std::vector<std::vector<ConstrainedRow>> cell_rows(tria.n_active_cells());
     for (const auto &cell : tria.active_cell_iterators())
       for (const unsigned int v : cell->vertex_indices())
-        if (!seen[cell->vertex_index(v)])
-          {
-            seen[cell->vertex_index(v)] = true;
-            for (unsigned int d = 0; d < 3; ++d)
-              if (double value;
-                  scene.boundary_conditions.prescribed_displacement(
-                    cell->vertex(v), d, 1, value))
-                rows[parts.find(cell->active_cell_index())].emplace_back(
-                  cell->vertex(v), d);
-          }
-    require_supported_parts(tria, parts, rows, "node");
+        for (unsigned int d = 0; d < 3; ++d)
+          if (double value;
+              bc.prescribed_displacement(cell->vertex(v), d, 1, value))
+            cell_rows[cell->active_cell_index()].emplace_back(cell->vertex(v),
+                                                              d);
+    require_supported_mesh(tria, cell_rows);
   }
 } // namespace ddfem::solver

@@ -865,4 +865,21 @@ subsection Boundary conditions
   end
 end
 )");
+  // A coarse model solves the scene the fine model would: its blocks may
+  // bridge the edge joint, or reach the grid's face where the solid ends
+  // short of it, but the scene is rejected as the fine model rejects it.
+  const std::string column = testing::cantilever("4, 16, 4", "0; 0; -2");
+  run_case("edge_joint_coarse",
+           column + "subsection Layout\n  set Shapes = box 0.03 0 0 0.04 "
+                    "0.09 0.04 : 0; box 0 0.09 0 0.03 0.16 0.04 : 0\nend\n",
+           {"--set", "Method=naive"});
+  run_case("region_beyond_the_solid_coarse",
+           column + "subsection Layout\n  set Shapes = box 0 0.15 0 0.04 "
+                    "0.16 0.04 : 0\nend\n",
+           {"--set",
+            "Method=average",
+            "--set",
+            "Boundary conditions/Condition 2/Type=displacement",
+            "--set",
+            "Boundary conditions/Condition 2/Value=0; 0; -0.001"});
 }

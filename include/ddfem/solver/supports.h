@@ -86,15 +86,29 @@ namespace ddfem::solver
     const std::string                                        &shared);
 
   /**
-   * The supports check of the fine voxels themselves, for coarse models,
-   * whose blocks may bridge a gap between voxels: the Dirichlet conditions
-   * of @p scene at the vertices of its solid voxels must fix all six rigid
-   * body motions of every part whose voxels share vertices. Throws
-   * ExcMessage like require_supported_parts() otherwise. Builds only the
-   * fine mesh, no degrees of freedom.
+   * Throws ExcMessage unless the Dirichlet rows of @p tria's cells fix all
+   * six rigid body motions of every part whose cells share vertices
+   * (require_supported_parts()), and no part whose cells share faces hangs
+   * on the others along an edge or at a corner only (a mechanism).
+   * @p cell_rows lists, per active cell, the rows of its constrained nodes
+   * (a node shared by cells may appear in each).
    */
   void
-  require_supported_voxels(const scene::Scene &scene);
+  require_supported_mesh(
+    const Triangulation<3>                         &tria,
+    const std::vector<std::vector<ConstrainedRow>> &cell_rows);
+
+  /**
+   * The checks of the fine model on the voxels themselves, for coarse
+   * models, whose blocks may bridge a gap between voxels or reach past the
+   * solid: every boundary condition of @p scene acts on a vertex or a
+   * boundary face of its solid voxels (BoundaryConditions::check_regions()),
+   * and the conditions at the vertices support the voxels as
+   * require_supported_mesh() asks. Builds only the fine mesh, no degrees of
+   * freedom.
+   */
+  void
+  check_voxel_scene(const scene::Scene &scene);
 } // namespace ddfem::solver
 
 #endif
