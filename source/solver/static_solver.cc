@@ -14,6 +14,7 @@
 #include <ddfem/solver/static_solver.h>
 #include <ddfem/solver/supports.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <iomanip>
@@ -451,69 +452,23 @@ namespace ddfem::solver
         "rotation) acts on any node of the solid, so rigid body "
         "motions are not prevented. Add one in 'Boundary conditions'."));
 
-    // Parts sharing nodes (vertex-connected cells) and parts sharing faces.
-    const Triangulation<3> &tria      = discretization.triangulation;
-    Components              by_vertex = vertex_connected_parts(tria);
-    Components              by_face   = face_connected_parts(tria);
-
-    // Constrained rows per vertex-connected part, keyed by the node's
-    // vertex; and per vertex the face-connected parts touching it.
-    const DoFHandler<3> &dof_handler = discretization.dof_handler;
+    // The rows of each cell's Dirichlet nodes.
     std::map<types::global_dof_index, const DirichletDof *> dirichlet;
     for (const DirichletDof &d : dirichlet_dofs)
       dirichlet[d.index] = &d;
-    std::map<std::size_t, std::vector<ConstrainedRow>> vertex_rows, face_rows;
-    std::map<std::size_t, std::pair<unsigned int, Point<3>>>
-                                         part_size; // cells, a cell center
-    std::vector<std::set<std::size_t>>   parts_at_vertex(tria.n_vertices());
+    std::vector<std::vector<ConstrainedRow>> cell_rows(
+      discretization.triangulation.n_active_cells());
     std::vector<types::global_dof_index> dofs(
       discretization.fe.n_dofs_per_cell());
-    for (const auto &cell : dof_handler.active_cell_iterators())
+    for (const auto &cell : discretization.dof_handler.active_cell_iterators())
       {
-        const unsigned int c  = cell->active_cell_index();
-        const std::size_t  pv = by_vertex.find(c), pf = by_face.find(c);
-        auto              &size = part_size[pf];
-        if (size.first++ == 0)
-          size.second = cell->center();
-        for (const unsigned int v : cell->vertex_indices())
-          parts_at_vertex[cell->vertex_index(v)].insert(pf);
         cell->get_dof_indices(dofs);
         for (const auto dof : dofs)
           if (const auto d = dirichlet.find(dof); d != dirichlet.end())
-            {
-              vertex_rows[pv].emplace_back(d->second->point,
-                                           d->second->component);
-              face_rows[pf].emplace_back(d->second->point,
-                                         d->second->component);
-            }
+            cell_rows[cell->active_cell_index()].emplace_back(
+              d->second->point, d->second->component);
       }
-
-    // Every vertex-connected part needs Dirichlet nodes fixing all six
-    // rigid motions.
-    require_supported_parts(tria, by_vertex, vertex_rows, "node");
-
-    // A face-connected part that hangs on its neighbors only by nodes on
-    // one edge or corner is a mechanism: count shared nodes as pinned.
-    for (const auto &cell : tria.active_cell_iterators())
-      for (const unsigned int v : cell->vertex_indices())
-        if (parts_at_vertex[cell->vertex_index(v)].size() > 1)
-          for (unsigned int d = 0; d < 3; ++d)
-            face_rows[by_face.find(cell->active_cell_index())].emplace_back(
-              cell->vertex(v), d);
-    for (const auto &[part, size] : part_size)
-      {
-        const unsigned int fixed = fixed_rigid_modes(face_rows[part]);
-        AssertThrow(
-          fixed == 6,
-          ExcMessage(
-            std::to_string(size.first) + " voxel(s) around " +
-            format_point(size.second) +
-            " m are attached to the rest only along an edge or at a "
-            "corner, which leaves " +
-            std::to_string(6 - fixed) +
-            " free mechanism motion(s). Fill or empty the voxels at the "
-            "joint so parts share faces."));
-      }
+    require_supported_mesh(discretization.triangulation, cell_rows);
   }
 
 
@@ -944,7 +899,7 @@ namespace ddfem::solver
       {
         std::ostringstream message;
         message << "turns the cell at " << format_point(vertex)
-                << " m inside out at that vertex (det F = "
+                << " m inside out at that corner of a solid voxel (det F = "
                 << std::setprecision(3) << vertex_J
                 << " there, positive at every quadrature point)";
         inverted = message.str();
@@ -972,15 +927,31 @@ namespace ddfem::solver
   std::pair<double, Point<3>>
   StaticSolver::smallest_vertex_jacobian(const Vector<double> &u) const
   {
-    // The trapezoidal rule's points are the vertices, in deal.II's order
-    // v = i + 2 j + 4 k.
+    // The corners of the block's w^3 voxels: the trapezoidal rule iterated
+    // w times (the cell's vertices for a fine voxel).
+    const unsigned int w = 1u << discretization.level;
+    const QIterated<3> corners(QTrapezoid<1>(), w);
+    // The solid voxels of a block (bits i + w (j + w k)) at each corner.
+    std::vector<std::uint64_t> voxels_at(corners.size(), 0);
+    for (unsigned int q = 0; q < corners.size(); ++q)
+      for (unsigned int s = 0; s < 8; ++s)
+        {
+          std::array<int, 3> index;
+          for (unsigned int d = 0; d < 3; ++d)
+            index[d] = static_cast<int>(std::lround(corners.point(q)[d] * w)) -
+                       static_cast<int>((s >> d) & 1);
+          if (std::all_of(index.begin(), index.end(), [w](const int i) {
+                return i >= 0 && i < static_cast<int>(w);
+              }))
+            voxels_at[q] |= std::uint64_t(1)
+                            << (index[0] + w * (index[1] + w * index[2]));
+        }
     FEValues<3>               fe_values(discretization.mapping,
                           discretization.fe,
-                          QTrapezoid<3>(),
+                          corners,
                           update_gradients | update_quadrature_points);
     Vector<double>            local_u(discretization.fe.n_dofs_per_cell());
     std::vector<Tensor<2, 3>> F;
-    const unsigned int        w        = 1u << discretization.level;
     double                    smallest = infinity;
     Point<3>                  where;
     const auto reference = discretization.dof_handler.begin_active();
@@ -992,19 +963,17 @@ namespace ddfem::solver
         deformation_gradients(fe_values, local_u, F);
         const std::uint64_t solid =
           discretization.solid_voxels[cell->active_cell_index()];
-        for (const unsigned int v : cell->vertex_indices())
+        for (unsigned int q = 0; q < corners.size(); ++q)
           {
-            // The voxel of the block at this corner.
-            const unsigned int bit =
-              (w - 1) * ((v & 1) + w * (((v >> 1) & 1) + w * (v >> 2)));
             // Of values equal up to round-off (symmetric vertices), the
             // first in cell order, so that the vertex reported does not
             // depend on the solver's round-off.
-            const double J = determinant(F[v]);
-            if (((solid >> bit) & 1) != 0 && J < smallest - 1e-9 * std::abs(J))
+            const double J = determinant(F[q]);
+            if ((solid & voxels_at[q]) != 0 &&
+                J < smallest - 1e-9 * std::abs(J))
               {
                 smallest = J;
-                where    = fe_values.quadrature_point(v) + shift;
+                where    = fe_values.quadrature_point(q) + shift;
               }
           }
       }

@@ -90,8 +90,8 @@ namespace ddfem::solver
       unsigned int regularized_iterations = 0;
       /// Smallest det F at any quadrature point in the final state.
       double min_J = 1;
-      /// Smallest det F at a cell vertex that is a corner of a solid voxel,
-      /// in the final state (smallest_vertex_jacobian()).
+      /// Smallest det F at a corner of a solid voxel in the final state
+      /// (smallest_vertex_jacobian()).
       double min_vertex_J = 1;
       /// Why the solve stopped early (empty if converged).
       std::string failure;
@@ -191,10 +191,11 @@ namespace ddfem::solver
     cell_fields(const Vector<double> &u) const;
 
     /**
-     * The smallest det F of the state @p u at the vertices of the cells
-     * that are corners of solid voxels, and that vertex. Where it is not
-     * positive, a cell is turned inside out at a vertex although det F may
-     * be positive at every quadrature point.
+     * The smallest det F of the state @p u at the corners of the solid
+     * voxels (of a coarse cell's block: its vertices and the points
+     * between them), and that corner. Where it is not positive, a cell is
+     * turned inside out there although det F may be positive at every
+     * quadrature point.
      */
     std::pair<double, Point<3>>
     smallest_vertex_jacobian(const Vector<double> &u) const;
