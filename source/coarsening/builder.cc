@@ -116,7 +116,13 @@ namespace ddfem::coarsening
   DatabaseBuilder::parse_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Database");
-    database_file     = prm.get("File");
+    database_file = prm.get("File");
+    // A link to a shared file: every save replaces the file it links to,
+    // not the link, so that the file stays shared.
+    if (std::filesystem::is_symlink(database_file))
+      database_file = std::filesystem::weakly_canonical(
+                        std::filesystem::absolute(database_file))
+                        .string();
     with_void         = prm.get_bool("Include void");
     run_scope         = prm.get("Scope") == "all" ? Scope::all : Scope::scene;
     n_representatives = prm.get_integer("Representatives");
@@ -242,6 +248,16 @@ namespace ddfem::coarsening
                                                    settings.fingerprint()) +
                                "). Use another Database/File or its "
                                "settings."));
+        // The offset is stored twice; new entries are fitted for the
+        // attribute's.
+        AssertThrow(database.point_offset() == settings.point_offset,
+                    ExcMessage("The metamaterial database '" + database_file +
+                               "' is corrupt: its 'coarse point offset' "
+                               "attribute, " +
+                               Utilities::to_string(database.point_offset()) +
+                               ", is not the offset of its settings, " +
+                               Utilities::to_string(settings.point_offset) +
+                               "."));
       }
     const std::vector<Entry> journaled =
       Journal::read(database_file,

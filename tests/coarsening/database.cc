@@ -779,6 +779,28 @@ main()
               << " entries, a second run has "
               << again.missing(DatabaseBuilder::scene_combinations(grid)).size()
               << " to fit" << std::endl;
+    // Through a link to a shared file, a lazy build adds its entries to
+    // that file and keeps the link (a save once replaced the link with a
+    // file of its own).
+    {
+      std::filesystem::remove_all("shared");
+      std::filesystem::create_directory("shared");
+      std::filesystem::copy_file("lazy.h5", "shared/lazy.h5");
+      std::filesystem::remove("link.h5");
+      std::filesystem::create_symlink("shared/lazy.h5", "link.h5");
+      scene::VoxelGrid edited      = grid;
+      edited(1, 0, 0)              = 2;
+      const DatabaseBuilder linked = builder("link.h5", false, "scene");
+      Database              shared = linked.open(palette(), log);
+      const std::vector<scene::VoxelGrid> edited_grids = {edited};
+      linked.build(palette(), shared, &edited_grids, log, false);
+      std::cout << "  through a link: still a link "
+                << std::filesystem::is_symlink("link.h5")
+                << ", the shared file gained "
+                << Database::load("shared/lazy.h5").entries().size() -
+                     Database::load("lazy.h5").entries().size()
+                << " entries" << std::endl;
+    }
 
     // An all-void block gets no element, so a database without void need
     // not cover it.
@@ -1349,6 +1371,14 @@ main()
     });
     expect_error("other settings",
                  [&log] { builder("small.h5", true).open(palette(), log); });
+    // The offset attribute disagrees with the settings it was fitted with:
+    // new entries would be fitted for the attribute's offset.
+    edited_copy("small.h5",
+                "other_offset.h5",
+                {{"coarse point offset", "0.5"}});
+    expect_error("offset attribute other than its settings'", [&log] {
+      builder("other_offset.h5", false).open(palette(), log);
+    });
     // The difference names a changed value, a flag and a setting that one
     // fingerprint leaves at its default.
     {
