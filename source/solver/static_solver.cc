@@ -445,13 +445,6 @@ namespace ddfem::solver
   void
   StaticSolver::check_supports() const
   {
-    AssertThrow(
-      !dirichlet_dofs.empty(),
-      ExcMessage(
-        "No Dirichlet condition (fixed, sliding, displacement or "
-        "rotation) acts on any node of the solid, so rigid body "
-        "motions are not prevented. Add one in 'Boundary conditions'."));
-
     // The rows of each cell's Dirichlet nodes.
     std::map<types::global_dof_index, const DirichletDof *> dirichlet;
     for (const DirichletDof &d : dirichlet_dofs)

@@ -205,6 +205,15 @@ namespace ddfem::solver
     const Triangulation<3>                         &tria,
     const std::vector<std::vector<ConstrainedRow>> &cell_rows)
   {
+    AssertThrow(
+      std::any_of(cell_rows.begin(),
+                  cell_rows.end(),
+                  [](const auto &rows) { return !rows.empty(); }),
+      ExcMessage(
+        "No Dirichlet condition (fixed, sliding, displacement or "
+        "rotation) acts on any node of the solid, so rigid body "
+        "motions are not prevented. Add one in 'Boundary conditions'."));
+
     // Parts sharing nodes (vertex-connected cells) and parts sharing faces.
     Components by_vertex = vertex_connected_parts(tria);
     Components by_face   = face_connected_parts(tria);
@@ -268,24 +277,27 @@ namespace ddfem::solver
     scene::make_voxel_mesh(scene.grid, 0, tria);
     const scene::BoundaryConditions &bc = scene.boundary_conditions;
 
-    // Every condition acts on a node or a boundary face of the voxels.
+    // Every condition acts on a vertex or a boundary face of the voxels.
     std::vector<Point<3>> face_centers;
-    for (const auto &cell : tria.active_cell_iterators())
-      for (const unsigned int f : cell->face_indices())
-        if (cell->face(f)->at_boundary())
-          face_centers.push_back(cell->face(f)->center());
-    bc.check_regions(std::vector<Point<3>>(tria.get_vertices().begin(),
-                                           tria.get_vertices().end()),
-                     face_centers);
+    if (bc.has_traction())
+      for (const auto &cell : tria.active_cell_iterators())
+        for (const unsigned int f : cell->face_indices())
+          if (cell->face(f)->at_boundary())
+            face_centers.push_back(cell->face(f)->center());
+    const std::vector<Point<3>> &vertices = tria.get_vertices();
+    bc.check_regions(vertices, face_centers);
 
+    // The held components of each vertex, then the rows of each cell.
+    std::vector<std::vector<unsigned int>> held(vertices.size());
+    for (unsigned int v = 0; v < vertices.size(); ++v)
+      for (unsigned int d = 0; d < 3; ++d)
+        if (double value; bc.prescribed_displacement(vertices[v], d, 1, value))
+          held[v].push_back(d);
     std::vector<std::vector<ConstrainedRow>> cell_rows(tria.n_active_cells());
     for (const auto &cell : tria.active_cell_iterators())
       for (const unsigned int v : cell->vertex_indices())
-        for (unsigned int d = 0; d < 3; ++d)
-          if (double value;
-              bc.prescribed_displacement(cell->vertex(v), d, 1, value))
-            cell_rows[cell->active_cell_index()].emplace_back(cell->vertex(v),
-                                                              d);
+        for (const unsigned int d : held[cell->vertex_index(v)])
+          cell_rows[cell->active_cell_index()].emplace_back(cell->vertex(v), d);
     require_supported_mesh(tria, cell_rows);
   }
 } // namespace ddfem::solver

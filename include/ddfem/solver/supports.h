@@ -86,7 +86,8 @@ namespace ddfem::solver
     const std::string                                        &shared);
 
   /**
-   * Throws ExcMessage unless the Dirichlet rows of @p tria's cells fix all
+   * Throws ExcMessage unless there are Dirichlet rows, and those of
+   * @p tria's cells fix all
    * six rigid body motions of every part whose cells share vertices
    * (require_supported_parts()), and no part whose cells share faces hangs
    * on the others along an edge or at a corner only (a mechanism).
@@ -104,8 +105,9 @@ namespace ddfem::solver
    * solid: every boundary condition of @p scene acts on a vertex or a
    * boundary face of its solid voxels (BoundaryConditions::check_regions()),
    * and the conditions at the vertices support the voxels as
-   * require_supported_mesh() asks. Builds only the fine mesh, no degrees of
-   * freedom.
+   * require_supported_mesh() asks. These are the checks of a fine model of
+   * degree 1 (at degree 2 the fine model also has nodes between the
+   * vertices). Builds only the fine mesh, no degrees of freedom.
    */
   void
   check_voxel_scene(const scene::Scene &scene);
