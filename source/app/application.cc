@@ -44,11 +44,22 @@ namespace ddfem::app
       "nested subsections are separated by '/'. --print-parameters lists\n"
       "every parameter with its documentation and default.\n";
 
+    /// Whether a parameter file can hold @p value: no line break, no '#'
+    /// (which starts a comment), no final '\' (which continues the line).
+    bool
+    fits_in_parameter_file(const std::string &value)
+    {
+      return value.find_first_of("\n\r#") == std::string::npos &&
+             (value.empty() || value.back() != '\\');
+    }
+
+
+
     /**
      * The scene's name: 'Scene name', or the stem of @p prm_file, which then
-     * becomes 'Scene name' in @p prm, so that a rerun from the run's
-     * parameters.prm keeps it. Throws ExcMessage if it is not UTF-8 text,
-     * which the JSON results need.
+     * becomes 'Scene name' in @p prm if a parameter file can hold it, so
+     * that a rerun from the run's parameters.prm keeps it. Throws ExcMessage if
+     * it is not UTF-8 text, which the JSON results need.
      */
     std::string
     scene_name_of(ParameterHandler &prm, const std::string &prm_file)
@@ -72,7 +83,8 @@ namespace ddfem::app
                                  "and comparison.json need. Set 'Scene "
                                  "name' to UTF-8 text."));
         }
-      prm.set("Scene name", name);
+      if (fits_in_parameter_file(name))
+        prm.set("Scene name", name);
       return name;
     }
 
@@ -140,8 +152,7 @@ namespace ddfem::app
       AssertThrow(text.find_first_of("\n\r") == std::string::npos,
                   ExcMessage("--set \"" + text +
                              "\": a value must not contain a line break."));
-      AssertThrow(value.find('#') == std::string::npos &&
-                    (value.empty() || value.back() != '\\'),
+      AssertThrow(fits_in_parameter_file(value),
                   ExcMessage("--set \"" + text +
                              "\": a value must not contain '#' or end in "
                              "'\\', which a parameter file cannot hold."));
