@@ -118,11 +118,17 @@ namespace ddfem::coarsening
     prm.enter_subsection("Database");
     database_file = prm.get("File");
     // A link to a shared file: every save replaces the file it links to,
-    // not the link, so that the file stays shared.
-    if (std::filesystem::is_symlink(database_file))
-      database_file = std::filesystem::weakly_canonical(
-                        std::filesystem::absolute(database_file))
-                        .string();
+    // not the link, so that the file stays shared; also before the file's
+    // first build, when the link dangles.
+    std::filesystem::path file = database_file;
+    for (unsigned int hops = 0; hops < 40 && std::filesystem::is_symlink(file);
+         ++hops)
+      {
+        const std::filesystem::path target =
+          std::filesystem::read_symlink(file);
+        file = target.is_absolute() ? target : file.parent_path() / target;
+      }
+    database_file     = file.string();
     with_void         = prm.get_bool("Include void");
     run_scope         = prm.get("Scope") == "all" ? Scope::all : Scope::scene;
     n_representatives = prm.get_integer("Representatives");

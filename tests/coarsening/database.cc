@@ -794,6 +794,18 @@ main()
       Database              shared = linked.open(palette(), log);
       const std::vector<scene::VoxelGrid> edited_grids = {edited};
       linked.build(palette(), shared, &edited_grids, log, false);
+      // A link made before the shared file's first build dangles; the
+      // build creates the file it names.
+      std::filesystem::remove("link_first.h5");
+      std::filesystem::create_symlink("shared/first.h5", "link_first.h5");
+      const DatabaseBuilder first = builder("link_first.h5", false, "scene");
+      Database              fresh = first.open(palette(), log);
+      first.build(palette(), fresh, &edited_grids, log, false);
+      std::cout << "  through a dangling link: still a link "
+                << std::filesystem::is_symlink("link_first.h5")
+                << ", the file it names has "
+                << Database::load("shared/first.h5").entries().size()
+                << " entries" << std::endl;
       std::cout << "  through a link: still a link "
                 << std::filesystem::is_symlink("link.h5")
                 << ", the shared file gained "
