@@ -63,6 +63,17 @@ namespace ddfem::scene
 
 
 
+    // Removes the UTF-8 byte order mark that editors on Windows may write
+    // at the start of a file: it is no token, and no "solid" either.
+    void
+    drop_byte_order_mark(std::string &text)
+    {
+      if (text.compare(0, 3, "\xEF\xBB\xBF") == 0)
+        text.erase(0, 3);
+    }
+
+
+
     // Calls f(line) for every Line of @p in (read from @p file) that has a
     // token; words after a '#' are left out where @p comments.
     template <typename Function>
@@ -75,10 +86,8 @@ namespace ddfem::scene
       std::string text;
       for (unsigned int number = 1; std::getline(in, text); ++number)
         {
-          // Editors on Windows may start a UTF-8 file with a byte order
-          // mark, which is no token.
-          if (number == 1 && text.compare(0, 3, "\xEF\xBB\xBF") == 0)
-            text.erase(0, 3);
+          if (number == 1)
+            drop_byte_order_mark(text);
           const std::string_view view(text);
           Line line{split(comments ? view.substr(0, view.find('#')) : view),
                     text,
@@ -579,9 +588,10 @@ namespace ddfem::scene
                 ExcMessage(file + ": unknown extension \"" + extension +
                            "\"; expected .stl or .obj."));
 
-    std::ifstream     in = open_for_reading(filename, file, std::ios::binary);
-    const std::string content((std::istreambuf_iterator<char>(in)),
-                              std::istreambuf_iterator<char>());
+    std::ifstream in = open_for_reading(filename, file, std::ios::binary);
+    std::string   content((std::istreambuf_iterator<char>(in)),
+                        std::istreambuf_iterator<char>());
+    drop_byte_order_mark(content);
 
     TriangleMesh mesh =
       extension == ".stl" ? read_stl(file, content) : read_obj(file, content);

@@ -208,6 +208,11 @@ main()
   std::ofstream("octahedron_degenerate.obj")
     << std::ifstream("octahedron.obj").rdbuf()
     << "v 1 1 1\nf 1 2 1\nf 3 3 3 4\nf 7 7 1\n";
+  // The ASCII STL and the OBJ as a Windows editor may save them, with a
+  // UTF-8 byte order mark.
+  for (const std::string file : {"octahedron_ascii.stl", "octahedron.obj"})
+    std::ofstream("bom_" + file)
+      << "\xEF\xBB\xBF" << std::ifstream(file).rdbuf();
   unsigned int inside = 0;
   for (unsigned int k = 0; k < 16; ++k)
     for (unsigned int j = 0; j < 16; ++j)
@@ -230,7 +235,9 @@ main()
                                  "octahedron_binary.stl",
                                  "octahedron_soup.obj",
                                  "octahedron_stray.obj",
-                                 "octahedron_degenerate.obj"})
+                                 "octahedron_degenerate.obj",
+                                 "bom_octahedron_ascii.stl",
+                                 "bom_octahedron.obj"})
     std::cout << "  " << file << ": " << voxels(file, "false") << " voxels"
               << std::endl;
   std::cout << "  fitted to the grid: octahedron.obj "
