@@ -70,7 +70,7 @@ def main():
                  f"are {', '.join(BENCHMARKS)}.")
     if not os.access(BINARY, os.X_OK):
         sys.exit(f"Error: no {BINARY}; build first (bash scripts/setup.sh).")
-    rows = []
+    failed = []
     print("| scene | grid | DoFs | solver | load steps | Newton its | s / Newton it "
           "| total s | peak MB | reference s / it |")
     print("|---|---|---|---|---|---|---|---|---|---|")
@@ -79,11 +79,23 @@ def main():
         ref = REFERENCE.get(name)
         per_iteration = s["time_per_iteration_s"] or float("nan")
         ref_text = "%.1f (ratio %.2f)" % (ref, per_iteration / ref) if ref else ""
+        # A run that did not converge, or that ended with an error after
+        # its summary, fails the benchmark.
+        status = ""
+        if not s["converged"]:
+            status = " (NOT converged)"
+        elif s["exit_code"] != 0:
+            status = " (exit code %d)" % s["exit_code"]
+        if status:
+            failed.append(name)
         print("| %s%s | %s | %d | %s | %d | %d | %.3f | %.1f | %.0f | %s |" % (
-            name, "" if s["converged"] else " (NOT converged)",
+            name, status,
             "x".join(str(n) for n in s["grid"]), s["dofs"], s["linear_solver"],
             s["load_steps"], s["newton_iterations"], per_iteration,
             s["wall_time_s"], s["peak_memory_mb"], ref_text), flush=True)
+    if failed:
+        sys.exit(f"Error: benchmarks that failed: {', '.join(failed)}; see "
+                 f"benchmark-output/<name>.log.")
 
 
 if __name__ == "__main__":

@@ -22,7 +22,7 @@ null (the errors of a run that did not converge, or of every run when the fine
 model did not) is shown as '-', and the targets skip it; so do the speedup
 targets of a state without a converged fine run.
 
-  python3 scripts/compare_table.py                     # output/compare, every scene found
+  python3 scripts/compare_table.py                     # the repository's output/compare, every scene found
   python3 scripts/compare_table.py DIR bending bridge  # some scenes
 """
 
@@ -120,7 +120,9 @@ def ratio(a, b):
 
 
 def main(argv):
-    directory = argv[1] if len(argv) > 1 else "output/compare"
+    directory = argv[1] if len(argv) > 1 else os.path.join(
+        os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
+        "output", "compare")
     scenes = argv[2:] or [s for s in SCENES if os.path.exists(
         os.path.join(directory, s, "comparison.json"))]
     if not scenes:

@@ -12,11 +12,13 @@ The bounding box is x in [0.005, 0.475], y in [0, 0.12], z in [0, 0.64]: it
 fits the 48 x 12 x 64 grid of 0.01 m voxels of prm/character.prm, whose
 'Fit to grid = false' takes these coordinates as meters.
 
-Usage (from the repository root): python3 scripts/make_character.py [output]
+Usage: python3 scripts/make_character.py [output] (by default the
+repository's data/character.obj)
 Standard library only.
 """
 
 import math
+import os
 import sys
 
 DEPTH = 0.12  # extrusion along y (m)
@@ -165,7 +167,13 @@ def check_closed(vertices, faces):
 
 
 def main():
-    out = sys.argv[1] if len(sys.argv) > 1 else "data/character.obj"
+    if len(sys.argv) > 2 or (len(sys.argv) == 2 and sys.argv[1].startswith("-")):
+        raise SystemExit("Usage: python3 scripts/make_character.py [output]\n"
+                         "Writes the character mesh to output, by default "
+                         "data/character.obj of the repository.")
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    out = (sys.argv[1] if len(sys.argv) > 1
+           else os.path.join(root, "data", "character.obj"))
     vertices, faces = build()
     volume = check_closed(vertices, faces)
     with open(out, "w") as f:
