@@ -811,12 +811,18 @@ namespace ddfem::coarsening
     };
     std::vector<Sample> samples;
     n_dropped = 0;
+    // The samples are labelled with their pattern's index among the
+    // patterns of its kind, so that a held-out split (every n-th label)
+    // takes force and embedded patterns alike. With the pattern's own
+    // index, every held-out pattern was embedded for an embedded fraction
+    // of 0.2 and Held-out every = 5, and the fit saw force patterns only.
+    unsigned int n_embedded = 0;
     for (unsigned int p = 0; p < settings.n_directions; ++p)
       if (!has_void && std::floor((p + 1) * settings.embedded) >
                          std::floor(p * settings.embedded))
-        embedded_pattern(settings, p, normal, samples, n_dropped);
+        embedded_pattern(settings, n_embedded++, normal, samples, n_dropped);
       else
-        force_pattern(settings, p, normal, samples, n_dropped);
+        force_pattern(settings, p - n_embedded, normal, samples, n_dropped);
     return samples;
   }
 

@@ -78,6 +78,10 @@ namespace ddfem::coarsening
     // setting keep their fingerprint.
     if (sampling.seed != 0)
       s << ", seed: " << sampling.seed;
+    // Named only where patterns of both kinds are drawn, whose held-out
+    // split changed: such files of an earlier build are rejected.
+    if (sampling.embedded > 0 && sampling.embedded < 1)
+      s << ", held out per kind";
     // Named only where it is not the default, likewise.
     if (sampling.geometric_spacing)
       s << ", geometric magnitudes";

@@ -123,6 +123,27 @@ main()
     std::cout << "embedded fraction 0.5: samples equal to the affine element's "
                  "energy: "
               << affine << std::endl;
+    // An embedded fraction of 0.2: the fit's held-out split (every fifth
+    // label, FittingSettings::held_out_every) leaves embedded samples to
+    // fit. Labelled by their pattern's own index, the embedded patterns
+    // were patterns 4, 9, 14, ..., exactly the held-out ones.
+    SamplingSettings fifth       = sampling;
+    fifth.embedded               = 0.2;
+    unsigned int embedded_fitted = 0, embedded_held_out = 0, force_held_out = 0;
+    for (const Sample &s : sampler.sample(fifth, 3, dropped))
+      {
+        double e;
+        element.energy(s.corners, naive(children), e);
+        const bool held_out = (s.pattern % 5 == 4);
+        if (std::abs(e - s.energy) < 1e-10 * s.energy)
+          (held_out ? embedded_held_out : embedded_fitted) += 1;
+        else
+          force_held_out += held_out;
+      }
+    std::cout << "embedded fraction 0.2, every fifth label held out: "
+              << embedded_fitted << " embedded samples fitted, "
+              << embedded_held_out << " held out; " << force_held_out
+              << " force samples held out" << std::endl;
     Tensor<2, 3> H;
     H[0][0] = 0.1, H[0][1] = H[1][0] = 0.05, H[2][2] = -0.08;
     double fluctuation;

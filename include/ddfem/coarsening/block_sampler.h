@@ -85,7 +85,8 @@ namespace ddfem::coarsening
     double energy = 0;
     /// Largest principal stretch deviation max |lambda_i - 1| in the block.
     double strain = 0;
-    /// The force pattern the sample came from (for held-out splits).
+    /// The index of the pattern the sample came from among the patterns of
+    /// its kind, force or embedded (for held-out splits).
     unsigned int pattern = 0;
   };
 
@@ -303,8 +304,8 @@ namespace ddfem::coarsening
     embedded_stretch_directions(const SamplingSettings &settings,
                                 const CoarseElement    &element) const;
 
-    /// The force-space samples of pattern @p p (see sample()), drawing
-    /// standard normal numbers from @p normal.
+    /// The force-space samples of the @p p-th force pattern (see sample()),
+    /// drawing standard normal numbers from @p normal.
     void
     force_pattern(const SamplingSettings        &settings,
                   const unsigned int             p,
@@ -312,7 +313,7 @@ namespace ddfem::coarsening
                   std::vector<Sample>           &samples,
                   unsigned int                  &n_dropped) const;
 
-    /// The embedded samples of pattern @p p (see sample()).
+    /// The embedded samples of the @p p-th embedded pattern (see sample()).
     void
     embedded_pattern(const SamplingSettings        &settings,
                      const unsigned int             p,
@@ -334,7 +335,7 @@ namespace ddfem::coarsening
     double
     finite_strain(const Vector<double> &u) const;
 
-    /// The sample of the solved block field @p u of pattern @p p.
+    /// The sample of the solved block field @p u, labelled @p p.
     Sample
     sample_of(const Vector<double> &u, const unsigned int p) const;
 
