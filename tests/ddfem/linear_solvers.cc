@@ -99,11 +99,17 @@ main(int argc, char **argv)
   std::cout << "Sparse Cholesky, " << n << " unknowns" << std::endl;
   {
     solver::SparseCholesky cholesky;
-    std::cout << "  positive definite: " << cholesky.factorize(K0) << std::endl;
-    cholesky.vmult(x, b);
-    testing::check_below("  relative residual",
-                         relative_residual(K0, x, b),
-                         1e-12);
+    // Factorizes K, prints whether it is positive definite after @p what,
+    // and checks the solve of K x = b with the factor.
+    const auto factorize_and_solve = [&](const std::string          &what,
+                                         const SparseMatrix<double> &K) {
+      std::cout << "  " << what << ": " << cholesky.factorize(K) << std::endl;
+      cholesky.vmult(x, b);
+      testing::check_below("  relative residual",
+                           relative_residual(K, x, b),
+                           1e-12);
+    };
+    factorize_and_solve("positive definite", K0);
     SparseDirectUMFPACK lu;
     lu.initialize(K0);
     lu.vmult(y, b);
@@ -111,23 +117,13 @@ main(int argc, char **argv)
     testing::check_below("  difference to UMFPACK, relative",
                          y.l2_norm() / x.l2_norm(),
                          1e-10);
-    std::cout << "  refactorized (far matrix), positive definite: "
-              << cholesky.factorize(K2) << std::endl;
-    cholesky.vmult(x, b);
-    testing::check_below("  relative residual",
-                         relative_residual(K2, x, b),
-                         1e-12);
+    factorize_and_solve("refactorized (far matrix), positive definite", K2);
     // As after a material edit: the factor goes, and the pattern's
     // ordering serves the next matrix.
     cholesky.drop_factor();
     std::cout << "  factor dropped, factor held: " << cholesky.factorized()
               << std::endl;
-    std::cout << "  factorized again, positive definite: "
-              << cholesky.factorize(K0) << std::endl;
-    cholesky.vmult(x, b);
-    testing::check_below("  relative residual",
-                         relative_residual(K0, x, b),
-                         1e-12);
+    factorize_and_solve("factorized again, positive definite", K0);
 
     SparseMatrix<double> indefinite;
     indefinite.reinit(K0.get_sparsity_pattern());

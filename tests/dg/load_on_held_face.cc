@@ -19,25 +19,22 @@ using namespace ddfem;
 
 namespace
 {
-  /// The probes' displacements of a run of prm/default.prm with @p extra
-  /// settings, written to @p directory.
+  /// The probes' displacements of a run of prm/default.prm with the
+  /// settings @p extra (testing::run_model()), written to @p directory.
   std::vector<Tensor<1, 3>>
   probes(const std::string &directory, const std::vector<std::string> &extra)
   {
-    std::vector<std::string> arguments = {
-      std::string(SOURCE_DIR) + "/../../prm/default.prm",
-      "--set",
-      "Output/Output directory=" + directory,
-      "--set",
+    std::vector<std::string> settings = {
       "Output/Write VTU=none",
-      "--set",
       "Geometry/Probe points=0.04, 0.32, 0.04; 0.04, 0, 0.04; 0, 0.16, 0.04"};
-    arguments.insert(arguments.end(), extra.begin(), extra.end());
+    settings.insert(settings.end(), extra.begin(), extra.end());
     std::ostringstream screen;
-    const int          status = app::run(arguments, screen, screen);
+    const auto [status, summary] =
+      testing::run_model(std::string(SOURCE_DIR) + "/../../prm/default.prm",
+                         directory,
+                         settings,
+                         screen);
     AssertThrow(status == 0, ExcMessage(screen.str()));
-    std::ifstream             file(directory + "/summary.json");
-    const nlohmann::json      summary = nlohmann::json::parse(file);
     std::vector<Tensor<1, 3>> u;
     for (const auto &probe : summary["probes"])
       {
@@ -55,20 +52,15 @@ main(int argc, char **argv)
 {
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   const std::vector<std::string>           load_on_clamp = {
-              "--set",
               "Boundary conditions/Condition 3/Type=traction",
-              "--set",
               "Boundary conditions/Condition 3/Region=y-",
-              "--set",
               "Boundary conditions/Condition 3/Value=0; 0; -2000"};
   for (const auto &[name, settings] :
-       {std::make_pair("CG", std::vector<std::string>{"--set", "Method=fine"}),
+       {std::make_pair("CG", std::vector<std::string>{"Method=fine"}),
         std::make_pair("DG, weak conditions",
-                       std::vector<std::string>{"--set", "Method=dg"}),
+                       std::vector<std::string>{"Method=dg"}),
         std::make_pair("DG, strong conditions",
-                       std::vector<std::string>{"--set",
-                                                "Method=dg",
-                                                "--set",
+                       std::vector<std::string>{"Method=dg",
                                                 "DG/Dirichlet=strong"})})
     {
       std::vector<std::string> loaded = settings;
@@ -89,24 +81,15 @@ main(int argc, char **argv)
   // A sliding face under a pressure, with weak conditions: the tip and the
   // probe on x- do not move.
   const auto sliding   = probes("sliding",
-                              {"--set",
-                                 "Method=dg",
-                                 "--set",
+                              {"Method=dg",
                                  "Boundary conditions/Condition 3/Type=sliding",
-                                 "--set",
                                  "Boundary conditions/Condition 3/Region=x-",
-                                 "--set",
                                  "Boundary conditions/Condition 4/Type=pressure",
-                                 "--set",
                                  "Boundary conditions/Condition 4/Region=x-",
-                                 "--set",
                                  "Boundary conditions/Condition 4/Value=1e4"});
   const auto reference = probes("sliding_unloaded",
-                                {"--set",
-                                 "Method=dg",
-                                 "--set",
+                                {"Method=dg",
                                  "Boundary conditions/Condition 3/Type=sliding",
-                                 "--set",
                                  "Boundary conditions/Condition 3/Region=x-"});
   std::cout << "DG, weak conditions, sliding x- face under a pressure"
             << std::endl;
