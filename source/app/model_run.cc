@@ -74,6 +74,7 @@ namespace ddfem::app
     json["step_cuts"]               = statistics.step_cuts;
     json["newton_iterations"]       = statistics.newton_iterations;
     json["linear_iterations"]       = statistics.linear_iterations;
+    json["direct_solves"]           = statistics.direct_solves;
     json["regularized_iterations"]  = statistics.regularized_iterations;
     if (!statistics.converged)
       json["failure"] = statistics.failure;

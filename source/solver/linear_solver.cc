@@ -149,6 +149,7 @@ namespace ddfem::solver
     degree = dof_handler.get_fe().degree;
     cholesky.clear();
     reset();
+    n_direct_solves = 0;
     if (chosen != "cg-amg")
       return;
     AssertThrow(dof_handler.get_fe().has_support_points(),
@@ -227,6 +228,7 @@ namespace ddfem::solver
     if (!all_finite(x))
       throw Failure(
         "the direct solver returned non-finite values (singular matrix)");
+    ++n_direct_solves;
     return 1;
   }
 

@@ -650,8 +650,9 @@ namespace ddfem::solver
         // while the solve fails or the direction does not descend.
         for (types::global_dof_index i = 0; i < n; ++i)
           diagonal(i) = system_matrix.diag_element(i);
-        double       shift             = 0;
-        unsigned int linear_iterations = 0;
+        double             shift             = 0;
+        unsigned int       linear_iterations = 0;
+        const unsigned int direct_solves     = linear_solver.direct_solves();
         while (true)
           {
             bool solved = false;
@@ -687,6 +688,8 @@ namespace ddfem::solver
             shift = new_shift;
           }
         statistics.linear_iterations += linear_iterations;
+        statistics.direct_solves +=
+          linear_solver.direct_solves() - direct_solves;
         if (!on_boundary_values)
           pcout << " [boundary values]";
         if (shift > 0)

@@ -215,6 +215,8 @@ main(int argc, char **argv)
     };
     std::cout << "  27 more indefinite systems: " << solve_indefinite(27)
               << std::endl;
+    std::cout << "  systems UMFPACK solved so far: "
+              << linear_solver.direct_solves() << std::endl;
     // Then K1 is factorized (the indefinite matrix left no factor), and
     // K0 is solved by CG with that factor.
     solve("then K1, Cholesky factor of K1", K1, 1e-12);
@@ -282,7 +284,8 @@ main(int argc, char **argv)
     linear_solver.initialize(large.discretization->dof_handler, timer);
     std::cout << "  " << m << " unknowns, method: " << linear_solver.method()
               << ", iterations: " << linear_solver.solve(K, x, b)
-              << " (CG's 1, then UMFPACK's 1)" << std::endl;
+              << " (CG's 1, then UMFPACK's 1), systems UMFPACK solved: "
+              << linear_solver.direct_solves() << std::endl;
     testing::check_below("  relative residual",
                          relative_residual(K, x, b),
                          1e-10);

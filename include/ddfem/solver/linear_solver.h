@@ -108,6 +108,16 @@ namespace ddfem::solver
       return chosen;
     }
 
+    /// The systems UMFPACK solved since initialize(): every system with
+    /// the method "direct", the fallbacks of the iterative methods (an
+    /// indefinite tangent for cg-cholesky, a CG failure for 'auto') and
+    /// the systems after them otherwise.
+    unsigned int
+    direct_solves() const
+    {
+      return n_direct_solves;
+    }
+
   private:
     /// UMFPACK; throws Failure if the matrix is singular.
     unsigned int
@@ -155,6 +165,8 @@ namespace ddfem::solver
     /// cg-cholesky: factorizations in a row that found the tangent
     /// indefinite.
     unsigned int indefinite_factors = 0;
+    /// What direct_solves() returns.
+    unsigned int n_direct_solves = 0;
     /// Polynomial degree of the element (for the AMG settings).
     unsigned int degree = 1;
     /// Receives the solver's timing sections.

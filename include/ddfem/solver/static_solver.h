@@ -86,6 +86,10 @@ namespace ddfem::solver
       unsigned int failed_start_iterations = 0;
       /// Linear solver iterations over all Newton iterations.
       unsigned int linear_iterations = 0;
+      /// Linear systems UMFPACK solved (LinearSolver::direct_solves()):
+      /// all of them with the direct solver, the fallbacks of the iterative
+      /// solvers otherwise.
+      unsigned int direct_solves = 0;
       /// Newton iterations that needed a regularized tangent.
       unsigned int regularized_iterations = 0;
       /// Smallest det F at any quadrature point in the final state.
