@@ -183,7 +183,8 @@ namespace ddfem::dg
     // through shared faces only.
     const QGauss<3>       cell_quadrature(parameters.degree + 1);
     solver::Components    parts = solver::face_connected_parts(triangulation);
-    std::vector<Point<3>> face_centers, points;
+    std::vector<scene::BoundaryFace> faces;
+    std::vector<Point<3>>            points;
     std::map<std::size_t, std::vector<solver::ConstrainedRow>> rows;
     for (const auto &cell : triangulation.active_cell_iterators())
       {
@@ -193,11 +194,11 @@ namespace ddfem::dg
         for (const unsigned int f : cell->face_indices())
           if (cell->face(f)->at_boundary())
             {
-              face_centers.push_back(cell->face(f)->center());
+              faces.push_back({cell->face(f)->center(),
+                               GeometryInfo<3>::unit_normal_vector[f],
+                               cell->extent_in_direction(0)});
               for (const Point<3> &x : face_points(cell, f))
-                bc.traction(face_centers.back(),
-                            x,
-                            GeometryInfo<3>::unit_normal_vector[f]);
+                bc.traction(faces.back().center, x, faces.back().normal);
             }
         const std::size_t part = parts.find(cell->active_cell_index());
         for (const Point<3> &x : dirichlet_points(cell))
@@ -212,7 +213,7 @@ namespace ddfem::dg
     // Every condition must act somewhere.
     try
       {
-        bc.check_regions(points, face_centers);
+        bc.check_regions(points, faces);
       }
     catch (const ExceptionBase &e)
       {
@@ -224,6 +225,7 @@ namespace ddfem::dg
                                "DG/Dirichlet = strong."));
         throw;
       }
+    bc.check_effects(points, faces);
 
     // The conditions must fix all six rigid motions of every face-connected
     // part. The definiteness check of the penalty cannot be relied on for

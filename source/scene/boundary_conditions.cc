@@ -444,40 +444,162 @@ namespace ddfem::scene
     for (const Condition &condition : conditions)
       if ((condition.type == "traction" || condition.type == "pressure") &&
           condition.region->contains(face_center))
-        {
-          if (condition.type == "pressure")
-            t -=
-              finite_value(*condition.value, p, 0, condition.where, "Value") *
-              normal;
-          else
-            for (unsigned int d = 0; d < 3; ++d)
-              t[d] +=
-                finite_value(*condition.value, p, d, condition.where, "Value");
-        }
+        t += load(condition, p, normal);
     return t;
+  }
+
+
+
+  Tensor<1, 3>
+  BoundaryConditions::load(const Condition    &condition,
+                           const Point<3>     &p,
+                           const Tensor<1, 3> &normal)
+  {
+    if (condition.type == "pressure")
+      return -finite_value(*condition.value, p, 0, condition.where, "Value") *
+             normal;
+    Tensor<1, 3> t;
+    for (unsigned int d = 0; d < 3; ++d)
+      t[d] = finite_value(*condition.value, p, d, condition.where, "Value");
+    return t;
+  }
+
+
+
+  std::vector<Point<3>>
+  BoundaryFace::node_points() const
+  {
+    unsigned int axis = 0;
+    for (unsigned int d = 1; d < 3; ++d)
+      if (std::abs(normal[d]) > std::abs(normal[axis]))
+        axis = d;
+    const unsigned int    a = (axis + 1) % 3, b = (axis + 2) % 3;
+    std::vector<Point<3>> points;
+    for (const int i : {-1, 0, 1})
+      for (const int j : {-1, 0, 1})
+        {
+          Point<3> p = center;
+          p[a] += i * size / 2;
+          p[b] += j * size / 2;
+          points.push_back(p);
+        }
+    return points;
   }
 
 
 
   void
   BoundaryConditions::check_regions(
-    const std::vector<Point<3>> &nodes,
-    const std::vector<Point<3>> &boundary_face_centers) const
+    const std::vector<Point<3>>     &nodes,
+    const std::vector<BoundaryFace> &boundary_faces) const
   {
     for (const Condition &condition : conditions)
       {
-        const bool  load   = condition.constrained.empty();
-        const auto &points = load ? boundary_face_centers : nodes;
-        AssertThrow(std::any_of(points.begin(),
-                                points.end(),
+        const bool is_load = condition.constrained.empty();
+        const bool reached =
+          is_load ? std::any_of(boundary_faces.begin(),
+                                boundary_faces.end(),
+                                [&](const BoundaryFace &face) {
+                                  return condition.region->contains(
+                                    face.center);
+                                }) :
+                    std::any_of(nodes.begin(),
+                                nodes.end(),
                                 [&](const Point<3> &p) {
                                   return condition.region->contains(p);
-                                }),
+                                });
+        AssertThrow(reached,
                     ExcMessage(condition.where + " (" + condition.type +
                                " on \"" + condition.region->name +
                                "\") acts on no " +
-                               (load ? "boundary face" : "node") +
+                               (is_load ? "boundary face" : "node") +
                                " of the solid: its region misses the solid."));
+      }
+  }
+
+
+
+  void
+  BoundaryConditions::check_effects(
+    const std::vector<Point<3>>     &nodes,
+    const std::vector<BoundaryFace> &boundary_faces) const
+  {
+    // A load on components held at every node of its faces goes into the
+    // reactions whole. A load that is zero on its faces is left alone: it
+    // says so itself.
+    for (const Condition &condition : conditions)
+      if (condition.constrained.empty())
+        {
+          bool       nonzero = false;
+          const auto acts    = [&]() {
+            for (const BoundaryFace &face : boundary_faces)
+              if (condition.region->contains(face.center))
+                for (const Point<3> &p : face.node_points())
+                  {
+                    // A value that is not finite here is the assembly's
+                    // error, at its quadrature points.
+                    Tensor<1, 3> t;
+                    try
+                      {
+                        t = load(condition, p, face.normal);
+                      }
+                    catch (const ExceptionBase &)
+                      {
+                        continue;
+                      }
+                    for (unsigned int d = 0; d < 3; ++d)
+                      if (double value; t[d] != 0)
+                        {
+                          nonzero = true;
+                          if (!prescribed_displacement(p, d, 1, value))
+                            return true;
+                        }
+                  }
+            return false;
+          };
+          AssertThrow(
+            acts() || !nonzero,
+            ExcMessage(condition.where + " (" + condition.type + " on \"" +
+                       condition.region->name +
+                       "\") loads only components that Dirichlet conditions "
+                       "prescribe at every node of the faces it acts on: "
+                       "all of it would go into the reactions and move "
+                       "nothing. Move its region off the held nodes, or free "
+                       "the components it loads."));
+        }
+
+    // A component takes the value of the highest-numbered condition that
+    // prescribes it, so a Dirichlet condition must keep some component of
+    // some node to itself.
+    for (auto condition = conditions.begin(); condition != conditions.end();
+         ++condition)
+      {
+        if (condition->constrained.empty())
+          continue;
+        const auto keeps = [&](const Point<3> &p, const unsigned int d) {
+          return condition->constrained[d] &&
+                 std::none_of(condition + 1,
+                              conditions.end(),
+                              [&](const Condition &later) {
+                                return !later.constrained.empty() &&
+                                       later.constrained[d] &&
+                                       later.region->contains(p);
+                              });
+        };
+        AssertThrow(
+          std::any_of(nodes.begin(),
+                      nodes.end(),
+                      [&](const Point<3> &p) {
+                        return condition->region->contains(p) &&
+                               (keeps(p, 0) || keeps(p, 1) || keeps(p, 2));
+                      }),
+          ExcMessage(condition->where + " (" + condition->type + " on \"" +
+                     condition->region->name +
+                     "\") prescribes nothing: at every node of its region, "
+                     "a higher-numbered condition prescribes every component "
+                     "it holds, and a component takes the value of the "
+                     "highest-numbered condition. Remove it, or give it the "
+                     "higher number if it should win."));
       }
   }
 

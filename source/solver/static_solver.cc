@@ -308,7 +308,7 @@ namespace ddfem::solver
     const bool has_traction = boundary_conditions.has_traction();
     std::vector<std::vector<std::pair<unsigned int, unsigned int>>>
       boundary_faces(discretization.triangulation.n_active_cells());
-    std::vector<Point<3>> face_centers;
+    std::vector<scene::BoundaryFace> load_faces;
     if (has_traction)
       for (const auto &cell :
            discretization.triangulation.active_cell_iterators())
@@ -316,7 +316,9 @@ namespace ddfem::solver
           auto &faces = boundary_faces[cell->active_cell_index()];
           faces       = solid_boundary_faces(discretization, *cell);
           for (const auto &[bit, face] : faces)
-            face_centers.push_back(face_center(*cell, bit, face));
+            load_faces.push_back({face_center(*cell, bit, face),
+                                  face_normal(face),
+                                  cell->extent_in_direction(0) / width});
         }
 
     // Every condition must act somewhere, and supports where the fine
@@ -333,7 +335,8 @@ namespace ddfem::solver
     DoFTools::map_dofs_to_support_points(discretization.mapping,
                                          dof_handler,
                                          points);
-    boundary_conditions.check_regions(points, face_centers);
+    boundary_conditions.check_regions(points, load_faces);
+    boundary_conditions.check_effects(points, load_faces);
     const std::vector<unsigned int> component = dof_components(dof_handler);
     dirichlet_dofs.clear();
     for (types::global_dof_index i = 0; i < n; ++i)

@@ -278,14 +278,17 @@ namespace ddfem::solver
     const scene::BoundaryConditions &bc = scene.boundary_conditions;
 
     // Every condition acts on a vertex or a boundary face of the voxels.
-    std::vector<Point<3>> face_centers;
+    std::vector<scene::BoundaryFace> faces;
     if (bc.has_traction())
       for (const auto &cell : tria.active_cell_iterators())
         for (const unsigned int f : cell->face_indices())
           if (cell->face(f)->at_boundary())
-            face_centers.push_back(cell->face(f)->center());
+            faces.push_back({cell->face(f)->center(),
+                             GeometryInfo<3>::unit_normal_vector[f],
+                             cell->extent_in_direction(0)});
     const std::vector<Point<3>> &vertices = tria.get_vertices();
-    bc.check_regions(vertices, face_centers);
+    bc.check_regions(vertices, faces);
+    bc.check_effects(vertices, faces);
 
     // The held components of each vertex, then the rows of each cell.
     std::vector<std::vector<unsigned int>> held(vertices.size());

@@ -280,6 +280,10 @@ main(int argc, char **argv)
   run_case("infinite_modulus",
            cantilever +
              "subsection Materials\n  set Palette = E=inf nu=0.3\nend\n");
+  // strtod() reads "0x1p17" as 131072; a palette means decimal numbers.
+  run_case("hexadecimal_modulus",
+           cantilever +
+             "subsection Materials\n  set Palette = E=0x1p17 nu=0.3\nend\n");
   run_case(
     "bad_rotation_center",
     cantilever +
@@ -303,6 +307,14 @@ main(int argc, char **argv)
              "subsection Boundary conditions\n  subsection Condition 2\n"
              "    set Type = displacement\n    set Value = free; free; free\n"
              "  end\nend\n");
+  // Conditions 3 (y) and 4 (x and z) hold every component condition 1
+  // holds, at every node it holds: condition 1 would do nothing.
+  run_case("overridden_condition",
+           cantilever +
+             "subsection Boundary conditions\n  subsection Condition 3\n"
+             "    set Type = sliding\n    set Region = y-\n  end\n"
+             "  subsection Condition 4\n    set Type = displacement\n"
+             "    set Region = y-\n    set Value = 0; free; 0\n  end\nend\n");
   run_case("minimum_step_zero",
            cantilever +
              "subsection Nonlinear solver\n  set Minimum load step = 0\nend\n");
@@ -310,6 +322,18 @@ main(int argc, char **argv)
            cantilever +
              "subsection Boundary conditions\n  subsection Condition 2\n"
              "    set Region = box 1 1 1 2 2 2\n  end\nend\n");
+  // The tip traction moved onto the clamped face, and a pressure on a
+  // sliding face: each loads held components only.
+  run_case("load_on_held_face",
+           cantilever +
+             "subsection Boundary conditions\n  subsection Condition 2\n"
+             "    set Region = y-\n  end\nend\n");
+  run_case("pressure_on_sliding_face",
+           cantilever +
+             "subsection Boundary conditions\n  subsection Condition 3\n"
+             "    set Type = sliding\n    set Region = x-\n  end\n"
+             "  subsection Condition 4\n    set Type = pressure\n"
+             "    set Region = x-\n    set Value = 1e3\n  end\nend\n");
   run_case("repeated_palette_key",
            cantilever + "subsection Materials\n  set Palette = E=1e5 nu=0.3 "
                         "nu=0.2\nend\n");

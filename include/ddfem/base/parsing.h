@@ -29,17 +29,20 @@ namespace ddfem
   }
 
   /**
-   * @p text as a finite number. Throws ExcMessage naming @p where (the
-   * parameter) otherwise.
+   * @p text as a finite decimal number. Throws ExcMessage naming @p where
+   * (the parameter) otherwise: strtod() also reads hexadecimal numbers
+   * ("0x10" is 16), which no parameter in meters or pascals means.
    */
   inline double
   parse_number(const std::string &text, const std::string &where)
   {
     char        *end   = nullptr;
     const double value = std::strtod(text.c_str(), &end);
-    AssertThrow(
-      !text.empty() && end != nullptr && *end == '\0' && std::isfinite(value),
-      dealii::ExcMessage(where + ": \"" + text + "\" is not a finite number."));
+    AssertThrow(!text.empty() && end != nullptr && *end == '\0' &&
+                  std::isfinite(value) &&
+                  text.find_first_of("xX") == std::string::npos,
+                dealii::ExcMessage(where + ": \"" + text +
+                                   "\" is not a finite decimal number."));
     return value;
   }
 

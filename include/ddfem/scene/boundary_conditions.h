@@ -52,6 +52,23 @@ namespace ddfem::scene
     double tolerance;
   };
 
+  /// A boundary face of the solid's voxels, where tractions and pressures
+  /// act.
+  struct BoundaryFace
+  {
+    /// Its center.
+    Point<3> center;
+    /// Its outward unit normal, along one axis.
+    Tensor<1, 3> normal;
+    /// Its side length (the voxel size, m).
+    double size;
+
+    /// Its corners, edge midpoints and center: the nodes an element of
+    /// degree 1 or 2 has on it.
+    std::vector<Point<3>>
+    node_points() const;
+  };
+
   /**
    * The boundary conditions and loads of a scene. Up to
    * BoundaryConditions::max_conditions conditions are declared in the
@@ -107,12 +124,26 @@ namespace ddfem::scene
     /**
      * Throws ExcMessage naming the condition if the region of a Dirichlet
      * condition contains none of @p nodes, or the region of a traction or
-     * pressure condition none of @p boundary_face_centers: such a
+     * pressure condition the center of none of @p boundary_faces: such a
      * condition would silently do nothing.
      */
     void
-    check_regions(const std::vector<Point<3>> &nodes,
-                  const std::vector<Point<3>> &boundary_face_centers) const;
+    check_regions(const std::vector<Point<3>>     &nodes,
+                  const std::vector<BoundaryFace> &boundary_faces) const;
+
+    /**
+     * Throws ExcMessage naming the condition if, where its region meets
+     * the solid (check_regions()), a condition would still do nothing: a
+     * traction or pressure, not zero on its faces among @p boundary_faces,
+     * that loads only components Dirichlet conditions prescribe at every
+     * node of those faces (it would go into the reactions whole); or a
+     * Dirichlet condition whose every component, at every one of @p nodes
+     * it holds, a higher-numbered condition prescribes too (the highest
+     * number wins).
+     */
+    void
+    check_effects(const std::vector<Point<3>>     &nodes,
+                  const std::vector<BoundaryFace> &boundary_faces) const;
 
     /**
      * Throws ExcMessage naming the condition and @p parameter if a rotation
@@ -177,6 +208,13 @@ namespace ddfem::scene
       /// rotation: the angle at t = 1 (radians).
       double angle = 0;
     };
+
+    /// The load (Pa) of the traction or pressure @p condition at the point
+    /// @p p of a face with outward unit normal @p normal, at load factor 1.
+    static Tensor<1, 3>
+    load(const Condition    &condition,
+         const Point<3>     &p,
+         const Tensor<1, 3> &normal);
 
     /// The conditions in prm order (later ones override earlier ones).
     std::vector<Condition> conditions;
