@@ -49,8 +49,10 @@ namespace ddfem::dg
       "How fixed, sliding and displacement conditions are imposed. 'weak': "
       "Nitsche's method (paper section 5: the outside of a boundary face is "
       "a ghost element with the prescribed displacement, penalized as an "
-      "interior face). 'strong': the nodes of FE_DGQ on the boundary face "
-      "are constrained (not available for the non-nodal FE_DGP).");
+      "interior face; inside a box region both sides of every interior face "
+      "are held so). 'strong': the nodes of FE_DGQ in the region are "
+      "constrained (not available for the non-nodal FE_DGP). Either way a "
+      "box holds what it contains, as CG holds every node in it.");
     prm.declare_entry(
       "Formulation",
       "linear",

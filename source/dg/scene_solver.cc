@@ -51,6 +51,8 @@ namespace ddfem::dg
                            double            &value) {
       return bc.prescribed_displacement(p, c, t, value);
     };
+    // A box holds what it contains, interior nodes and faces too, as in CG.
+    data.dirichlet_inside = true;
     data.traction =
       [&bc](const Point<3> &center, const Point<3> &p, const Tensor<1, 3> &n) {
         return bc.traction(center, p, n);
@@ -151,20 +153,18 @@ namespace ddfem::dg
   SceneSolver::dirichlet_points(
     const Triangulation<3>::active_cell_iterator &cell) const
   {
+    // Weak conditions act at the quadrature points of every face, strong
+    // ones at every support point of the element (the cell is an
+    // axis-aligned box), as the system asks them
+    // (ProblemData::dirichlet_inside).
     std::vector<Point<3>> points;
-    for (const unsigned int f : cell->face_indices())
-      if (cell->face(f)->at_boundary())
-        {
-          if (parameters.dirichlet == Parameters::Dirichlet::weak)
-            for (const Point<3> &x : face_points(cell, f))
-              points.push_back(x);
-          else
-            // The element's support points on the face, as the system
-            // constrains them (the cell is an axis-aligned box).
-            for (const Point<3> &q : element->get_unit_support_points())
-              if (on_unit_face(q, f))
-                points.push_back(cell_point(cell, q));
-        }
+    if (parameters.dirichlet == Parameters::Dirichlet::weak)
+      for (const unsigned int f : cell->face_indices())
+        for (const Point<3> &x : face_points(cell, f))
+          points.push_back(x);
+    else
+      for (const Point<3> &q : element->get_unit_support_points())
+        points.push_back(cell_point(cell, q));
     return points;
   }
 
@@ -181,10 +181,10 @@ namespace ddfem::dg
     // a value is not finite) and collects where conditions act, and the
     // prescribed components of each face-connected part: DG couples cells
     // through shared faces only.
-    const QGauss<3>       cell_quadrature(parameters.degree + 1);
-    solver::Components    parts = solver::face_connected_parts(triangulation);
-    std::vector<scene::BoundaryFace> faces;
-    std::vector<Point<3>>            points;
+    const QGauss<3>    cell_quadrature(parameters.degree + 1);
+    solver::Components parts = solver::face_connected_parts(triangulation);
+    std::vector<scene::BoundaryFace>                           faces;
+    std::vector<Point<3>>                                      points;
     std::map<std::size_t, std::vector<solver::ConstrainedRow>> rows;
     for (const auto &cell : triangulation.active_cell_iterators())
       {
@@ -194,9 +194,7 @@ namespace ddfem::dg
         for (const unsigned int f : cell->face_indices())
           if (cell->face(f)->at_boundary())
             {
-              faces.push_back({cell->face(f)->center(),
-                               GeometryInfo<3>::unit_normal_vector[f],
-                               cell->extent_in_direction(0)});
+              faces.push_back(solver::voxel_face(cell, f));
               for (const Point<3> &x : face_points(cell, f))
                 bc.traction(faces.back().center, x, faces.back().normal);
             }
@@ -220,7 +218,7 @@ namespace ddfem::dg
         AssertThrow(weak == false,
                     ExcMessage(message_of(e) +
                                " With DG/Dirichlet = weak, conditions act at "
-                               "the quadrature points of boundary faces: use "
+                               "the quadrature points of faces: use "
                                "regions that cover faces, or "
                                "DG/Dirichlet = strong."));
         throw;

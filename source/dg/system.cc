@@ -358,29 +358,35 @@ namespace ddfem::dg
                     ExcMessage("Strong Dirichlet conditions need an element "
                                "with nodes (FE_Q, FE_DGQ), not " +
                                fe.get_name() + "."));
+        // The nodes asked: every node (ProblemData::dirichlet_inside) or
+        // those on boundary faces.
+        const auto asked = [&](const auto &cell, const unsigned int i) {
+          if (data.dirichlet_inside)
+            return true;
+          for (const unsigned int f : cell->face_indices())
+            if (cell->face(f)->at_boundary() && on_unit_face(unit_points[i], f))
+              return true;
+          return false;
+        };
         std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
         for (const auto &cell : dof_handler.active_cell_iterators())
-          if (cell->at_boundary())
+          if (data.dirichlet_inside || cell->at_boundary())
             {
               cell->get_dof_indices(dofs);
-              for (const unsigned int f : cell->face_indices())
-                if (cell->face(f)->at_boundary())
-                  for (unsigned int i = 0; i < dofs.size(); ++i)
+              for (unsigned int i = 0; i < dofs.size(); ++i)
+                {
+                  if (constraints.is_constrained(dofs[i]) || !asked(cell, i))
+                    continue;
+                  const Point<dim> p =
+                    mapping.transform_unit_to_real_cell(cell, unit_points[i]);
+                  double value = 0;
+                  if (data.dirichlet(
+                        p, fe.system_to_component_index(i).first, t, value))
                     {
-                      if (!on_unit_face(unit_points[i], f) ||
-                          constraints.is_constrained(dofs[i]))
-                        continue;
-                      const Point<dim> p =
-                        mapping.transform_unit_to_real_cell(cell,
-                                                            unit_points[i]);
-                      double value = 0;
-                      if (data.dirichlet(
-                            p, fe.system_to_component_index(i).first, t, value))
-                        {
-                          constraints.add_line(dofs[i]);
-                          constraints.set_inhomogeneity(dofs[i], value);
-                        }
+                      constraints.add_line(dofs[i]);
+                      constraints.set_inhomogeneity(dofs[i], value);
                     }
+                }
             }
       }
     constraints.close();
@@ -498,14 +504,28 @@ namespace ddfem::dg
         c.matrix.add(1., A);
     };
 
-    const auto boundary_worker = [&](const Iterator               &cell,
-                                     const unsigned int            face_no,
-                                     MeshWorker::ScratchData<dim> &s,
-                                     CopyData                     &c) {
-      const FEFaceValuesBase<dim> &fv = s.reinit(cell, face_no);
-      const CellMaterial &m      = data.materials[cell->active_cell_index()];
-      const Point<dim>    center = cell->face(face_no)->center();
-      double              area   = 0;
+    // The condition P (u - g) = 0 at x, if weak: P the projection onto the
+    // components prescribed there (world frame), g their data.
+    const auto held = [&](const Point<dim> &x, Tensor<1, dim> &g) {
+      Tensor<2, dim> P;
+      for (unsigned int d = 0; weak && d < n_components; ++d)
+        if (data.dirichlet(x, d, t, g[d]))
+          P[d][d] = 1;
+      return P;
+    };
+
+    // Nitsche's terms on the face of @p cell that @p fv is reinitialized
+    // to: a boundary face, or one side of an interior face inside a
+    // Dirichlet region (ProblemData::dirichlet_inside). Added to @p matrix
+    // and @p vector, whose rows are the cell's dofs @p dofs.
+    const auto add_nitsche = [&](
+                               const Iterator                             &cell,
+                               const FEFaceValuesBase<dim>                &fv,
+                               const std::vector<types::global_dof_index> &dofs,
+                               FullMatrix<double> &matrix,
+                               Vector<double>     &vector) {
+      const CellMaterial &m    = data.materials[cell->active_cell_index()];
+      double              area = 0;
       for (unsigned int q = 0; q < fv.n_quadrature_points; ++q)
         area += fv.JxW(q);
       const double eta_f = 2 * eta * area / cell->measure();
@@ -530,32 +550,14 @@ namespace ddfem::dg
           const Tensor<1, dim> &nq  = fv.normal_vector(q);
           const Tensor<1, dim>  n_R = R * nq;
           const double          dx  = fv.JxW(q);
-          // The condition P (u - g) = 0, P the projection onto the
-          // prescribed components (world frame), if weak. For the unrotated
-          // displacement u_R = R^T (x + u) - x of the element frame it
-          // reads P_R (u_R - g_R) = 0 with P_R = R^T P R and g_R = R^T (x +
-          // g) - x, so that only prescribed world components are held, also
-          // where only some are (sliding). With R = I, g_R = g exactly.
-          Tensor<1, dim> g;
-          Tensor<2, dim> P;
-          bool           prescribed = false;
-          for (unsigned int d = 0; weak && d < n_components; ++d)
-            if (data.dirichlet(x, d, t, g[d]))
-              {
-                P[d][d]    = 1;
-                prescribed = true;
-              }
-          if (data.traction)
-            {
-              // A load on prescribed components goes into the reactions, as
-              // where strong conditions or CG constrain them.
-              Tensor<1, dim> tr = t * data.traction(center, x, nq);
-              tr -= P * tr;
-              for (unsigned int i = 0; i < n; ++i)
-                c.vector[i] += tr[fe.system_to_component_index(i).first] *
-                               fv.shape_value(i, q) * dx;
-            }
-          if (!prescribed)
+          // For the unrotated displacement u_R = R^T (x + u) - x of the
+          // element frame the condition reads P_R (u_R - g_R) = 0 with P_R =
+          // R^T P R and g_R = R^T (x + g) - x, so that only prescribed world
+          // components are held, also where only some are (sliding). With
+          // R = I, g_R = g exactly.
+          Tensor<1, dim>       g;
+          const Tensor<2, dim> P = held(x, g);
+          if (P.norm_square() == 0)
             continue;
           const Tensor<2, dim> P_R = transpose(R) * P * R;
           const Tensor<1, dim> g_R = transpose(R) * g + (transpose(R) * x - x);
@@ -573,27 +575,27 @@ namespace ddfem::dg
           for (unsigned int i = 0; i < n; ++i)
             {
               const Tensor<1, dim> si = stress[i] * nq;
-              c.vector[i] += eta_f *
-                             penalty_product(Pg,
-                                             masked[i],
-                                             n_R,
-                                             m.mu,
-                                             std::max(m.lambda, 0.),
-                                             n_components) *
-                             dx;
+              vector[i] += eta_f *
+                           penalty_product(Pg,
+                                           masked[i],
+                                           n_R,
+                                           m.mu,
+                                           std::max(m.lambda, 0.),
+                                           n_components) *
+                           dx;
               // -(u - g).sigma(v) n: the data part moves to F.
               if (ip)
                 nitsche_data[i] -= (P_R_g_R * si) * dx;
               for (unsigned int j = 0; j < n; ++j)
                 {
-                  c.matrix(i, j) += eta_f *
-                                    penalty_product(masked[i],
-                                                    masked[j],
-                                                    n_R,
-                                                    m.mu,
-                                                    std::max(m.lambda, 0.),
-                                                    n_components) *
-                                    dx;
+                  matrix(i, j) += eta_f *
+                                  penalty_product(masked[i],
+                                                  masked[j],
+                                                  n_R,
+                                                  m.mu,
+                                                  std::max(m.lambda, 0.),
+                                                  n_components) *
+                                  dx;
                   if (ip)
                     nitsche(i, j) -=
                       (masked_R[i] * (stress[j] * nq) + masked_R[j] * si) * dx;
@@ -602,15 +604,40 @@ namespace ddfem::dg
         }
       if (current)
         {
-          add_warped(
-            nitsche, R, blocks, local_identity(c.dofs), c.matrix, c.vector);
-          add_rotated(nitsche_data, R, blocks, c.vector);
+          add_warped(nitsche, R, blocks, local_identity(dofs), matrix, vector);
+          add_rotated(nitsche_data, R, blocks, vector);
         }
       else
         {
-          c.matrix.add(1., nitsche);
-          c.vector += nitsche_data;
+          matrix.add(1., nitsche);
+          vector += nitsche_data;
         }
+    };
+
+    const auto boundary_worker = [&](const Iterator               &cell,
+                                     const unsigned int            face_no,
+                                     MeshWorker::ScratchData<dim> &s,
+                                     CopyData                     &c) {
+      const FEFaceValuesBase<dim> &fv = s.reinit(cell, face_no);
+      if (data.traction)
+        {
+          // A load on prescribed components goes into the reactions, as
+          // where strong conditions or CG constrain them.
+          const Point<dim> center = cell->face(face_no)->center();
+          for (unsigned int q = 0; q < fv.n_quadrature_points; ++q)
+            {
+              const Point<dim>    &x = fv.quadrature_point(q);
+              Tensor<1, dim>       g;
+              const Tensor<2, dim> P = held(x, g);
+              Tensor<1, dim>       tr =
+                t * data.traction(center, x, fv.normal_vector(q));
+              tr -= P * tr;
+              for (unsigned int i = 0; i < n; ++i)
+                c.vector[i] += tr[fe.system_to_component_index(i).first] *
+                               fv.shape_value(i, q) * fv.JxW(q);
+            }
+        }
+      add_nitsche(cell, fv, c.dofs, c.matrix, c.vector);
     };
 
     const auto face_worker = [&](const Iterator               &cell,
@@ -619,6 +646,31 @@ namespace ddfem::dg
                                  const unsigned int            nf,
                                  const FEInterfaceValues<dim> &fiv,
                                  CopyData                     &c) {
+      // Inside a Dirichlet region each side is held as on a boundary face,
+      // as CG holds every node of the region.
+      if (weak && data.dirichlet_inside)
+        for (unsigned int side = 0; side < 2; ++side)
+          {
+            const FEFaceValuesBase<dim> &fv = fiv.get_fe_face_values(side);
+            const bool                   any_held = [&]() {
+              for (unsigned int q = 0; q < fv.n_quadrature_points; ++q)
+                if (Tensor<1, dim> g;
+                    held(fv.quadrature_point(q), g).norm_square() > 0)
+                  return true;
+              return false;
+            }();
+            if (!any_held)
+              continue;
+            const Iterator &k         = (side == 0 ? cell : ncell);
+            FaceCopy       &held_side = c.faces.emplace_back();
+            held_side.dofs.resize(n);
+            k->get_dof_indices(held_side.dofs);
+            held_side.matrix.reinit(n, n);
+            held_side.vector.reinit(n);
+            add_nitsche(
+              k, fv, held_side.dofs, held_side.matrix, held_side.vector);
+          }
+
       const unsigned int n_if = fiv.n_current_interface_dofs();
       const std::array<const CellMaterial *, 2> m = {
         {&data.materials[cell->active_cell_index()],

@@ -398,6 +398,21 @@ namespace ddfem::scene
 
 
   bool
+  BoundaryConditions::prescribes(const Point<3>    &p,
+                                 const unsigned int component) const
+  {
+    return std::any_of(conditions.begin(),
+                       conditions.end(),
+                       [&](const Condition &condition) {
+                         return !condition.constrained.empty() &&
+                                condition.constrained[component] &&
+                                condition.region->contains(p);
+                       });
+  }
+
+
+
+  bool
   BoundaryConditions::prescribed_displacement(const Point<3>    &p,
                                               const unsigned int component,
                                               const double       t,
@@ -497,17 +512,15 @@ namespace ddfem::scene
       {
         const bool is_load = condition.constrained.empty();
         const bool reached =
-          is_load ? std::any_of(boundary_faces.begin(),
-                                boundary_faces.end(),
-                                [&](const BoundaryFace &face) {
-                                  return condition.region->contains(
-                                    face.center);
-                                }) :
-                    std::any_of(nodes.begin(),
-                                nodes.end(),
-                                [&](const Point<3> &p) {
-                                  return condition.region->contains(p);
-                                });
+          is_load ?
+            std::any_of(boundary_faces.begin(),
+                        boundary_faces.end(),
+                        [&](const BoundaryFace &face) {
+                          return condition.region->contains(face.center);
+                        }) :
+            std::any_of(nodes.begin(), nodes.end(), [&](const Point<3> &p) {
+              return condition.region->contains(p);
+            });
         AssertThrow(reached,
                     ExcMessage(condition.where + " (" + condition.type +
                                " on \"" + condition.region->name +
@@ -548,24 +561,24 @@ namespace ddfem::scene
                         continue;
                       }
                     for (unsigned int d = 0; d < 3; ++d)
-                      if (double value; t[d] != 0)
+                      if (t[d] != 0)
                         {
                           nonzero = true;
-                          if (!prescribed_displacement(p, d, 1, value))
+                          if (!prescribes(p, d))
                             return true;
                         }
                   }
             return false;
           };
-          AssertThrow(
-            acts() || !nonzero,
-            ExcMessage(condition.where + " (" + condition.type + " on \"" +
-                       condition.region->name +
-                       "\") loads only components that Dirichlet conditions "
-                       "prescribe at every node of the faces it acts on: "
-                       "all of it would go into the reactions and move "
-                       "nothing. Move its region off the held nodes, or free "
-                       "the components it loads."));
+          AssertThrow(acts() || !nonzero,
+                      ExcMessage(
+                        condition.where + " (" + condition.type + " on \"" +
+                        condition.region->name +
+                        "\") loads only components that Dirichlet conditions "
+                        "prescribe at every node of the faces it acts on: "
+                        "all of it would go into the reactions and move "
+                        "nothing. Move its region off the held nodes, or free "
+                        "the components it loads."));
         }
 
     // A component takes the value of the highest-numbered condition that

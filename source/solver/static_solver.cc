@@ -336,7 +336,11 @@ namespace ddfem::solver
                                          dof_handler,
                                          points);
     boundary_conditions.check_regions(points, load_faces);
-    boundary_conditions.check_effects(points, load_faces);
+    // A coarse grid may lack the nodes where a condition keeps a component
+    // to itself in the fine model: coarse models leave this check to the
+    // fine voxels (check_voxel_scene(), or a compare run's fine model).
+    if (discretization.level == 0)
+      boundary_conditions.check_effects(points, load_faces);
     const std::vector<unsigned int> component = dof_components(dof_handler);
     dirichlet_dofs.clear();
     for (types::global_dof_index i = 0; i < n; ++i)

@@ -270,6 +270,17 @@ namespace ddfem::solver
 
 
 
+  scene::BoundaryFace
+  voxel_face(const Triangulation<3>::active_cell_iterator &cell,
+             const unsigned int                            f)
+  {
+    return {cell->face(f)->center(),
+            GeometryInfo<3>::unit_normal_vector[f],
+            cell->extent_in_direction(0)};
+  }
+
+
+
   void
   check_voxel_scene(const scene::Scene &scene)
   {
@@ -283,9 +294,7 @@ namespace ddfem::solver
       for (const auto &cell : tria.active_cell_iterators())
         for (const unsigned int f : cell->face_indices())
           if (cell->face(f)->at_boundary())
-            faces.push_back({cell->face(f)->center(),
-                             GeometryInfo<3>::unit_normal_vector[f],
-                             cell->extent_in_direction(0)});
+            faces.push_back(voxel_face(cell, f));
     const std::vector<Point<3>> &vertices = tria.get_vertices();
     bc.check_regions(vertices, faces);
     bc.check_effects(vertices, faces);

@@ -315,6 +315,21 @@ main(int argc, char **argv)
              "    set Type = sliding\n    set Region = y-\n  end\n"
              "  subsection Condition 4\n    set Type = displacement\n"
              "    set Region = y-\n    set Value = 0; free; 0\n  end\nend\n");
+  // Not an error: condition 1 keeps the voxels' nodes at y = 0.01 to
+  // itself, which the level-1 grid does not have (its nodes lie at y = 0
+  // and 0.02, where conditions 3 and 4 override it). The coarse model
+  // takes the fine voxels' verdict.
+  const std::string kept_between_coarse_nodes =
+    cantilever +
+    "subsection Boundary conditions\n  subsection Condition 1\n"
+    "    set Region = box 0 0 0 0.02 0.02 0.02\n  end\n"
+    "  subsection Condition 3\n    set Type = fixed\n    set Region = y-\n"
+    "  end\n  subsection Condition 4\n    set Type = fixed\n"
+    "    set Region = box 0 0.02 0 0.02 0.02 0.02\n  end\nend\n";
+  run_case("kept_between_coarse_nodes", kept_between_coarse_nodes);
+  run_case("kept_between_coarse_nodes_naive",
+           kept_between_coarse_nodes,
+           {"--set", "Method=naive", "--set", "Database/File="});
   run_case("minimum_step_zero",
            cantilever +
              "subsection Nonlinear solver\n  set Minimum load step = 0\nend\n");

@@ -17,6 +17,7 @@
 #include <iomanip>
 
 #include "../tests.h"
+#include "probes.h"
 
 using namespace dealii;
 using namespace ddfem;
@@ -39,15 +40,7 @@ namespace
                          settings,
                          screen);
     AssertThrow(status == 0, ExcMessage(screen.str()));
-    std::vector<Tensor<1, 3>> u;
-    for (const auto &probe : summary["probes"])
-      {
-        Tensor<1, 3> p;
-        for (unsigned int d = 0; d < 3; ++d)
-          p[d] = probe["displacement"][d].get<double>();
-        u.push_back(p);
-      }
-    return u;
+    return testing::probe_displacements(summary);
   }
 } // namespace
 
@@ -92,8 +85,7 @@ main(int argc, char **argv)
   // A sliding face under a pressure, with weak conditions: a pressure on
   // the upper half of the bar, x- face included, moves the tip and the
   // probe on x- as much as without the x- face.
-  const auto pressure = [](const std::string &name,
-                           const std::string &region) {
+  const auto pressure = [](const std::string &name, const std::string &region) {
     return probes(name,
                   {"Method=dg",
                    "Boundary conditions/Condition 3/Type=sliding",

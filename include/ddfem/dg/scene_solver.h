@@ -45,7 +45,8 @@ namespace ddfem::dg
 
     /**
      * Builds the mesh and the system and settles the penalty. Throws
-     * ExcMessage on bad input (a Dirichlet region that misses the boundary,
+     * ExcMessage on bad input (a condition whose region misses the solid or
+     * that would do nothing there,
      * conditions that leave rigid motions free, loads that are not finite,
      * a fixed penalty that is too small), before anything is written.
      */
@@ -96,7 +97,7 @@ namespace ddfem::dg
 
     /**
      * The points where the assembly evaluates loads and weak Dirichlet
-     * data on boundary face @p f of @p cell: its Gauss points.
+     * data on face @p f of @p cell: its Gauss points.
      */
     std::vector<Point<3>>
     face_points(const Triangulation<3>::active_cell_iterator &cell,
@@ -104,8 +105,9 @@ namespace ddfem::dg
 
     /**
      * The points where Dirichlet conditions act on @p cell: with weak
-     * conditions the Gauss points of its boundary faces, with strong ones
-     * the element's support points on them (needs the element).
+     * conditions the Gauss points of its faces, with strong ones the
+     * element's support points (needs the element). Interior ones count
+     * too: a box region holds what it contains, as in CG.
      */
     std::vector<Point<3>>
     dirichlet_points(const Triangulation<3>::active_cell_iterator &cell) const;

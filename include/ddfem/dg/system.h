@@ -29,8 +29,8 @@ namespace ddfem::dg
   /**
    * Whether the point @p unit_point of the reference cell lies on its face
    * @p f: the support points that strong Dirichlet conditions constrain
-   * (System::make_constraints(); the scene solver's supports check uses
-   * the same points).
+   * where they are asked at boundary faces only (System::make_constraints()
+   * without ProblemData::dirichlet_inside).
    */
   template <int dim>
   inline bool
@@ -77,12 +77,20 @@ namespace ddfem::dg
                                  const Tensor<1, dim> &)>
       traction;
     /**
-     * Dirichlet data: whether component c is prescribed at a boundary
-     * point at load factor t, and if so its value (written to the last
-     * argument). Empty: no Dirichlet condition.
+     * Dirichlet data: whether component c is prescribed at a point at load
+     * factor t, and if so its value (written to the last argument). Empty:
+     * no Dirichlet condition.
      */
     std::function<bool(const Point<dim> &, unsigned int, double, double &)>
       dirichlet;
+    /**
+     * Where dirichlet() is asked. False: at boundary faces only (its data
+     * may then be given everywhere, as a manufactured solution's is). True:
+     * inside the domain too, as CG holds every node of a region: strong
+     * conditions constrain every node where dirichlet() holds, weak ones
+     * add Nitsche's terms on both sides of interior faces too.
+     */
+    bool dirichlet_inside = false;
   };
 
   /**

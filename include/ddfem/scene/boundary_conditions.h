@@ -99,6 +99,11 @@ namespace ddfem::scene
                      const Point<3>   &extent,
                      const double      h);
 
+    /// Whether a Dirichlet condition prescribes component @p component
+    /// at @p p (without evaluating its value).
+    bool
+    prescribes(const Point<3> &p, const unsigned int component) const;
+
     /**
      * Prescribed displacement component @p component at the reference
      * point @p p at load factor @p t, for every Dirichlet condition whose

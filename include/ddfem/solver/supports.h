@@ -85,6 +85,12 @@ namespace ddfem::solver
     const std::map<std::size_t, std::vector<ConstrainedRow>> &rows,
     const std::string                                        &shared);
 
+  /// The boundary face @p f of the voxel mesh's @p cell, as
+  /// BoundaryConditions::check_regions() and check_effects() take it.
+  scene::BoundaryFace
+  voxel_face(const Triangulation<3>::active_cell_iterator &cell,
+             const unsigned int                            f);
+
   /**
    * Throws ExcMessage unless there are Dirichlet rows, and those of
    * @p tria's cells fix all
@@ -103,7 +109,8 @@ namespace ddfem::solver
    * The checks of the fine model on the voxels themselves, for coarse
    * models, whose blocks may bridge a gap between voxels or reach past the
    * solid: every boundary condition of @p scene acts on a vertex or a
-   * boundary face of its solid voxels (BoundaryConditions::check_regions()),
+   * boundary face of its solid voxels (BoundaryConditions::check_regions())
+   * and does something there (BoundaryConditions::check_effects()),
    * and the conditions at the vertices support the voxels as
    * require_supported_mesh() asks. These are the checks of a fine model of
    * degree 1 (at degree 2 the fine model also has nodes between the
