@@ -794,38 +794,62 @@ namespace ddfem::solver
     double         step                = nominal;
     double         t                   = 0;
     unsigned int   successes_since_cut = 0;
-    Vector<double> last_increment(displacement.size());
-    double         last_step = 0;
-    bool           predict   = false;
-    displacement             = 0;
+    // The last two accepted increments and their load steps (0: none).
+    Vector<double> last_increment(displacement.size()),
+      previous_increment(displacement.size());
+    double last_step = 0, previous_step = 0;
+    displacement     = 0;
     while (t < 1 - 1e-12)
       {
         const double t_new = std::min(1., t + step);
         pcout << "  Load step " << statistics.load_steps + 1 << ": load factor "
               << t_new << std::endl;
 
-        // Start from the last state extrapolated along the last increment,
-        // with the exact boundary values at t_new, if that state is
-        // admissible.
+        // Start from the last state extrapolated along the last increment
+        // (a line) or the last two (a parabola through the last three
+        // states, which follows a rotation's arc where the line cuts its
+        // chord), whichever has the lower energy, with the exact boundary
+        // values at t_new; from the last state if neither is admissible.
         Vector<double> u = displacement;
-        if (predict)
+        if (last_step > 0)
           {
-            u.add((t_new - t) / last_step, last_increment);
-            for (const DirichletDof &d : dirichlet_dofs)
-              boundary_conditions.prescribed_displacement(d.point,
-                                                          d.component,
-                                                          t_new,
-                                                          u(d.index));
-            if (!std::isfinite(energy(u, t_new)))
-              u = displacement;
+            const double   dt   = t_new - t;
+            const auto     with_boundary_values = [&](Vector<double> &v) {
+              for (const DirichletDof &d : dirichlet_dofs)
+                boundary_conditions.prescribed_displacement(d.point,
+                                                            d.component,
+                                                            t_new,
+                                                            v(d.index));
+              return energy(v, t_new);
+            };
+            Vector<double> line = displacement;
+            line.add(dt / last_step, last_increment);
+            const double e_line = with_boundary_values(line);
+            double       e_best = std::isfinite(e_line) ? e_line : infinity;
+            if (e_best < infinity)
+              u = line;
+            if (previous_step > 0)
+              {
+                // Newton's form: the second divided difference times
+                // (t_new - t) (t_new - t + last_step).
+                const double   c = dt * (dt + last_step) /
+                                 (last_step + previous_step);
+                Vector<double> parabola = line;
+                parabola.add(c / last_step, last_increment);
+                parabola.add(-c / previous_step, previous_increment);
+                const double e_parabola = with_boundary_values(parabola);
+                if (std::isfinite(e_parabola) && e_parabola < e_best)
+                  u = parabola;
+              }
           }
         const double accepted_min_J = statistics.min_J;
         if (converge(t_new, u, statistics, inverted))
           {
+            previous_increment.swap(last_increment);
+            previous_step  = last_step;
             last_increment = u;
             last_increment -= displacement;
             last_step = t_new - t;
-            predict   = true;
             t         = t_new;
             accept(u, t, statistics, on_step);
             if (++successes_since_cut >= 2 && step < nominal)

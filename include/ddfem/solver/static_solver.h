@@ -34,7 +34,8 @@ namespace ddfem::solver
    * and failed linear solves are handled by shifting the tangent by a
    * growing multiple of its diagonal; load increments whose Newton
    * iteration fails are cut in half. Each increment starts from the last
-   * state extrapolated along the last increment. After a material edit,
+   * state extrapolated along the last increment (a line) or the last two
+   * (a parabola), whichever has the lower energy. After a material edit,
    * Newton's method first tries the full load from the last equilibrium.
    */
   class StaticSolver
