@@ -228,6 +228,20 @@ namespace ddfem::testing
             file ? nlohmann::json::parse(file) : nlohmann::json(nullptr)};
   }
 
+  /// The summary.json of run_model() of @p prm with @p settings into
+  /// @p directory; throws ExcMessage with the run's screen output if the run
+  /// fails or writes no summary.
+  inline nlohmann::json
+  run_successfully(const std::string              &prm,
+                   const std::string              &directory,
+                   const std::vector<std::string> &settings)
+  {
+    std::ostringstream screen;
+    const auto [status, summary] = run_model(prm, directory, settings, screen);
+    AssertThrow(status == 0 && !summary.is_null(), ExcMessage(screen.str()));
+    return summary;
+  }
+
   /// The rotation by @p degrees about the unit vector @p axis (Rodrigues).
   inline Tensor<2, 3>
   rotation_about(const Tensor<1, 3> &axis, const double degrees)

@@ -33,14 +33,8 @@ namespace
       "Output/Write VTU=none",
       "Geometry/Probe points=0.04, 0.32, 0.04; 0.04, 0, 0.04; 0, 0.16, 0.04"};
     settings.insert(settings.end(), extra.begin(), extra.end());
-    std::ostringstream screen;
-    const auto [status, summary] =
-      testing::run_model(std::string(SOURCE_DIR) + "/../../prm/default.prm",
-                         directory,
-                         settings,
-                         screen);
-    AssertThrow(status == 0, ExcMessage(screen.str()));
-    return testing::probe_displacements(summary);
+    return testing::probe_displacements(testing::run_successfully(
+      std::string(SOURCE_DIR) + "/../../prm/default.prm", directory, settings));
   }
 } // namespace
 
