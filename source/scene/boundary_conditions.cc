@@ -398,15 +398,23 @@ namespace ddfem::scene
 
 
   bool
+  BoundaryConditions::Condition::prescribes(const Point<3>    &p,
+                                            const unsigned int component) const
+  {
+    return !constrained.empty() && constrained[component] &&
+           region->contains(p);
+  }
+
+
+
+  bool
   BoundaryConditions::prescribes(const Point<3>    &p,
                                  const unsigned int component) const
   {
     return std::any_of(conditions.begin(),
                        conditions.end(),
                        [&](const Condition &condition) {
-                         return !condition.constrained.empty() &&
-                                condition.constrained[component] &&
-                                condition.region->contains(p);
+                         return condition.prescribes(p, component);
                        });
   }
 
@@ -421,8 +429,7 @@ namespace ddfem::scene
     bool found = false;
     for (const Condition &condition : conditions)
       {
-        if (condition.constrained.empty() ||
-            !condition.constrained[component] || !condition.region->contains(p))
+        if (!condition.prescribes(p, component))
           continue;
         found = true;
         if (condition.type == "displacement")
@@ -594,9 +601,7 @@ namespace ddfem::scene
                  std::none_of(condition + 1,
                               conditions.end(),
                               [&](const Condition &later) {
-                                return !later.constrained.empty() &&
-                                       later.constrained[d] &&
-                                       later.region->contains(p);
+                                return later.prescribes(p, d);
                               });
         };
         AssertThrow(

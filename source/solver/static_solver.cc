@@ -789,16 +789,16 @@ namespace ddfem::solver
         // The factor of that far-off state would only cost CG iterations.
         linear_solver.reset();
       }
-    at_full_load                       = false;
-    const double   nominal             = 1. / parameters.load_steps;
-    double         step                = nominal;
-    double         t                   = 0;
-    unsigned int   successes_since_cut = 0;
+    at_full_load                     = false;
+    const double nominal             = 1. / parameters.load_steps;
+    double       step                = nominal;
+    double       t                   = 0;
+    unsigned int successes_since_cut = 0;
     // The last two accepted increments and their load steps (0: none).
     Vector<double> last_increment(displacement.size()),
       previous_increment(displacement.size());
     double last_step = 0, previous_step = 0;
-    displacement     = 0;
+    displacement = 0;
     while (t < 1 - 1e-12)
       {
         const double t_new = std::min(1., t + step);
@@ -813,8 +813,8 @@ namespace ddfem::solver
         Vector<double> u = displacement;
         if (last_step > 0)
           {
-            const double   dt   = t_new - t;
-            const auto     with_boundary_values = [&](Vector<double> &v) {
+            const double dt                   = t_new - t;
+            const auto   with_boundary_values = [&](Vector<double> &v) {
               for (const DirichletDof &d : dirichlet_dofs)
                 boundary_conditions.prescribed_displacement(d.point,
                                                             d.component,
@@ -822,23 +822,22 @@ namespace ddfem::solver
                                                             v(d.index));
               return energy(v, t_new);
             };
+            // energy() is +infinity where a state is inadmissible.
             Vector<double> line = displacement;
             line.add(dt / last_step, last_increment);
             const double e_line = with_boundary_values(line);
-            double       e_best = std::isfinite(e_line) ? e_line : infinity;
-            if (e_best < infinity)
+            if (e_line < infinity)
               u = line;
             if (previous_step > 0)
               {
                 // Newton's form: the second divided difference times
                 // (t_new - t) (t_new - t + last_step).
-                const double   c = dt * (dt + last_step) /
-                                 (last_step + previous_step);
+                const double c =
+                  dt * (dt + last_step) / (last_step + previous_step);
                 Vector<double> parabola = line;
                 parabola.add(c / last_step, last_increment);
                 parabola.add(-c / previous_step, previous_increment);
-                const double e_parabola = with_boundary_values(parabola);
-                if (std::isfinite(e_parabola) && e_parabola < e_best)
+                if (with_boundary_values(parabola) < e_line)
                   u = parabola;
               }
           }

@@ -212,6 +212,11 @@ namespace ddfem::scene
       Point<3> center;
       /// rotation: the angle at t = 1 (radians).
       double angle = 0;
+
+      /// Whether this is a Dirichlet condition that prescribes component
+      /// @p component at @p p.
+      bool
+      prescribes(const Point<3> &p, const unsigned int component) const;
     };
 
     /// The load (Pa) of the traction or pressure @p condition at the point
