@@ -407,15 +407,26 @@ namespace ddfem::scene
 
 
 
+  const BoundaryConditions::Condition *
+  BoundaryConditions::holding_condition(const Point<3>    &p,
+                                        const unsigned int component) const
+  {
+    const auto holder =
+      std::find_if(conditions.rbegin(),
+                   conditions.rend(),
+                   [&](const Condition &condition) {
+                     return condition.prescribes(p, component);
+                   });
+    return holder == conditions.rend() ? nullptr : &*holder;
+  }
+
+
+
   bool
   BoundaryConditions::prescribes(const Point<3>    &p,
                                  const unsigned int component) const
   {
-    return std::any_of(conditions.begin(),
-                       conditions.end(),
-                       [&](const Condition &condition) {
-                         return condition.prescribes(p, component);
-                       });
+    return holding_condition(p, component) != nullptr;
   }
 
 
@@ -426,33 +437,26 @@ namespace ddfem::scene
                                               const double       t,
                                               double            &value) const
   {
-    bool found = false;
-    for (const Condition &condition : conditions)
+    const Condition *condition = holding_condition(p, component);
+    if (condition == nullptr)
+      return false;
+    if (condition->type == "displacement")
+      value = t * finite_value(
+                    *condition->value, p, component, condition->where, "Value");
+    else if (condition->type == "rotation")
       {
-        if (!condition.prescribes(p, component))
-          continue;
-        found = true;
-        if (condition.type == "displacement")
-          value = t * finite_value(*condition.value,
-                                   p,
-                                   component,
-                                   condition.where,
-                                   "Value");
-        else if (condition.type == "rotation")
-          {
-            // Rodrigues: R r = r cos(a) + (k x r) sin(a) + k (k.r)(1 - cos(a))
-            const double       a       = t * condition.angle;
-            const Tensor<1, 3> r       = p - condition.center;
-            const Tensor<1, 3> k       = condition.axis;
-            const Tensor<1, 3> rotated = r * std::cos(a) +
-                                         cross_product_3d(k, r) * std::sin(a) +
-                                         k * (k * r) * (1 - std::cos(a));
-            value = rotated[component] - r[component];
-          }
-        else
-          value = 0;
+        // Rodrigues: R r = r cos(a) + (k x r) sin(a) + k (k.r)(1 - cos(a))
+        const double       a       = t * condition->angle;
+        const Tensor<1, 3> r       = p - condition->center;
+        const Tensor<1, 3> k       = condition->axis;
+        const Tensor<1, 3> rotated = r * std::cos(a) +
+                                     cross_product_3d(k, r) * std::sin(a) +
+                                     k * (k * r) * (1 - std::cos(a));
+        value = rotated[component] - r[component];
       }
-    return found;
+    else
+      value = 0;
+    return true;
   }
 
 
@@ -597,12 +601,7 @@ namespace ddfem::scene
         if (condition->constrained.empty())
           continue;
         const auto keeps = [&](const Point<3> &p, const unsigned int d) {
-          return condition->constrained[d] &&
-                 std::none_of(condition + 1,
-                              conditions.end(),
-                              [&](const Condition &later) {
-                                return later.prescribes(p, d);
-                              });
+          return holding_condition(p, d) == &*condition;
         };
         AssertThrow(
           std::any_of(nodes.begin(),

@@ -106,9 +106,10 @@ namespace ddfem::scene
 
     /**
      * Prescribed displacement component @p component at the reference
-     * point @p p at load factor @p t, for every Dirichlet condition whose
-     * region contains @p p; later conditions override earlier ones.
-     * Returns false if no condition constrains this component there.
+     * point @p p at load factor @p t: the value of the highest-numbered
+     * Dirichlet condition that prescribes it there (later conditions
+     * override earlier ones, whose values are not evaluated). Returns false
+     * if no condition constrains this component there.
      */
     bool
     prescribed_displacement(const Point<3>    &p,
@@ -218,6 +219,12 @@ namespace ddfem::scene
       bool
       prescribes(const Point<3> &p, const unsigned int component) const;
     };
+
+    /// The highest-numbered Dirichlet condition that prescribes component
+    /// @p component at @p p, whose value the component takes; nullptr if
+    /// none does.
+    const Condition *
+    holding_condition(const Point<3> &p, const unsigned int component) const;
 
     /// The load (Pa) of the traction or pressure @p condition at the point
     /// @p p of a face with outward unit normal @p normal, at load factor 1.
