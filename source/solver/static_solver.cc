@@ -272,6 +272,9 @@ namespace ddfem::solver
                               discretization.quadrature.weight(q) *
                               cell->measure();
         }
+    // The old tangents' factor or multigrid hierarchy would cost more CG
+    // iterations than its setup (measured on the shoe's edits,
+    // doc/coarsening.md, "Solves after an edit").
     linear_solver.reset();
   }
 
