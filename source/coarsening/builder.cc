@@ -434,9 +434,10 @@ namespace ddfem::coarsening
   {
     entry.median_error = fit.median_error;
     entry.max_error    = fit.max_error;
-    entry.n_samples    = samples.size();
-    entry.min_strain   = samples.empty() ? 0 : samples[0].strain;
-    entry.max_strain   = entry.min_strain;
+    entry.n_samples    = fit.n_fit + fit.n_held_out;
+    entry.n_dropped += fit.n_rejected;
+    entry.min_strain = samples.empty() ? 0 : samples[0].strain;
+    entry.max_strain = entry.min_strain;
     for (const Sample &s : samples)
       {
         entry.min_strain = std::min(entry.min_strain, s.strain);
@@ -539,7 +540,8 @@ namespace ddfem::coarsening
           dropped += e.n_dropped;
         }
       out << "  entries: " << entries.size() << ", samples kept: " << samples
-          << ", dropped (failed solves): " << dropped << std::endl;
+          << ", dropped (failed solves, or the coarse element inverts): "
+          << dropped << std::endl;
       if (errors.empty())
         return;
       std::sort(errors.begin(), errors.end());

@@ -267,35 +267,36 @@ namespace ddfem::coarsening
                         settings.point_floor * p0.lambda,
                         0.}});
 
-    std::vector<Sample> held_out, fitted;
-    for (const Sample &s : samples)
-      if (settings.held_out_every > 0 &&
-          s.pattern % settings.held_out_every == settings.held_out_every - 1)
-        held_out.push_back(s);
-      else
-        fitted.push_back(s);
-
-    // Normal equations of the scaled unknowns x = (p - lower) / scale.
+    // Normal equations of the scaled unknowns x = (p - lower) / scale. A
+    // sample whose corner motion inverts the coarse element (det F <= 0 at
+    // a point, whatever the parameters) is one the element cannot take: it
+    // is left out of the fit and of the errors alike, and counted.
+    std::vector<Sample>                held_out, fitted;
     Vector<double>                     row(n);
     std::vector<std::array<double, 3>> terms;
     std::vector<Vector<double>>        rows;
     std::vector<double>                rhs;
-    for (const Sample &s : fitted)
+    for (const Sample &s : samples)
       {
         if (!(s.energy > 0 && element.energy_terms(s.corners, prior, terms)))
           {
             ++n_rejected;
             continue;
           }
+        if (settings.held_out_every > 0 &&
+            s.pattern % settings.held_out_every == settings.held_out_every - 1)
+          {
+            held_out.push_back(s);
+            continue;
+          }
+        fitted.push_back(s);
         double lower_energy = 0;
         for (unsigned int q = 0; q < n_points; ++q)
-          {
-            for (unsigned int t = 0; t < 3; ++t)
-              {
-                lower_energy += lower[q][t] * terms[q][t];
-                row(3 * q + t) = terms[q][t] * scale[t] / s.energy;
-              }
-          }
+          for (unsigned int t = 0; t < 3; ++t)
+            {
+              lower_energy += lower[q][t] * terms[q][t];
+              row(3 * q + t) = terms[q][t] * scale[t] / s.energy;
+            }
         rows.push_back(row);
         rhs.push_back((s.energy - lower_energy) / s.energy);
       }

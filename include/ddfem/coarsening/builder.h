@@ -215,7 +215,9 @@ namespace ddfem::coarsening
                      const CoarseElement    &element,
                      const std::uint64_t     seed);
 
-    /// Copies a fit's statistics into @p entry.
+    /// Copies a fit's statistics into @p entry, whose n_dropped counts the
+    /// sampler's failed solves: the samples the fit left out (the coarse
+    /// element inverts under them) join them.
     static void
     record_fit(const FitResult           &fit,
                const std::vector<Sample> &samples,

@@ -58,7 +58,8 @@ namespace ddfem::coarsening
     double median_error = 0, max_error = 0;
     /// Range of the samples' largest principal stretch deviation.
     double min_strain = 0, max_strain = 0;
-    /// Samples kept and dropped (failed solves).
+    /// Samples kept (fitted or held out) and dropped (failed solves, or
+    /// the coarse element inverts under their corner motion).
     unsigned int n_samples = 0, n_dropped = 0;
   };
 

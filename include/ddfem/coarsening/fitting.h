@@ -61,8 +61,9 @@ namespace ddfem::coarsening
     double median_error = 0;
     /// Largest relative energy error over the held-out samples.
     double max_error = 0;
-    /// Samples used for the fit, held out, and rejected because the
-    /// coarse element inverts (det F <= 0) under their corner motion.
+    /// Samples used for the fit, held out (the errors' samples), and
+    /// rejected from either because the coarse element inverts (det F <= 0)
+    /// under their corner motion.
     unsigned int n_fit = 0, n_held_out = 0, n_rejected = 0;
   };
 
