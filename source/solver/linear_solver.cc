@@ -350,8 +350,9 @@ namespace ddfem::solver
           return failure.last_step +
                  fall_back_to_direct(K, x, b, direct_solves_after_cg_failure);
         throw Failure("CG did not converge in " +
-                      std::to_string(failure.last_step) +
-                      " iterations (indefinite or ill-conditioned tangent?)");
+                        std::to_string(failure.last_step) +
+                        " iterations (indefinite or ill-conditioned tangent?)",
+                      failure.last_step);
       }
     if (rebuild)
       iterations_after_setup = std::max(1u, last_iterations);

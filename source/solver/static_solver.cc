@@ -663,6 +663,7 @@ namespace ddfem::solver
         double             shift             = 0;
         unsigned int       linear_iterations = 0;
         const unsigned int direct_solves     = linear_solver.direct_solves();
+        bool               descends          = true;
         while (true)
           {
             bool solved = false;
@@ -680,6 +681,7 @@ namespace ddfem::solver
               }
             catch (LinearSolver::Failure &failure)
               {
+                linear_iterations += failure.iterations;
                 pcout << (shift == 0 ? "\n      " : "") << failure.what()
                       << "; ";
               }
@@ -688,8 +690,8 @@ namespace ddfem::solver
             const double new_shift = (shift == 0 ? 1e-4 : 10 * shift);
             if (new_shift > 1e4)
               {
-                pcout << "no descent direction found" << std::endl;
-                return false;
+                descends = false;
+                break;
               }
             for (types::global_dof_index i = 0; i < n; ++i)
               if (!constraints.is_constrained(i))
@@ -697,14 +699,21 @@ namespace ddfem::solver
                   (new_shift - shift) * std::abs(diagonal(i));
             shift = new_shift;
           }
+        // The linear work counts whether or not it found a direction.
         statistics.linear_iterations += linear_iterations;
         statistics.direct_solves +=
           linear_solver.direct_solves() - direct_solves;
+        if (shift > 0)
+          ++statistics.regularized_iterations;
+        if (!descends)
+          {
+            pcout << "no descent direction found" << std::endl;
+            return false;
+          }
         if (!on_boundary_values)
           pcout << " [boundary values]";
         if (shift > 0)
           {
-            ++statistics.regularized_iterations;
             pcout << " [tangent shifted by " << shift << " diag]";
             // Shifted steps converge slowly at best; near a bifurcation a
             // shorter load increment is the better cure.

@@ -48,8 +48,15 @@ namespace ddfem::solver
     /// convergence); the Newton method reacts by regularizing.
     struct Failure : public std::runtime_error
     {
-      /// A failure described by @p what.
-      using std::runtime_error::runtime_error;
+      /// A failure described by @p what, after @p iterations iterations.
+      explicit Failure(const std::string &what,
+                       const unsigned int iterations = 0)
+        : std::runtime_error(what)
+        , iterations(iterations)
+      {}
+
+      /// The iterations the failed solve spent (0 for the direct solver).
+      unsigned int iterations;
     };
 
     /// Declares the subsection "Linear solver".
