@@ -204,47 +204,31 @@ namespace ddfem::coarsening
 
     // The zero-energy modes of the block at rest: the motions that are
     // rigid on every group and agree on the nodes groups share, the six
-    // rigid ones plus a hinge's relative rotations. They are the null space
-    // of the mismatch C a between the groups' rigid modes a at the shared
-    // degrees of freedom, found from the Gram matrix C^T C, whose entries
-    // are geometric and O(1): its zero eigenvalues are far from the others.
+    // rigid ones plus a hinge's relative rotations.
     const Point<3>                     center(0.5, 0.5, 0.5);
-    const unsigned int                 n_parameters = 6 * n_components;
     std::vector<int>                   first_group(dof_handler.n_dofs(), -1);
     std::vector<std::array<double, 6>> rigid_modes;
-    LAPACKFullMatrix<double>           mismatch(n_parameters);
+    solver::RigidPartConditions        conditions(n_components, center, 1.);
     for (unsigned int i = 0; i < dof_handler.n_dofs(); ++i)
       {
         rigid_modes.push_back(
           solver::rigid_body_modes(support_points[i] - center,
                                    dof_component[i]));
-        const std::array<double, 6> &modes = rigid_modes.back();
         for (unsigned int g = 0; g < n_components; ++g)
           if (group_dofs[g][i])
             {
               if (first_group[i] < 0)
-                {
-                  first_group[i] = g;
-                  continue;
-                }
-              const unsigned int f = first_group[i];
-              for (unsigned int a = 0; a < 6; ++a)
-                for (unsigned int b = 0; b < 6; ++b)
-                  {
-                    const double m = modes[a] * modes[b];
-                    mismatch(6 * f + a, 6 * f + b) += m;
-                    mismatch(6 * g + a, 6 * g + b) += m;
-                    mismatch(6 * f + a, 6 * g + b) -= m;
-                    mismatch(6 * g + a, 6 * f + b) -= m;
-                  }
+                first_group[i] = g;
+              else
+                conditions.join(support_points[i],
+                                dof_component[i],
+                                first_group[i],
+                                g);
             }
       }
-    Vector<double>     eigenvalues;
-    FullMatrix<double> null_space;
-    mismatch.compute_eigenvalues_symmetric(
-      -1., 1e-8, 0., eigenvalues, null_space);
-    Assert(eigenvalues.size() >= 6, ExcInternalError());
-    constraints.reinit(eigenvalues.size(), dof_handler.n_dofs());
+    const FullMatrix<double> null_space = conditions.free_motions();
+    Assert(null_space.n() >= 6, ExcInternalError());
+    constraints.reinit(null_space.n(), dof_handler.n_dofs());
     for (unsigned int r = 0; r < constraints.m(); ++r)
       for (unsigned int i = 0; i < dof_handler.n_dofs(); ++i)
         for (unsigned int m = 0; m < 6; ++m)

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
 #include <map>
 #include <numeric>
 #include <set>
@@ -84,6 +85,63 @@ namespace ddfem::solver
         m[3 + k] = cross_product_3d(e, r)[component];
       }
     return m;
+  }
+
+
+
+  RigidPartConditions::RigidPartConditions(const unsigned int n_parts,
+                                           const Point<3>    &center,
+                                           const double       scale)
+    : center(center)
+    , scale(scale)
+    , gram(6 * n_parts)
+  {}
+
+
+
+  void
+  RigidPartConditions::join(const Point<3>    &x,
+                            const unsigned int component,
+                            const unsigned int a,
+                            const unsigned int b)
+  {
+    const std::array<double, 6> modes =
+      rigid_body_modes((x - center) / scale, component);
+    for (unsigned int i = 0; i < 6; ++i)
+      for (unsigned int j = 0; j < 6; ++j)
+        {
+          const double m = modes[i] * modes[j];
+          gram(6 * a + i, 6 * a + j) += m;
+          gram(6 * b + i, 6 * b + j) += m;
+          gram(6 * a + i, 6 * b + j) -= m;
+          gram(6 * b + i, 6 * a + j) -= m;
+        }
+  }
+
+
+
+  void
+  RigidPartConditions::hold(const Point<3>    &x,
+                            const unsigned int component,
+                            const unsigned int a)
+  {
+    const std::array<double, 6> modes =
+      rigid_body_modes((x - center) / scale, component);
+    for (unsigned int i = 0; i < 6; ++i)
+      for (unsigned int j = 0; j < 6; ++j)
+        gram(6 * a + i, 6 * a + j) += modes[i] * modes[j];
+  }
+
+
+
+  FullMatrix<double>
+  RigidPartConditions::free_motions() const
+  {
+    LAPACKFullMatrix<double> matrix = gram;
+    Vector<double>           eigenvalues;
+    FullMatrix<double>       motions;
+    matrix.compute_eigenvalues_symmetric(-1., 1e-8, 0., eigenvalues, motions);
+    return motions;
   }
 
 
@@ -218,21 +276,34 @@ namespace ddfem::solver
     Components by_vertex = vertex_connected_parts(tria);
     Components by_face   = face_connected_parts(tria);
 
-    // Constrained rows per part; per vertex the face-connected parts
-    // touching it.
+    // Constrained rows per part; per face-connected part its cells, the
+    // center of its first cell and its extent; per vertex the
+    // face-connected parts touching it.
     std::map<std::size_t, std::vector<ConstrainedRow>> vertex_rows, face_rows;
-    std::map<std::size_t, std::pair<unsigned int, Point<3>>>
-                                       part_size; // cells, a cell center
+    struct Part
+    {
+      unsigned int cells = 0;
+      Point<3>     first_center;
+      Point<3>     lower, upper;
+    };
+    std::map<std::size_t, Part>        face_parts;
     std::vector<std::set<std::size_t>> parts_at_vertex(tria.n_vertices());
     for (const auto &cell : tria.active_cell_iterators())
       {
         const unsigned int c  = cell->active_cell_index();
         const std::size_t  pv = by_vertex.find(c), pf = by_face.find(c);
-        auto              &size = part_size[pf];
-        if (size.first++ == 0)
-          size.second = cell->center();
+        Part              &part = face_parts[pf];
+        if (part.cells++ == 0)
+          part.first_center = part.lower = part.upper = cell->center();
         for (const unsigned int v : cell->vertex_indices())
-          parts_at_vertex[cell->vertex_index(v)].insert(pf);
+          {
+            parts_at_vertex[cell->vertex_index(v)].insert(pf);
+            for (unsigned int d = 0; d < 3; ++d)
+              {
+                part.lower[d] = std::min(part.lower[d], cell->vertex(v)[d]);
+                part.upper[d] = std::max(part.upper[d], cell->vertex(v)[d]);
+              }
+          }
         for (const ConstrainedRow &row : cell_rows[c])
           {
             vertex_rows[pv].push_back(row);
@@ -244,27 +315,145 @@ namespace ddfem::solver
     // rigid motions.
     require_supported_parts(tria, by_vertex, vertex_rows, "node");
 
+    const std::vector<Point<3>> &vertices = tria.get_vertices();
+    std::map<std::size_t, std::vector<unsigned int>> shared_vertices;
+    for (unsigned int v = 0; v < vertices.size(); ++v)
+      if (parts_at_vertex[v].size() > 1)
+        for (const std::size_t part : parts_at_vertex[v])
+          shared_vertices[part].push_back(v);
+    const auto mechanism = [](const unsigned int cells,
+                              const Point<3>    &where,
+                              const std::string &attached,
+                              const unsigned int n_free) {
+      return ExcMessage(std::to_string(cells) + " voxel(s) around " +
+                        format_point(where) + " m" + attached +
+                        ", which leaves " + std::to_string(n_free) +
+                        " free mechanism motion(s). Fill or empty the "
+                        "voxels at the joint so parts share faces.");
+    };
+
     // A face-connected part that hangs on its neighbors only by nodes on
-    // one edge or corner is a mechanism: count shared nodes as pinned.
-    for (const auto &cell : tria.active_cell_iterators())
-      for (const unsigned int v : cell->vertex_indices())
-        if (parts_at_vertex[cell->vertex_index(v)].size() > 1)
-          for (unsigned int d = 0; d < 3; ++d)
-            face_rows[by_face.find(cell->active_cell_index())].emplace_back(
-              cell->vertex(v), d);
-    for (const auto &[part, size] : part_size)
+    // one edge or corner is a mechanism, even with its shared nodes
+    // pinned.
+    for (const auto &[p, part] : face_parts)
       {
-        const unsigned int fixed = fixed_rigid_modes(face_rows[part]);
-        AssertThrow(
-          fixed == 6,
-          ExcMessage(
-            std::to_string(size.first) + " voxel(s) around " +
-            format_point(size.second) +
-            " m are attached to the rest only along an edge or at a "
-            "corner, which leaves " +
-            std::to_string(6 - fixed) +
-            " free mechanism motion(s). Fill or empty the voxels at the "
-            "joint so parts share faces."));
+        std::vector<ConstrainedRow> rows = face_rows[p];
+        for (const unsigned int v : shared_vertices[p])
+          for (unsigned int d = 0; d < 3; ++d)
+            rows.emplace_back(vertices[v], d);
+        const unsigned int fixed = fixed_rigid_modes(rows);
+        AssertThrow(fixed == 6,
+                    mechanism(part.cells,
+                              part.first_center,
+                              " are attached to the rest only along an "
+                              "edge or at a corner",
+                              6 - fixed));
+      }
+
+    // Parts that hold each other up may still hang on the rest together.
+    // A part is held if its rows and the nodes it shares with held parts
+    // fix its rigid motions (examined again whenever a neighbor becomes
+    // held); the others form groups joined by shared nodes, each of which
+    // must be held as a whole.
+    std::set<std::size_t>   held;
+    std::deque<std::size_t> to_examine;
+    for (const auto &[p, part] : face_parts)
+      to_examine.push_back(p);
+    while (!to_examine.empty())
+      {
+        const std::size_t p = to_examine.front();
+        to_examine.pop_front();
+        if (held.count(p) > 0)
+          continue;
+        std::vector<ConstrainedRow> rows = face_rows[p];
+        for (const unsigned int v : shared_vertices[p])
+          if (std::any_of(parts_at_vertex[v].begin(),
+                          parts_at_vertex[v].end(),
+                          [&](const std::size_t q) {
+                            return held.count(q) > 0;
+                          }))
+            for (unsigned int d = 0; d < 3; ++d)
+              rows.emplace_back(vertices[v], d);
+        if (fixed_rigid_modes(rows) < 6)
+          continue;
+        held.insert(p);
+        for (const unsigned int v : shared_vertices[p])
+          for (const std::size_t q : parts_at_vertex[v])
+            if (held.count(q) == 0)
+              to_examine.push_back(q);
+      }
+    if (held.size() == face_parts.size())
+      return;
+
+    // The groups of the parts not held, joined at the nodes where no held
+    // part holds them, and their conditions (up to max_group parts; the
+    // parts of a group are numbered from 0).
+    const auto at_held = [&](const unsigned int v) {
+      return std::any_of(parts_at_vertex[v].begin(),
+                         parts_at_vertex[v].end(),
+                         [&](const std::size_t q) {
+                           return held.count(q) > 0;
+                         });
+    };
+    Components groups(tria.n_active_cells());
+    for (unsigned int v = 0; v < vertices.size(); ++v)
+      if (parts_at_vertex[v].size() > 1 && !at_held(v))
+        for (const std::size_t p : parts_at_vertex[v])
+          groups.join(p, *parts_at_vertex[v].begin());
+    std::map<std::size_t, std::vector<std::size_t>> members;
+    for (const auto &[p, part] : face_parts)
+      if (held.count(p) == 0)
+        members[groups.find(p)].push_back(p);
+    constexpr unsigned int                     max_group = 200;
+    std::map<std::size_t, RigidPartConditions> conditions;
+    std::map<std::size_t, unsigned int>        number;
+    for (const auto &[group, parts] : members)
+      if (parts.size() <= max_group)
+        {
+          Point<3> lower = face_parts[parts[0]].lower,
+                   upper = face_parts[parts[0]].upper;
+          for (const std::size_t p : parts)
+            for (unsigned int d = 0; d < 3; ++d)
+              {
+                lower[d] = std::min(lower[d], face_parts[p].lower[d]);
+                upper[d] = std::max(upper[d], face_parts[p].upper[d]);
+              }
+          conditions.emplace(group,
+                             RigidPartConditions(parts.size(),
+                                                 0.5 * (lower + upper),
+                                                 0.5 * lower.distance(upper)));
+          for (unsigned int i = 0; i < parts.size(); ++i)
+            number[parts[i]] = i;
+        }
+
+    // A group's own rows and the nodes held parts share with it hold it;
+    // the nodes its parts share with each other join them.
+    for (const auto &[p, i] : number)
+      {
+        RigidPartConditions &group = conditions.at(groups.find(p));
+        for (const ConstrainedRow &row : face_rows[p])
+          group.hold(row.first, row.second, i);
+        for (const unsigned int v : shared_vertices[p])
+          for (unsigned int d = 0; d < 3; ++d)
+            if (at_held(v))
+              group.hold(vertices[v], d, i);
+            else if (const std::size_t first = *parts_at_vertex[v].begin();
+                     first != p)
+              group.join(vertices[v], d, number.at(first), i);
+      }
+    for (const auto &[group, motions] : conditions)
+      {
+        const unsigned int n_free = motions.free_motions().n();
+        unsigned int       cells  = 0;
+        for (const std::size_t p : members[group])
+          cells += face_parts[p].cells;
+        AssertThrow(n_free == 0,
+                    mechanism(cells,
+                              face_parts[members[group][0]].first_center,
+                              ", in " + std::to_string(members[group].size()) +
+                                " parts, share only edges or corners with "
+                                "each other and with the rest",
+                              n_free));
       }
   }
 

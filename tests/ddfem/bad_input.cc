@@ -889,21 +889,28 @@ end
   run_case("duplicate_levels",
            cantilever,
            {"--set", "Run type=compare", "--set", "Comparison/Levels=1, 1"});
+  // Voxels of a grid of @p grid_size laid out by @p shapes, clamped at
+  // x = 0 and loaded by nothing: only the checks before a solve can fail.
+  const auto clamped_at_x0 = [](const std::string &grid_size,
+                                const std::string &shapes) {
+    return "subsection Geometry\n  set Grid size = " + grid_size +
+           "\nend\nsubsection Layout\n  set Shapes = " + shapes +
+           "\nend\nsubsection Boundary conditions\n  subsection Condition "
+           "1\n    set Type = fixed\n    set Region = x-\n  end\nend\n";
+  };
   run_case("edge_hinge",
-           R"(
-subsection Geometry
-  set Grid size = 2, 2, 1
-end
-subsection Layout
-  set Shapes = box 0.01 0 0 0.02 0.01 0.01 : 0; box 0 0.01 0 0.01 0.02 0.01 : 0
-end
-subsection Boundary conditions
-  subsection Condition 1
-    set Type = fixed
-    set Region = x-
-  end
-end
-)");
+           clamped_at_x0("2, 2, 1",
+                         "box 0.01 0 0 0.02 0.01 0.01 : 0; box 0 0.01 0 0.01 "
+                         "0.02 0.01 : 0"));
+  // Two parts that hold each other up (they share an edge along z and one
+  // along x) but hang on the clamped voxel along one edge together: each
+  // is held by the nodes it shares, the two turn about that edge as one.
+  run_case("hinged_group",
+           clamped_at_x0("3, 3, 3",
+                         "box 0 0 0 0.03 0.03 0.03 : 0; box 0 0 0 0.01 0.01 "
+                         "0.01 : 1; box 0.01 0.01 0 0.02 0.02 0.02 : 1; box "
+                         "0.02 0.02 0 0.03 0.03 0.03 : 1; box 0.01 0.02 0.02 "
+                         "0.02 0.03 0.03 : 1"));
   // A coarse model solves the scene the fine model would: its blocks may
   // bridge the edge joint, or reach the grid's face where the solid ends
   // short of it, but the scene is rejected as the fine model rejects it.

@@ -4,6 +4,8 @@
 #include <deal.II/base/point.h>
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/grid/tria.h>
+#include <deal.II/lac/full_matrix.h>
+#include <deal.II/lac/lapack_full_matrix.h>
 
 #include <ddfem/scene/scene.h>
 
@@ -66,6 +68,50 @@ namespace ddfem::solver
   std::array<double, 6>
   rigid_body_modes(const Tensor<1, 3> &r, const unsigned int component);
 
+  /**
+   * Linear conditions on the rigid motions of @p n_parts parts, 6 numbers
+   * each (rigid_body_modes() about a centre, lengths in units of a scale):
+   * a point two parts share moves alike in both, a held point does not
+   * move. The motions the conditions leave free are the null space of
+   * their Gram matrix C^T C. With the centre and scale of the parts'
+   * extent its entries are geometric and O(1), so its zero eigenvalues
+   * stand far from the others. The block sampler finds a block's
+   * zero-energy modes with it, and require_supported_mesh() mechanisms.
+   */
+  class RigidPartConditions
+  {
+  public:
+    /// No conditions yet on @p n_parts parts; rotations about @p center,
+    /// lengths in units of @p scale.
+    RigidPartConditions(const unsigned int n_parts,
+                        const Point<3>    &center,
+                        const double       scale);
+
+    /// Component @p component at @p x moves alike in parts @p a and @p b.
+    void
+    join(const Point<3>    &x,
+         const unsigned int component,
+         const unsigned int a,
+         const unsigned int b);
+
+    /// Component @p component at @p x of part @p a does not move.
+    void
+    hold(const Point<3> &x, const unsigned int component, const unsigned int a);
+
+    /**
+     * An orthonormal basis of the free motions (one column each, 6
+     * numbers per part): the eigenvectors of the Gram matrix whose
+     * eigenvalues are below 1e-8.
+     */
+    FullMatrix<double>
+    free_motions() const;
+
+  private:
+    Point<3>                 center;
+    double                   scale;
+    LAPACKFullMatrix<double> gram;
+  };
+
   /// The vector component of every DoF of @p dof_handler (an FESystem).
   std::vector<unsigned int>
   dof_components(const DoFHandler<3> &dof_handler);
@@ -96,7 +142,11 @@ namespace ddfem::solver
    * @p tria's cells fix all
    * six rigid body motions of every part whose cells share vertices
    * (require_supported_parts()), and no part whose cells share faces hangs
-   * on the others along an edge or at a corner only (a mechanism).
+   * on the others along an edge or at a corner only (a mechanism): each
+   * such part must be held by its rows and the nodes it shares with the
+   * other parts, and the parts that are not held by their rows and by
+   * parts held already (in turn) must be held as a group, which
+   * RigidPartConditions decides for groups of up to 200 parts.
    * @p cell_rows lists, per active cell, the rows of its constrained nodes
    * (a node shared by cells may appear in each).
    */
