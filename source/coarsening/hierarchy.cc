@@ -520,12 +520,33 @@ namespace ddfem::coarsening
                                      stage + "/table",
                                      {(n_previous + 1) * (n_previous + 1)});
         pairs[s] = read_dataset<std::int32_t>(file, stage + "/pairs", {n, 2});
-        for (const auto c : table[s])
-          check(c >= 0 && hsize_t(c) <= n,
-                "has an invalid " + stage + " table");
         for (const auto c : pairs[s])
           check(c >= 0 && hsize_t(c) <= n_previous,
                 "has invalid " + stage + " pairs");
+        // As build_tables() makes them: a pair with a void half exists only
+        // with void, the all-void pair (and only it, and the pairs that do
+        // not exist) maps to void (n), and every representative to itself.
+        const hsize_t m = n_previous + 1;
+        for (hsize_t i = 0; i < table[s].size(); ++i)
+          {
+            const hsize_t a = i % m, b = i / m;
+            const bool    exists = !(a == n_previous && b == n_previous) &&
+                                (level1.combinations().with_void() ||
+                                 (a < n_previous && b < n_previous));
+            check(table[s][i] >= 0 && (exists ? hsize_t(table[s][i]) < n :
+                                                hsize_t(table[s][i]) == n),
+                  "has an invalid " + stage + " table (pair " +
+                    std::to_string(i) +
+                    ": a class out of range, a void pair with a class or a "
+                    "pair of classes without one)");
+          }
+        for (hsize_t r = 0; r < n; ++r)
+          check(table[s][pairs[s][2 * r] + m * pairs[s][2 * r + 1]] ==
+                  std::int32_t(r),
+                "has invalid " + stage + " pairs (representative " +
+                  std::to_string(r) +
+                  " is not in its own class, or is a pair that cannot "
+                  "exist)");
         n_previous = n;
       }
     const hsize_t n_required = dataset_length(file, "level2/required");

@@ -1351,6 +1351,35 @@ main()
             Database::load("bad_level2.h5", &level2);
           });
         }
+      // A stage table that sends the all-void pair (the last one) to a
+      // solid representative, and a representative of the first stage
+      // that is not in its own class: a lookup would give a block another
+      // block's fit.
+      edit_dataset<std::int32_t>("lazy2.h5",
+                                 "bad_level2.h5",
+                                 "level2/stage 1/table",
+                                 [&](std::vector<std::int32_t> &values,
+                                     std::vector<hsize_t> &) {
+                                   values.back() = 0;
+                                 });
+      expect_error("level-2 stage table with a class for the void pair", [] {
+        Hierarchy level2;
+        Database::load("bad_level2.h5", &level2);
+      });
+      edit_dataset<std::int32_t>("lazy2.h5",
+                                 "bad_level2.h5",
+                                 "level2/stage 1/pairs",
+                                 [&](std::vector<std::int32_t> &values,
+                                     std::vector<hsize_t> &) {
+                                   AssertThrow(values.size() >= 4,
+                                               ExcInternalError());
+                                   std::swap(values[0], values[2]);
+                                   std::swap(values[1], values[3]);
+                                 });
+      expect_error("level-2 stage pairs with swapped representatives", [] {
+        Hierarchy level2;
+        Database::load("bad_level2.h5", &level2);
+      });
       // A class for that combination, which would let a lookup send its
       // blocks to another combination's class.
       edit_dataset<std::int32_t>("lazy2.h5",
