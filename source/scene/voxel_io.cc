@@ -667,9 +667,14 @@ namespace ddfem::scene
   {
     const auto  &n = grid.size();
     const double h = grid.voxel_size();
-    // Ray (i,j) runs parallel to z through ((i+1/2)h + dx, (j+1/2)h + dy).
+    // Ray (i,j) runs parallel to z through ((i+1/2)h + dx, (j+1/2)h + dy),
+    // and voxel k's center on it lies at (k+1/2)h + dz: a face exactly on a
+    // row of voxel centers keeps them inside where it bounds the body from
+    // below, outside where it bounds it from above, whatever the round-off
+    // of the crossing's height.
     const double dx = 1e-7 * h * (std::sqrt(2.) - 1);
     const double dy = 1e-7 * h * (std::sqrt(3.) - 1);
+    const double dz = 1e-7 * h * (std::sqrt(5.) - 2);
 
     // Half-open range of ray indices whose coordinate may lie in [low, high];
     // rounded outwards, the exact test below decides.
@@ -746,7 +751,7 @@ namespace ddfem::scene
                 continue;
               const auto k_index = [&](const double z) {
                 return static_cast<unsigned int>(
-                  std::clamp(std::ceil(z / h - 0.5), 0., double(n[2])));
+                  std::clamp(std::ceil((z - dz) / h - 0.5), 0., double(n[2])));
               };
               const unsigned int k_begin = k_index(crossings[m].first);
               const unsigned int k_end   = k_index(crossings[m + 1].first);

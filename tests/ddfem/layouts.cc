@@ -307,6 +307,18 @@ main()
             << boxes(hollow, {false, true}, 3) << std::endl
             << "two cubes touching along an edge: "
             << boxes(touching, {false, false}) << " voxels" << std::endl;
+  // Cubes whose faces pass through rows of voxel centers: a face that
+  // bounds the body from below keeps its centers, one that bounds it from
+  // above does not, along z as along x and y (3^3 and 4^3 voxels; rounding
+  // the crossings' heights gave some columns a voxel more or less).
+  std::cout
+    << "cubes with faces through voxel centers: "
+    << boxes({{Point<3>(0.005, 0.005, 0.005), Point<3>(0.035, 0.035, 0.035)}},
+             {false})
+    << " and "
+    << boxes({{Point<3>(0.025, 0.025, 0.025), Point<3>(0.065, 0.065, 0.065)}},
+             {false})
+    << " voxels" << std::endl;
 
   // Voxel meshes of the sphere scene: fine and one level coarser.
   const auto sphere =

@@ -72,15 +72,15 @@ namespace ddfem::scene
    * Sets every voxel of @p grid whose center lies inside the closed
    * surface @p mesh to @p material. Inside is decided along a ray parallel
    * to the z axis for each (i,j) column, robust against rays that graze
-   * edges and vertices (the ray is perturbed deterministically by a tiny
-   * irrational offset): by the winding number if the mesh's triangles can
-   * be oriented consistently, so that overlapping closed bodies make their
-   * union, and by parity otherwise (a shell that cannot be oriented, or
-   * half of whose triangles face each way). Each shell is oriented the way
-   * most of its triangles are: a few reversed triangles are repaired, and a
-   * cavity's inward-facing shell stays a cavity (one that faces outward, as
-   * its body does, fills it).
-   * Voxels outside are left unchanged.
+   * edges and vertices (the ray and the voxel centers on it are perturbed
+   * deterministically by tiny irrational offsets, so a face through a row
+   * of centers is decided alike in every column): by the winding number if the
+   * mesh's triangles can be oriented consistently, so that overlapping closed
+   * bodies make their union, and by parity otherwise (a shell that cannot be
+   * oriented, or half of whose triangles face each way). Each shell is oriented
+   * the way most of its triangles are: a few reversed triangles are repaired,
+   * and a cavity's inward-facing shell stays a cavity (one that faces outward,
+   * as its body does, fills it). Voxels outside are left unchanged.
    */
   void
   voxelize(const TriangleMesh &mesh,
