@@ -456,6 +456,16 @@ namespace ddfem::dg
         return x0;
       };
 
+    // The condition P (u - g) = 0 at x, if weak: P the projection onto the
+    // components prescribed there (world frame), g their data.
+    const auto held = [&](const Point<dim> &x, Tensor<1, dim> &g) {
+      Tensor<2, dim> P;
+      for (unsigned int d = 0; weak && d < n_components; ++d)
+        if (data.dirichlet(x, d, t, g[d]))
+          P[d][d] = 1;
+      return P;
+    };
+
     const auto cell_worker = [&](const Iterator               &cell,
                                  MeshWorker::ScratchData<dim> &s,
                                  CopyData                     &c) {
@@ -480,10 +490,17 @@ namespace ddfem::dg
                                          fv.shape_grad(j, q)),
                              m,
                              n_components);
-          const Tensor<1, dim> f =
+          Tensor<1, dim> f =
             data.body_force ?
               t * data.body_force(fv.quadrature_point(q) + shift) :
               Tensor<1, dim>();
+          // A load on components held inside a Dirichlet region goes into
+          // the reactions, as where strong conditions or CG hold them.
+          if (weak && data.dirichlet_inside)
+            {
+              Tensor<1, dim> g;
+              f -= held(fv.quadrature_point(q) + shift, g) * f;
+            }
           for (unsigned int i = 0; i < n; ++i)
             {
               const unsigned int   ci = fe.system_to_component_index(i).first;
@@ -502,16 +519,6 @@ namespace ddfem::dg
                    c.vector);
       else
         c.matrix.add(1., A);
-    };
-
-    // The condition P (u - g) = 0 at x, if weak: P the projection onto the
-    // components prescribed there (world frame), g their data.
-    const auto held = [&](const Point<dim> &x, Tensor<1, dim> &g) {
-      Tensor<2, dim> P;
-      for (unsigned int d = 0; weak && d < n_components; ++d)
-        if (data.dirichlet(x, d, t, g[d]))
-          P[d][d] = 1;
-      return P;
     };
 
     // Nitsche's terms on the face of @p cell that @p fv is reinitialized
@@ -750,6 +757,28 @@ namespace ddfem::dg
         {
           const Tensor<1, dim> nq = fiv.normal(q);
           const double         dx = fiv.JxW(q);
+          // Components held here (inside a Dirichlet region) have each
+          // side's Nitsche terms instead of these consistency and symmetry
+          // terms, which would count their traction twice: the terms of a
+          // side's stress take the jump's free part in that side's frame.
+          std::array<Tensor<2, dim>, 2> free_part = {
+            {unit_symmetric_tensor<dim>(), unit_symmetric_tensor<dim>()}};
+          if (weak && data.dirichlet_inside)
+            {
+              Tensor<1, dim>       g;
+              const Tensor<2, dim> P =
+                held(fiv.get_fe_face_values(0).quadrature_point(q), g);
+              for (unsigned int s = 0; s < 2; ++s)
+                if (current)
+                  {
+                    const Tensor<2, dim> &R =
+                      cell_rotations[(s == 0 ? cell : ncell)
+                                       ->active_cell_index()];
+                    free_part[s] -= transpose(R) * P * R;
+                  }
+                else
+                  free_part[s] -= P;
+            }
           for (unsigned int i = 0; i < n_if; ++i)
             {
               const FEFaceValuesBase<dim> &fv = fiv.get_fe_face_values(side[i]);
@@ -770,8 +799,10 @@ namespace ddfem::dg
                   penalty_product(
                     jump[i], jump[j], nq, mu_f, lambda_f, n_components) *
                   dx;
-                A[side[j]](i, j) -= 0.5 * (jump[i] * traction[j]) * dx;
-                A[side[i]](i, j) -= 0.5 * (jump[j] * traction[i]) * dx;
+                A[side[j]](i, j) -=
+                  0.5 * ((free_part[side[j]] * jump[i]) * traction[j]) * dx;
+                A[side[i]](i, j) -=
+                  0.5 * ((free_part[side[i]] * jump[j]) * traction[i]) * dx;
               }
         }
       if (current)

@@ -88,7 +88,9 @@ namespace ddfem::dg
      * may then be given everywhere, as a manufactured solution's is). True:
      * inside the domain too, as CG holds every node of a region: strong
      * conditions constrain every node where dirichlet() holds, weak ones
-     * add Nitsche's terms on both sides of interior faces too.
+     * add Nitsche's terms on both sides of interior faces too, in place of
+     * the interior consistency terms of the held components, and leave
+     * the body force on held components to the reactions.
      */
     bool dirichlet_inside = false;
   };
