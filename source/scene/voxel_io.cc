@@ -291,12 +291,18 @@ namespace ddfem::scene
             check(keyword == "solid" || keyword == "outer" ||
                     keyword == "endloop" || keyword == "endsolid",
                   "unexpected keyword \"" + std::string(keyword) + "\"");
-            ended = ended || keyword == "endsolid";
+            // Whether the last solid so far is closed.
+            ended = keyword == "endsolid" || (ended && keyword != "solid");
           }
       });
       AssertThrow(!in_facet,
                   ExcMessage(file +
                              ": ends inside a facet (missing \"endfacet\")."));
+      // A file cut between facets would pass every other check.
+      AssertThrow(corners.empty() || ended,
+                  ExcMessage(file +
+                             ": its last solid has no \"endsolid\" line after "
+                             "its facets (a truncated file?)."));
       // Binary files often start with "solid" as well: one whose size does
       // not match its triangle count (a truncated one, say) gets here, and
       // has no "endsolid" line.

@@ -583,6 +583,20 @@ main(int argc, char **argv)
     << "# a tetrahedron\nv 0 0 0\nv 1 0 0\n\nv 0 1 0 # third\nv 0 0 1\n"
        "f 1 3 2\nf 1 2 7\n";
   run_case("obj_face_out_of_range", from_surface_mesh("bad_face.obj"));
+  // An ASCII STL cut off between two facets: what it has is closed.
+  {
+    std::ofstream cut("cut_between_facets.stl");
+    cut << "solid two parts\n";
+    for (const auto &[a, b, c] :
+         std::vector<std::array<const char *, 3>>{{"0 0 0", "0 1 0", "1 0 0"},
+                                                  {"0 0 0", "1 0 0", "0 0 1"},
+                                                  {"0 0 0", "0 0 1", "0 1 0"},
+                                                  {"1 0 0", "0 1 0", "0 0 1"}})
+      cut << "facet normal 0 0 0\nouter loop\nvertex " << a << "\nvertex " << b
+          << "\nvertex " << c << "\nendloop\nendfacet\n";
+  }
+  run_case("stl_cut_between_facets",
+           from_surface_mesh("cut_between_facets.stl"));
   std::ofstream("vertex_outside_facet.stl")
     << "solid part\n\n  vertex 0 0 0\nendsolid part\n";
   run_case("stl_vertex_outside_facet",
