@@ -18,6 +18,7 @@
 #include <functional>
 #include <random>
 #include <set>
+#include <tuple>
 #include <type_traits>
 
 #include "../tests.h"
@@ -1352,48 +1353,41 @@ main()
           });
         }
       // A stage table that sends the all-void pair (the last one) to a
-      // solid representative, and a representative of the first stage
-      // that is not in its own class: a lookup would give a block another
+      // solid representative, a representative of the first stage that is
+      // not in its own class, and a class for the combination without a
+      // level-1 entry: each would let a lookup give a block another
       // block's fit.
-      edit_dataset<std::int32_t>("lazy2.h5",
-                                 "bad_level2.h5",
-                                 "level2/stage 1/table",
-                                 [&](std::vector<std::int32_t> &values,
-                                     std::vector<hsize_t> &) {
-                                   values.back() = 0;
-                                 });
-      expect_error("level-2 stage table with a class for the void pair", [] {
-        Hierarchy level2;
-        Database::load("bad_level2.h5", &level2);
-      });
-      edit_dataset<std::int32_t>("lazy2.h5",
-                                 "bad_level2.h5",
-                                 "level2/stage 1/pairs",
-                                 [&](std::vector<std::int32_t> &values,
-                                     std::vector<hsize_t> &) {
-                                   AssertThrow(values.size() >= 4,
-                                               ExcInternalError());
-                                   std::swap(values[0], values[2]);
-                                   std::swap(values[1], values[3]);
-                                 });
-      expect_error("level-2 stage pairs with swapped representatives", [] {
-        Hierarchy level2;
-        Database::load("bad_level2.h5", &level2);
-      });
-      // A class for that combination, which would let a lookup send its
-      // blocks to another combination's class.
-      edit_dataset<std::int32_t>("lazy2.h5",
-                                 "bad_level2.h5",
-                                 "level2/class of",
-                                 [&](std::vector<std::int32_t> &values,
-                                     std::vector<hsize_t> &) {
-                                   values[missing] = 0;
-                                 });
-      expect_error("level-2 class of a combination without a level-1 entry",
-                   [] {
-                     Hierarchy level2;
-                     Database::load("bad_level2.h5", &level2);
-                   });
+      using Edit32 = std::function<void(std::vector<std::int32_t> &,
+                                        std::vector<hsize_t> &)>;
+      for (const auto &[name, dataset, edit] :
+           std::vector<std::tuple<std::string, std::string, Edit32>>{
+             {"level-2 stage table with a class for the void pair",
+              "stage 1/table",
+              [](std::vector<std::int32_t> &values, std::vector<hsize_t> &) {
+                values.back() = 0;
+              }},
+             {"level-2 stage pairs with swapped representatives",
+              "stage 1/pairs",
+              [](std::vector<std::int32_t> &values, std::vector<hsize_t> &) {
+                AssertThrow(values.size() >= 4, ExcInternalError());
+                std::swap(values[0], values[2]);
+                std::swap(values[1], values[3]);
+              }},
+             {"level-2 class of a combination without a level-1 entry",
+              "class of",
+              [&](std::vector<std::int32_t> &values, std::vector<hsize_t> &) {
+                values[missing] = 0;
+              }}})
+        {
+          edit_dataset<std::int32_t>("lazy2.h5",
+                                     "bad_level2.h5",
+                                     "level2/" + dataset,
+                                     edit);
+          expect_error(name, [] {
+            Hierarchy level2;
+            Database::load("bad_level2.h5", &level2);
+          });
+        }
       // A level-1 build keeps the file's level 2: it stops before any fit
       // (it would fit every combination the lazy file lacks).
       expect_error("level-1 build of a file with a damaged level 2", [] {
