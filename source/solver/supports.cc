@@ -105,17 +105,7 @@ namespace ddfem::solver
                             const unsigned int a,
                             const unsigned int b)
   {
-    const std::array<double, 6> modes =
-      rigid_body_modes((x - center) / scale, component);
-    for (unsigned int i = 0; i < 6; ++i)
-      for (unsigned int j = 0; j < 6; ++j)
-        {
-          const double m = modes[i] * modes[j];
-          gram(6 * a + i, 6 * a + j) += m;
-          gram(6 * b + i, 6 * b + j) += m;
-          gram(6 * a + i, 6 * b + j) -= m;
-          gram(6 * b + i, 6 * a + j) -= m;
-        }
+    add_condition(x, component, {{a, 1.}, {b, -1.}});
   }
 
 
@@ -125,11 +115,24 @@ namespace ddfem::solver
                             const unsigned int component,
                             const unsigned int a)
   {
+    add_condition(x, component, {{a, 1.}});
+  }
+
+
+
+  void
+  RigidPartConditions::add_condition(
+    const Point<3>                                              &x,
+    const unsigned int                                           component,
+    const std::initializer_list<std::pair<unsigned int, double>> parts)
+  {
     const std::array<double, 6> modes =
       rigid_body_modes((x - center) / scale, component);
-    for (unsigned int i = 0; i < 6; ++i)
-      for (unsigned int j = 0; j < 6; ++j)
-        gram(6 * a + i, 6 * a + j) += modes[i] * modes[j];
+    for (const auto &[p, sign_p] : parts)
+      for (const auto &[q, sign_q] : parts)
+        for (unsigned int i = 0; i < 6; ++i)
+          for (unsigned int j = 0; j < 6; ++j)
+            gram(6 * p + i, 6 * q + j) += sign_p * sign_q * modes[i] * modes[j];
   }
 
 

@@ -10,6 +10,7 @@
 #include <ddfem/scene/scene.h>
 
 #include <array>
+#include <initializer_list>
 #include <map>
 #include <string>
 #include <utility>
@@ -107,6 +108,14 @@ namespace ddfem::solver
     free_motions() const;
 
   private:
+    /// Adds the condition sum_p sign_p (motion of part p at @p x, component
+    /// @p component) = 0 over the (part, sign) pairs @p parts.
+    void
+    add_condition(
+      const Point<3>                                              &x,
+      const unsigned int                                           component,
+      const std::initializer_list<std::pair<unsigned int, double>> parts);
+
     Point<3>                 center;
     double                   scale;
     LAPACKFullMatrix<double> gram;
