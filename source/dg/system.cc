@@ -654,29 +654,36 @@ namespace ddfem::dg
                                  const FEInterfaceValues<dim> &fiv,
                                  CopyData                     &c) {
       // Inside a Dirichlet region each side is held as on a boundary face,
-      // as CG holds every node of the region.
+      // as CG holds every node of the region: the components held at each
+      // quadrature point (the sides share them), if any is.
+      std::vector<Tensor<2, dim>> held_at;
       if (weak && data.dirichlet_inside)
-        for (unsigned int side = 0; side < 2; ++side)
+        for (const Point<dim> &x :
+             fiv.get_fe_face_values(0).get_quadrature_points())
           {
-            const FEFaceValuesBase<dim> &fv = fiv.get_fe_face_values(side);
-            const bool                   any_held = [&]() {
-              for (unsigned int q = 0; q < fv.n_quadrature_points; ++q)
-                if (Tensor<1, dim> g;
-                    held(fv.quadrature_point(q), g).norm_square() > 0)
-                  return true;
-              return false;
-            }();
-            if (!any_held)
-              continue;
-            const Iterator &k         = (side == 0 ? cell : ncell);
-            FaceCopy       &held_side = c.faces.emplace_back();
-            held_side.dofs.resize(n);
-            k->get_dof_indices(held_side.dofs);
-            held_side.matrix.reinit(n, n);
-            held_side.vector.reinit(n);
-            add_nitsche(
-              k, fv, held_side.dofs, held_side.matrix, held_side.vector);
+            Tensor<1, dim> g;
+            held_at.push_back(held(x, g));
           }
+      if (std::none_of(held_at.begin(),
+                       held_at.end(),
+                       [](const Tensor<2, dim> &P) {
+                         return P.norm_square() > 0;
+                       }))
+        held_at.clear();
+      for (unsigned int side = 0; side < 2 && !held_at.empty(); ++side)
+        {
+          const Iterator &k         = (side == 0 ? cell : ncell);
+          FaceCopy       &held_side = c.faces.emplace_back();
+          held_side.dofs.resize(n);
+          k->get_dof_indices(held_side.dofs);
+          held_side.matrix.reinit(n, n);
+          held_side.vector.reinit(n);
+          add_nitsche(k,
+                      fiv.get_fe_face_values(side),
+                      held_side.dofs,
+                      held_side.matrix,
+                      held_side.vector);
+        }
 
       const unsigned int n_if = fiv.n_current_interface_dofs();
       const std::array<const CellMaterial *, 2> m = {
@@ -763,21 +770,18 @@ namespace ddfem::dg
           // side's stress take the jump's free part in that side's frame.
           std::array<Tensor<2, dim>, 2> free_part = {
             {unit_symmetric_tensor<dim>(), unit_symmetric_tensor<dim>()}};
-          if (weak && data.dirichlet_inside)
+          if (!held_at.empty())
             {
-              Tensor<1, dim>       g;
-              const Tensor<2, dim> P =
-                held(fiv.get_fe_face_values(0).quadrature_point(q), g);
               for (unsigned int s = 0; s < 2; ++s)
                 if (current)
                   {
                     const Tensor<2, dim> &R =
                       cell_rotations[(s == 0 ? cell : ncell)
                                        ->active_cell_index()];
-                    free_part[s] -= transpose(R) * P * R;
+                    free_part[s] -= transpose(R) * held_at[q] * R;
                   }
                 else
-                  free_part[s] -= P;
+                  free_part[s] -= held_at[q];
             }
           for (unsigned int i = 0; i < n_if; ++i)
             {
