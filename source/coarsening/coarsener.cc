@@ -1,3 +1,4 @@
+#include <ddfem/base/parsing.h>
 #include <ddfem/coarsening/coarsener.h>
 
 #include <algorithm>
@@ -50,9 +51,8 @@ namespace ddfem::coarsening
     , palette(palette)
     , level1(level1)
     , level2(level2)
+    , quadrature(solver::coarse_quadrature(level, point_offset))
   {
-    const Quadrature<3> quadrature =
-      solver::coarse_quadrature(level, point_offset);
     AssertThrow(method != CoarseningMethod::ddfem ||
                   (level1 != nullptr &&
                    (level == 1 || (level2 != nullptr && !level2->empty()))),
@@ -157,7 +157,7 @@ namespace ddfem::coarsening
   Coarsener::coarsen(const scene::VoxelGrid &grid,
                      solver::Discretization &coarse) const
   {
-    AssertDimension(coarse.level, coarsening_level);
+    check_model(coarse);
     for (unsigned int c = 0; c < coarse.cell_blocks.size(); ++c)
       assign_cell(grid, c, coarse);
   }
@@ -169,7 +169,7 @@ namespace ddfem::coarsening
                        const std::vector<std::size_t> &changed,
                        solver::Discretization         &coarse) const
   {
-    AssertDimension(coarse.level, coarsening_level);
+    check_model(coarse);
     std::set<unsigned int> cells;
     for (const std::size_t v : changed)
       {
@@ -188,6 +188,28 @@ namespace ddfem::coarsening
         coarse.update_material_id(grid, cell);
       }
     return cells.size();
+  }
+
+
+
+  void
+  Coarsener::check_model(const solver::Discretization &coarse) const
+  {
+    AssertThrow(coarse.level == coarsening_level,
+                ExcMessage("A coarsener of level " +
+                           std::to_string(coarsening_level) +
+                           " was given a model of level " +
+                           std::to_string(coarse.level) + "."));
+    bool same_points = coarse.quadrature.size() == quadrature.size();
+    for (unsigned int q = 0; same_points && q < quadrature.size(); ++q)
+      same_points =
+        coarse.quadrature.point(q).distance(quadrature.point(q)) < 1e-12;
+    AssertThrow(same_points,
+                ExcMessage("The coarse model's quadrature points are not "
+                           "those of " +
+                           solver::point_offset_parameter(coarsening_level) +
+                           " = " + format_number(offset, 6) +
+                           ", which the coarsener fills records for."));
   }
 
 

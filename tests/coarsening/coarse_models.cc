@@ -503,7 +503,10 @@ namespace
           scene::Scene &scene              = edited.scene;
           scene.grid                       = grids[0];
           const auto             coarsener = edited.coarsener(method, level);
-          solver::Discretization model(scene, 1, level);
+          solver::Discretization model(scene,
+                                       1,
+                                       level,
+                                       coarsener->point_offset());
           coarsener->coarsen(scene.grid, model);
           std::cout << "  level " << level << " "
                     << coarsening::to_string(method) << ": blocks re-coarsened";
@@ -515,7 +518,10 @@ namespace
                         << coarsener->recoarsen(scene.grid, changed, model);
               // From scratch by a coarsener of its own, so that no state
               // of the one that re-coarsens can hide a difference.
-              solver::Discretization fresh(scene, 1, level);
+              solver::Discretization fresh(scene,
+                                           1,
+                                           level,
+                                           coarsener->point_offset());
               edited.coarsener(method, level)->coarsen(scene.grid, fresh);
               for (std::size_t p = 0; p < fresh.material_points.size(); ++p)
                 {
@@ -602,6 +608,30 @@ namespace
         std::cout << "  error: " << message_of(e) << std::endl;
       }
   }
+
+  /// A coarsener fills the records of its own level and points only.
+  void
+  mismatched_models()
+  {
+    std::cout << "Models of another level or point offset" << std::endl;
+    Setup setup(testing::cantilever("4, 4, 4", "0; 0; -200"), "unused.h5");
+    // A level-2 coarsener has the 0.4 of "Level-2 point offset", the
+    // model the Gauss points; a level-1 coarsener gets a level-2 model.
+    for (const unsigned int level : {2u, 1u})
+      {
+        solver::Discretization model(setup.scene, 1, 2);
+        try
+          {
+            setup.coarsener(CoarseningMethod::naive, level)
+              ->coarsen(setup.scene.grid, model);
+            std::cout << "  no error" << std::endl;
+          }
+        catch (ExceptionBase &e)
+          {
+            std::cout << "  error: " << message_of(e) << std::endl;
+          }
+      }
+  }
 } // namespace
 
 
@@ -614,4 +644,5 @@ main(int argc, char **argv)
   baseline_records();
   edit_and_recoarsen();
   point_offsets();
+  mismatched_models();
 }

@@ -82,8 +82,9 @@ namespace ddfem::coarsening
 
     /**
      * Fills the material record of every quadrature point of @p coarse
-     * (built from @p grid at level(); the cells' material ids are the ones
-     * the mesh was made with).
+     * (built from @p grid at level() and point_offset(); the cells'
+     * material ids are the ones the mesh was made with). Throws
+     * ExcMessage if @p coarse has another level or other points.
      */
     void
     coarsen(const scene::VoxelGrid &grid, solver::Discretization &coarse) const;
@@ -132,6 +133,11 @@ namespace ddfem::coarsening
     static constexpr double void_stiffness = 1e-3;
 
   private:
+    /// Throws ExcMessage unless @p coarse is of level() and has the
+    /// quadrature points of point_offset(): the records are per point.
+    void
+    check_model(const solver::Discretization &coarse) const;
+
     /// Copies block_material() of coarse cell @p cell's block into
     /// @p coarse's records of that cell.
     void
@@ -145,6 +151,8 @@ namespace ddfem::coarsening
     const scene::Palette  &palette;
     const Database        *level1;
     const Hierarchy       *level2;
+    /// The quadrature rule of level() and point_offset().
+    const Quadrature<3> quadrature;
     /// Per quadrature point, the offset of its voxel in the block.
     std::vector<std::array<unsigned int, 3>> point_voxel;
   };
