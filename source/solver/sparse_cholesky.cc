@@ -145,14 +145,32 @@ namespace ddfem::solver
     const int       n = K.m();
     data->valid       = false;
     analyze(K);
-    Assert(data->matrix->nrow == static_cast<std::size_t>(n),
-           ExcMessage("The sparsity pattern changed without clear()."));
-    double     *values = static_cast<double *>(data->matrix->x);
-    std::size_t k      = 0;
-    for (int r = 0; r < n; ++r)
-      for (auto entry = K.begin(r); entry != K.end(r); ++entry)
+    // The values go into the structure of the analyzed pattern: another
+    // pattern would write past its end.
+    const int  *columns = static_cast<const int *>(data->matrix->p);
+    const int  *rows    = static_cast<const int *>(data->matrix->i);
+    double     *values  = static_cast<double *>(data->matrix->x);
+    bool        same    = data->matrix->nrow == static_cast<std::size_t>(n);
+    bool        finite  = true;
+    std::size_t k       = 0;
+    for (int r = 0; same && r < n; ++r)
+      for (auto entry = K.begin(r); same && entry != K.end(r); ++entry)
         if (is_upper(*entry))
-          values[k++] = entry->value();
+          {
+            same = k < static_cast<std::size_t>(columns[n]) &&
+                   rows[k] == static_cast<int>(entry->column());
+            if (same)
+              {
+                values[k++] = entry->value();
+                finite      = finite && std::isfinite(entry->value());
+              }
+          }
+    AssertThrow(same && k == static_cast<std::size_t>(columns[n]),
+                ExcMessage("SparseCholesky: the sparsity pattern changed "
+                           "without clear()."));
+    // CHOLMOD's pivot test (a pivot <= 0) passes a NaN.
+    if (!finite)
+      return false;
 
     cholmod_factorize(data->matrix, data->factor, &c);
     // Errors are negative (out of memory, a factor too large for 32-bit

@@ -23,6 +23,7 @@
 
 #include <deal.II/lac/sparse_direct.h>
 
+#include <ddfem/base/exceptions.h>
 #include <ddfem/solver/sparse_cholesky.h>
 
 #include <random>
@@ -156,6 +157,31 @@ main(int argc, char **argv)
       T.set(i, i, 1.5);
     std::cout << "; with 1.5 on the diagonal: " << cholesky.factorize(T)
               << ", factor held: " << cholesky.factorized() << std::endl;
+    // CHOLMOD's pivot test passes a NaN pivot: the factorization must not.
+    for (unsigned int i = 0; i < m; ++i)
+      T.set(i, i, 2.);
+    T.set(m / 2, m / 2, std::numeric_limits<double>::quiet_NaN());
+    std::cout << "  with a NaN on the diagonal: " << cholesky.factorize(T)
+              << ", factor held: " << cholesky.factorized() << std::endl;
+    // A matrix of another pattern (of the same size) is an error, not
+    // values written past the analyzed structure.
+    SparsityPattern full(m, m, m);
+    for (unsigned int i = 0; i < m; ++i)
+      for (unsigned int j = 0; j < m; ++j)
+        full.add(i, j);
+    full.compress();
+    SparseMatrix<double> dense(full);
+    for (unsigned int i = 0; i < m; ++i)
+      dense.set(i, i, 1.);
+    try
+      {
+        cholesky.factorize(dense);
+        std::cout << "  another pattern: no error" << std::endl;
+      }
+    catch (const ExceptionBase &e)
+      {
+        std::cout << "  another pattern: " << message_of(e) << std::endl;
+      }
   }
 
   std::cout << "cg-cholesky (Cholesky tolerance 1e-8, factorization cost 20)"

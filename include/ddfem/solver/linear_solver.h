@@ -27,10 +27,13 @@ namespace ddfem::solver
    *   last solve needed more CG iterations than the average cost per solve
    *   since the last factorization (which counts as 'Cholesky
    *   factorization cost' iterations), or when CG needs more than that
-   *   cost, so a few factorizations serve a whole load path; a system that
-   *   is not positive definite goes to UMFPACK, and so do the next 1, 2,
-   *   4, then 8 solves while factorizations keep failing (Newton's retries
-   *   of a shifted tangent count too);
+   *   cost, so a few factorizations serve a whole load path; a system
+   *   whose factorization finds it not positive definite goes to UMFPACK,
+   *   and so do the next 1, 2, 4, then 8 solves while factorizations keep
+   *   failing (Newton's retries of a shifted tangent count too). CG with an
+   *   earlier factor does not test the system: an indefinite one may be
+   *   solved so, and Newton's descent check rejects a direction that does
+   *   not descend;
    * - conjugate gradients preconditioned by Trilinos ML algebraic multigrid
    *   whose near null space are the six rigid body modes ('cg-amg'). The
    *   hierarchy is kept across Newton iterations and rebuilt only when CG

@@ -59,8 +59,10 @@ namespace ddfem::solver
     /**
      * Factorizes the symmetric matrix @p K, reading its upper triangle.
      * Returns false, and holds no factor, where @p K is not positive
-     * definite (a pivot that is not positive). Throws std::runtime_error
-     * if CHOLMOD fails otherwise (out of memory).
+     * definite (a pivot that is not positive) or has an entry that is not
+     * finite. Throws std::runtime_error if CHOLMOD fails otherwise (out of
+     * memory), ExcMessage if @p K's sparsity pattern is not the analyzed
+     * one.
      */
     bool
     factorize(const SparseMatrix<double> &K);
