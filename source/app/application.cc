@@ -9,6 +9,7 @@
 #include <ddfem/app/model_run.h>
 #include <ddfem/base/exceptions.h>
 #include <ddfem/base/files.h>
+#include <ddfem/base/parsing.h>
 #include <ddfem/coarsening/builder.h>
 #include <ddfem/dg/parameters.h>
 #include <ddfem/dg/scene_solver.h>
@@ -142,7 +143,7 @@ namespace ddfem::app
                   ExcMessage("--set \"" + text +
                              "\": expected \"Subsection/Name=value\"."));
       const auto path =
-        Utilities::split_string_list(text.substr(0, equal), '/');
+        split_list(text.substr(0, equal), '/', "--set \"" + text + "\"");
       const auto value = Utilities::trim(text.substr(equal + 1));
       AssertThrow(!path.empty(),
                   ExcMessage("--set \"" + text + "\": no parameter name."));

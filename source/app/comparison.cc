@@ -385,11 +385,12 @@ namespace ddfem::app
   Comparison::parse_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Comparison");
-    const std::string prm_methods  = prm.get("Methods");
-    const std::string prm_levels   = prm.get("Levels");
-    const auto        method_names = Utilities::split_string_list(prm_methods);
-    const auto        level_list =
-      Utilities::string_to_int(Utilities::split_string_list(prm_levels));
+    const std::string prm_methods = prm.get("Methods");
+    const std::string prm_levels  = prm.get("Levels");
+    const auto        method_names =
+      split_list(prm_methods, ',', "Comparison/Methods");
+    const auto level_list = Utilities::string_to_int(
+      split_list(prm_levels, ',', "Comparison/Levels"));
     direct_limit = prm.get_integer("Fine direct solver limit");
     prm.leave_subsection();
     // No methods compares the fine solvers alone; methods need levels.

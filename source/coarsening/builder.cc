@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <exception>
 #include <filesystem>
 #include <iomanip>
@@ -153,15 +154,33 @@ namespace ddfem::coarsening
   {
     AssertThrow(!database_file.empty(),
                 ExcMessage("Database/File must name a file."));
-    AssertThrow(fitting.held_out_every <= sampling.n_directions,
-                ExcMessage("Database/Fitting/Held-out every = " +
-                           std::to_string(fitting.held_out_every) +
-                           " exceeds Database/Sampling/Patterns = " +
-                           std::to_string(sampling.n_directions) +
-                           ": no pattern would be held out, and the held-out "
-                           "errors would be those of the fitted samples. Set "
-                           "it to at most the number of patterns, or to 0 to "
-                           "measure the errors on the fitted samples."));
+    // The held-out split takes every n-th pattern of each kind (a mixed
+    // block's embedded and force patterns are numbered apart), so each kind
+    // a block may have needs n patterns at least.
+    unsigned int n_embedded = 0;
+    for (unsigned int p = 0; p < sampling.n_directions; ++p)
+      n_embedded += (std::floor((p + 1) * sampling.embedded) >
+                     std::floor(p * sampling.embedded));
+    unsigned int fewest = sampling.n_directions;
+    for (const unsigned int n_of_kind :
+         {n_embedded, sampling.n_directions - n_embedded})
+      if (n_of_kind > 0)
+        fewest = std::min(fewest, n_of_kind);
+    AssertThrow(fitting.held_out_every <= fewest,
+                ExcMessage(
+                  "Database/Fitting/Held-out every = " +
+                  std::to_string(fitting.held_out_every) + " exceeds the " +
+                  std::to_string(fewest) +
+                  " patterns of a kind (Database/Sampling/Patterns = " +
+                  std::to_string(sampling.n_directions) +
+                  ", Embedded fraction = " +
+                  Utilities::to_string(sampling.embedded) +
+                  "): no pattern of that kind would be held out, and "
+                  "a block's held-out errors could be those of its "
+                  "fitted samples. Set it to at most " +
+                  std::to_string(fewest) +
+                  ", or to 0 to measure the errors on the fitted "
+                  "samples."));
     AssertThrow(n_representatives == 0 || run_scope == Scope::all,
                 ExcMessage("Database/Representatives (compression) needs "
                            "Database/Scope = all: only a complete database "

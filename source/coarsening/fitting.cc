@@ -108,7 +108,9 @@ namespace ddfem::coarsening
     if (spring_text != "same")
       {
         spring_regularization =
-          parse_number(spring_text, "Database/Fitting/Spring regularization");
+          parse_number(spring_text,
+                       "Database/Fitting/Spring regularization (expected "
+                       "'same' or a number >= 0)");
         AssertThrow(*spring_regularization >= 0,
                     ExcMessage("Database/Fitting/Spring regularization = " +
                                spring_text +

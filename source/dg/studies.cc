@@ -146,9 +146,10 @@ namespace ddfem::dg
   parse_methods(const std::string &list)
   {
     std::vector<StudyMethod> methods;
-    for (const std::string &name : Utilities::split_string_list(list))
+    for (const std::string &name :
+         split_list(list, ',', "DG convergence/Methods"))
       {
-        const auto words = Utilities::split_string_list(name, ' ');
+        const auto words = split_words(name);
         AssertThrow(words.size() == 2,
                     ExcMessage("Unknown study method \"" + name + "\"."));
         StudyMethod m;
@@ -377,7 +378,7 @@ namespace ddfem::dg
   {
     dg.parse_parameters(prm);
     prm.enter_subsection("DG convergence");
-    problems = Utilities::split_string_list(prm.get("Problems"));
+    problems = split_list(prm.get("Problems"), ',', "DG convergence/Problems");
     methods  = parse_methods(prm.get("Methods"));
     AssertThrow(!problems.empty() && !methods.empty(),
                 ExcMessage("DG convergence/Problems and Methods must each "
@@ -390,10 +391,10 @@ namespace ddfem::dg
         dg.check_penalty(method.flux,
                          "the method " + method.name +
                            " of DG convergence/Methods");
-    const auto l2d = Utilities::string_to_int(
-      Utilities::split_string_list(prm.get("2D refinements")));
-    const auto l3d = Utilities::string_to_int(
-      Utilities::split_string_list(prm.get("3D refinements")));
+    const auto l2d  = Utilities::string_to_int(split_list(
+      prm.get("2D refinements"), ',', "DG convergence/2D refinements"));
+    const auto l3d  = Utilities::string_to_int(split_list(
+      prm.get("3D refinements"), ',', "DG convergence/3D refinements"));
     min_2d          = l2d[0];
     max_2d          = l2d[1];
     min_3d          = l3d[0];

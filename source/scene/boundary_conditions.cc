@@ -67,8 +67,7 @@ namespace ddfem::scene
                 const std::string &where,
                 std::vector<bool> *constrained = nullptr)
     {
-      std::vector<std::string> expressions =
-        Utilities::split_string_list(text, ';');
+      std::vector<std::string> expressions = split_list(text, ';', where);
       AssertThrow(expressions.size() == n_components,
                   ExcMessage(where + " = \"" + text + "\": expected " +
                              std::to_string(n_components) +
@@ -355,7 +354,7 @@ namespace ddfem::scene
             else if (condition.type == "rotation")
               {
                 condition.axis =
-                  parse_point(Utilities::split_string_list(prm.get("Axis")),
+                  parse_point(split_list(prm.get("Axis"), ',', where + "/Axis"),
                               where + "/Axis");
                 // Scaled by its largest component first, so that its length
                 // neither overflows (1e200) nor underflows (1e-200).
@@ -375,7 +374,7 @@ namespace ddfem::scene
                 else
                   {
                     condition.center =
-                      parse_point(Utilities::split_string_list(center),
+                      parse_point(split_list(center, ',', where + "/Center"),
                                   where + "/Center (or 'auto')");
                   }
               }
@@ -390,7 +389,7 @@ namespace ddfem::scene
     body                        = make_parser(body_text, 3, "Loads/Body force");
     prm.leave_subsection();
     body_force_given = false;
-    for (const std::string &e : Utilities::split_string_list(body_text, ';'))
+    for (const std::string &e : split_list(body_text, ';', "Loads/Body force"))
       if (e != "0")
         body_force_given = true;
   }

@@ -42,8 +42,7 @@ namespace ddfem::scene
                 const std::string &where)
     {
       std::vector<MaterialId> ids;
-      for (const int v :
-           Utilities::string_to_int(Utilities::split_string_list(list)))
+      for (const int v : Utilities::string_to_int(split_list(list, ',', where)))
         ids.push_back(checked_id(v, n_materials, where));
       AssertThrow(!ids.empty(),
                   ExcMessage(where + " must list at least one material id."));
@@ -217,7 +216,7 @@ namespace ddfem::scene
       const std::string edit_text = prm.get("Edits");
       if (!Utilities::trim(edit_text).empty())
         for (const std::string &edit :
-             Utilities::split_string_list(edit_text, '|'))
+             split_list(edit_text, '|', "Layout/Edits"))
           {
             const std::string where =
               "Layout/Edits, edit " + std::to_string(edits.size() + 1);
@@ -239,7 +238,7 @@ namespace ddfem::scene
 
       prm.enter_subsection("Skin");
       skin_thickness = prm.get_double("Thickness");
-      skin_faces     = Utilities::split_string_list(prm.get("Faces"));
+      skin_faces     = split_list(prm.get("Faces"), ',', "Layout/Skin/Faces");
       if (type == "skin")
         {
           skin_material = checked_id(prm.get_integer("Skin material"),
@@ -312,10 +311,10 @@ namespace ddfem::scene
                        const std::string &parameter)
   {
     std::vector<Shape> result;
-    for (const std::string &entry : Utilities::split_string_list(text, ';'))
+    for (const std::string &entry : split_list(text, ';', parameter))
       {
         const std::string where = parameter + ", entry \"" + entry + "\"";
-        const auto        parts = Utilities::split_string_list(entry, ':');
+        const auto        parts = split_list(entry, ':', parameter);
         AssertThrow(
           parts.size() == 2,
           ExcMessage(where + ": expected '<kind> <numbers> : <material id>'."));

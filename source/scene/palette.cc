@@ -62,7 +62,7 @@ namespace ddfem::scene
   {
     std::vector<PaletteMaterial> result;
     for (const std::string &entry :
-         Utilities::split_string_list(description, ';'))
+         split_list(description, ';', "Materials/Palette"))
       {
         const std::string where = "Materials/Palette, material " +
                                   std::to_string(result.size() + 1) + " (\"" +
@@ -70,7 +70,10 @@ namespace ddfem::scene
         std::map<std::string, double> values;
         for (const std::string &pair : split_words(entry))
           {
-            const auto tokens = Utilities::split_string_list(pair, '=');
+            const auto tokens = split_list(pair,
+                                           '=',
+                                           "Materials/Palette, material " +
+                                             std::to_string(result.size() + 1));
             AssertThrow(tokens.size() == 2,
                         ExcMessage(where +
                                    ": expected 'name=value' pairs, got \"" +

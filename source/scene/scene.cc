@@ -115,7 +115,7 @@ namespace ddfem::scene
   {
     prm.enter_subsection("Geometry");
     const auto n = Utilities::string_to_int(
-      Utilities::split_string_list(prm.get("Grid size")));
+      split_list(prm.get("Grid size"), ',', "Geometry/Grid size"));
     const double h = prm.get_double("Voxel size");
     AssertThrow(h >= 1e-6 && h <= 1e3,
                 ExcMessage("Geometry/Voxel size = " + prm.get("Voxel size") +
@@ -129,10 +129,11 @@ namespace ddfem::scene
                      h);
     probes.clear();
     for (const std::string &p :
-         Utilities::split_string_list(prm.get("Probe points"), ';'))
+         split_list(prm.get("Probe points"), ';', "Geometry/Probe points"))
       {
-        probes.push_back(parse_point(Utilities::split_string_list(p),
-                                     "Geometry/Probe points, \"" + p + "\""));
+        probes.push_back(
+          parse_point(split_list(p, ',', "Geometry/Probe points"),
+                      "Geometry/Probe points, \"" + p + "\""));
       }
     prm.leave_subsection();
 

@@ -328,10 +328,22 @@ namespace ddfem::scene
       for_each_line(in, file, true, [&](const Line &line) {
         if (line.tokens[0] == "v")
           {
-            Point<3> p;
-            AssertThrow(parse_point(line.tokens, 1, p),
+            // "v x y z", with an optional weight w or a colour r g b after
+            // the coordinates, numbers that do not move the vertex.
+            Point<3>          p;
+            const std::size_t n_words = line.tokens.size();
+            bool well_formed = (n_words == 4 || n_words == 5 || n_words == 7) &&
+                               parse_point(line.tokens, 1, p);
+            for (std::size_t t = 4; well_formed && t < line.tokens.size(); ++t)
+              {
+                double extra = 0;
+                well_formed  = parse(line.tokens[t], extra);
+              }
+            AssertThrow(well_formed,
                         ExcMessage(line.where() + "malformed vertex line \"" +
-                                   line.text + "\"."));
+                                   line.text +
+                                   "\"; expected \"v x y z\", optionally "
+                                   "followed by a weight or by r g b."));
             vertices.push_back(p);
           }
         else if (line.tokens[0] == "f")

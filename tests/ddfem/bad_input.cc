@@ -244,6 +244,23 @@ main(int argc, char **argv)
             "Database/Sampling/Patterns=10",
             "--set",
             "Database/Fitting/Held-out every=11"});
+  // Half of 8 patterns embedded: 4 of each kind, none of them the 5th.
+  run_case("held_out_beyond_patterns_of_a_kind",
+           cantilever,
+           {"--set",
+            "Method=ddfem",
+            "--set",
+            "Database/Sampling/Patterns=8",
+            "--set",
+            "Database/Sampling/Embedded fraction=0.5",
+            "--set",
+            "Database/Fitting/Held-out every=5"});
+  run_case("spring_regularization_word",
+           cantilever,
+           {"--set",
+            "Method=ddfem",
+            "--set",
+            "Database/Fitting/Spring regularization=Same"});
   // The database's settings concern ddfem alone: a naive run that gives
   // none runs.
   run_case("naive_without_database_file",
@@ -583,6 +600,11 @@ main(int argc, char **argv)
     << "# a tetrahedron\nv 0 0 0\nv 1 0 0\n\nv 0 1 0 # third\nv 0 0 1\n"
        "f 1 3 2\nf 1 2 7\n";
   run_case("obj_face_out_of_range", from_surface_mesh("bad_face.obj"));
+  // A vertex line has 3 coordinates, then a weight or a colour at most.
+  std::ofstream("bad_vertex.obj")
+    << "v 0 0 0\nv 1 0 0 1 1\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\n";
+  run_case("obj_vertex_with_two_extra_numbers",
+           from_surface_mesh("bad_vertex.obj"));
   // An ASCII STL cut off between two facets: what it has is closed.
   {
     std::ofstream cut("cut_between_facets.stl");
@@ -925,6 +947,19 @@ end
                          "0.01 : 1; box 0.01 0.01 0 0.02 0.02 0.02 : 1; box "
                          "0.02 0.02 0 0.03 0.03 0.03 : 1; box 0.01 0.02 0.02 "
                          "0.02 0.03 0.03 : 1"));
+  // deal.II's split_string_list() drops a last empty entry: an extra
+  // separator at the end of a pair, a shape or a list is an error, as one
+  // in the middle is.
+  run_case("pair_with_trailing_equals",
+           cantilever +
+             "subsection Materials\n  set Palette = E=1e5= nu=0.3\nend\n");
+  run_case("shape_with_trailing_colon",
+           cantilever + "subsection Layout\n  set Shapes = box 0 0 0 0.01 "
+                        "0.01 0.01 : 1 :\nend\n");
+  run_case("trailing_comma_in_list",
+           cantilever,
+           {"--set", "Run type=compare", "--set", "Comparison/Levels=1,2,"});
+  run_case("trailing_slash_in_set", cantilever, {"--set", "Method/=naive"});
   // A coarse model solves the scene the fine model would: its blocks may
   // bridge the edge joint, or reach the grid's face where the solid ends
   // short of it, but the scene is rejected as the fine model rejects it.

@@ -201,6 +201,17 @@ main()
     for (unsigned int t = 0; t < mesh.triangles.size(); ++t)
       soup << "f " << 3 * t + 1 << " " << 3 * t + 2 << " " << 3 * t + 3 << "\n";
   }
+  // Vertex lines may carry a weight, or a colour as some exporters write
+  // it; neither moves the vertex.
+  {
+    std::ofstream coloured("octahedron_coloured.obj");
+    for (unsigned int i = 0; i < mesh.vertices.size(); ++i)
+      coloured << "v " << mesh.vertices[i]
+               << (i % 2 == 0 ? " 1" : " 0.5 0.25 1") << "\n";
+    for (const auto &t : mesh.triangles)
+      coloured << "f " << t[0] + 1 << " " << t[1] + 1 << " " << t[2] + 1
+               << "\n";
+  }
   std::ofstream("octahedron_stray.obj")
     << std::ifstream("octahedron.obj").rdbuf() << "v 1 1 1\n";
   // Faces that repeat a vertex bound nothing and are dropped, also with a
@@ -234,6 +245,7 @@ main()
                                  "octahedron_ascii.stl",
                                  "octahedron_binary.stl",
                                  "octahedron_soup.obj",
+                                 "octahedron_coloured.obj",
                                  "octahedron_stray.obj",
                                  "octahedron_degenerate.obj",
                                  "bom_octahedron_ascii.stl",

@@ -29,6 +29,35 @@ namespace ddfem
   }
 
   /**
+   * The entries of the @p delimiter separated list @p text, each trimmed of
+   * white space; no entries if @p text is blank. Throws ExcMessage naming
+   * @p where (the parameter) if an entry is empty, as in "1,,2" or "1,2,":
+   * deal.II's Utilities::split_string_list() drops a last empty entry, so
+   * "E=1e5=" would pass for the pair "E=1e5".
+   */
+  inline std::vector<std::string>
+  split_list(const std::string &text,
+             const char         delimiter,
+             const std::string &where)
+  {
+    const std::string trimmed = dealii::Utilities::trim(text);
+    if (trimmed.empty())
+      return {};
+    const std::vector<std::string> entries =
+      dealii::Utilities::split_string_list(trimmed, delimiter);
+    bool empty_entry = (trimmed.back() == delimiter);
+    for (const std::string &entry : entries)
+      empty_entry = empty_entry || dealii::Utilities::trim(entry).empty();
+    AssertThrow(!empty_entry,
+                dealii::ExcMessage(where + ": \"" + trimmed +
+                                   "\" has an empty entry (nothing between "
+                                   "two '" +
+                                   std::string(1, delimiter) +
+                                   "', or after the last)."));
+    return entries;
+  }
+
+  /**
    * @p text as a finite decimal number. Throws ExcMessage naming @p where
    * (the parameter) otherwise: strtod() also reads hexadecimal numbers
    * ("0x10" is 16), which no parameter in meters or pascals means.
@@ -80,9 +109,7 @@ namespace ddfem
   inline void
   check_each_once(const std::string &text, const std::string &parameter)
   {
-    check_each_once(dealii::Utilities::split_string_list(text),
-                    text,
-                    parameter);
+    check_each_once(split_list(text, ',', parameter), text, parameter);
   }
 
   /// @p x with @p digits significant digits, for messages.
