@@ -25,6 +25,7 @@
 #include <cctype>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iomanip>
 #include <new>
 #include <optional>
@@ -265,7 +266,7 @@ namespace ddfem::app
        * other than a regular file is in the way of summary.json,
        * parameters.prm or the VTU files of @p n_states scene states (0: a
        * DG run's solution.vtu only), or of an earlier run's results that
-       * prepare_output() removes (check_earlier_results()).
+       * write_output() removes (check_earlier_results()).
        */
       void
       check_output(const unsigned int n_states) const
@@ -279,19 +280,40 @@ namespace ddfem::app
 
       /**
        * Creates the output directory, removes the results an earlier run
-       * left there (remove_earlier_results()) and writes parameters.prm
-       * into it (after check_output()). A run that fails from here on
-       * leaves only results of its own.
+       * left there (remove_earlier_results()), runs @p write_results, which
+       * writes this run's results, and writes parameters.prm (all after
+       * check_output()); returns what @p write_results returns. If anything
+       * throws, the results written so far are removed again, with the
+       * directories made for them: a failed run leaves none of its own.
        */
-      void
-      prepare_output(const ParameterHandler &prm) const
+      int
+      write_output(const ParameterHandler     &prm,
+                   const std::function<int()> &write_results) const
       {
-        create_directories(directory, "Output/Output directory");
+        const auto made =
+          create_directories(directory, "Output/Output directory");
         remove_earlier_results(directory);
-        ResultFile used(directory + "/parameters.prm",
-                        "Output/Output directory");
-        prm.print_parameters(used.stream(), ParameterHandler::ShortPRM);
-        used.commit();
+        try
+          {
+            const int  status = write_results();
+            ResultFile used(directory + "/parameters.prm",
+                            "Output/Output directory");
+            prm.print_parameters(used.stream(), ParameterHandler::ShortPRM);
+            used.commit();
+            return status;
+          }
+        catch (...)
+          {
+            // Best effort: the error to report is the first one.
+            try
+              {
+                remove_earlier_results(directory);
+                remove_empty_directories(made);
+              }
+            catch (...)
+              {}
+            throw;
+          }
       }
 
       /// Writes @p summary as summary.json.
@@ -336,42 +358,43 @@ namespace ddfem::app
         // Every VTU file of an earlier run is removed, solution.vtu with
         // them (a DG run writes no continuous states).
         const unsigned int solves = solver.solve();
-        prepare_output(prm);
-        if (vtu.enabled())
-          solver.write_vtu(directory + "/solution.vtu");
+        return write_output(prm, [&]() {
+          if (vtu.enabled())
+            solver.write_vtu(directory + "/solution.vtu");
 
-        nlohmann::json summary;
-        summary["scene"]        = scene_name;
-        summary["grid"]         = {n[0], n[1], n[2]};
-        summary["voxel_size"]   = scene.grid.voxel_size();
-        summary["solid_voxels"] = scene.grid.n_solid_voxels();
-        solver.summarize(summary);
-        pcout << "Solved with " << solves << " linear solve"
-              << (solves == 1 ? "" : "s") << std::endl;
-        std::vector<Probe> probes;
-        for (const Point<3> &p : scene.probes)
-          probes.push_back({p, solver.point_value(p)});
-        print_probes(probes, pcout);
-        summary["probes"]         = to_json(probes);
-        summary["wall_time_s"]    = total.wall_time();
-        summary["peak_memory_mb"] = peak_memory_mb();
-        write_summary(summary);
-        // The times of summary.json: the solve time covers every solve of a
-        // corotated run (and its assemblies); the integration and assembly
-        // times are those of the last assembly.
-        if (screen_timings)
-          pcout << std::setprecision(4) << "  wall time "
-                << summary["wall_time_s"].get<double>() << " s, setup "
-                << summary["time_setup_s"].get<double>() << " s, solve "
-                << summary["time_solve_s"].get<double>()
-                << " s; last assembly: integration "
-                << summary["time_integration_s"].get<double>()
-                << " s, adding into K and F "
-                << summary["time_assembly_s"].get<double>()
-                << " s\n  peak memory "
-                << summary["peak_memory_mb"].get<double>() << " MB"
-                << std::endl;
-        return 0;
+          nlohmann::json summary;
+          summary["scene"]        = scene_name;
+          summary["grid"]         = {n[0], n[1], n[2]};
+          summary["voxel_size"]   = scene.grid.voxel_size();
+          summary["solid_voxels"] = scene.grid.n_solid_voxels();
+          solver.summarize(summary);
+          pcout << "Solved with " << solves << " linear solve"
+                << (solves == 1 ? "" : "s") << std::endl;
+          std::vector<Probe> probes;
+          for (const Point<3> &p : scene.probes)
+            probes.push_back({p, solver.point_value(p)});
+          print_probes(probes, pcout);
+          summary["probes"]         = to_json(probes);
+          summary["wall_time_s"]    = total.wall_time();
+          summary["peak_memory_mb"] = peak_memory_mb();
+          write_summary(summary);
+          // The times of summary.json: the solve time covers every solve of a
+          // corotated run (and its assemblies); the integration and assembly
+          // times are those of the last assembly.
+          if (screen_timings)
+            pcout << std::setprecision(4) << "  wall time "
+                  << summary["wall_time_s"].get<double>() << " s, setup "
+                  << summary["time_setup_s"].get<double>() << " s, solve "
+                  << summary["time_solve_s"].get<double>()
+                  << " s; last assembly: integration "
+                  << summary["time_integration_s"].get<double>()
+                  << " s, adding into K and F "
+                  << summary["time_assembly_s"].get<double>()
+                  << " s\n  peak memory "
+                  << summary["peak_memory_mb"].get<double>() << " MB"
+                  << std::endl;
+          return 0;
+        });
       }
 
       /**
@@ -445,73 +468,74 @@ namespace ddfem::app
               << linear_solver.method() << std::endl;
 
         // All input is valid: from here on, results are written.
-        prepare_output(prm);
-        nlohmann::json summary;
-        summary["scene"]           = scene_name;
-        summary["method"]          = method;
-        summary["level"]           = coarsener ? level : 0;
-        summary["grid"]            = {n[0], n[1], n[2]};
-        summary["voxel_size"]      = scene.grid.voxel_size();
-        summary["solid_voxels"]    = scene.grid.n_solid_voxels();
-        summary["cells"]           = model.triangulation.n_active_cells();
-        summary["dofs"]            = model.dof_handler.n_dofs();
-        summary["degree"]          = model.fe.degree;
-        summary["linear_solver"]   = linear_solver.method();
-        summary["database_time_s"] = database_time;
-        summary["edits"]           = nlohmann::json::array();
+        return write_output(prm, [&]() {
+          nlohmann::json summary;
+          summary["scene"]           = scene_name;
+          summary["method"]          = method;
+          summary["level"]           = coarsener ? level : 0;
+          summary["grid"]            = {n[0], n[1], n[2]};
+          summary["voxel_size"]      = scene.grid.voxel_size();
+          summary["solid_voxels"]    = scene.grid.n_solid_voxels();
+          summary["cells"]           = model.triangulation.n_active_cells();
+          summary["dofs"]            = model.dof_handler.n_dofs();
+          summary["degree"]          = model.fe.degree;
+          summary["linear_solver"]   = linear_solver.method();
+          summary["database_time_s"] = database_time;
+          summary["edits"]           = nlohmann::json::array();
 
-        bool converged = true;
-        for (unsigned int state = 0; state <= scene.n_edits(); ++state)
-          {
-            if (state > 0)
-              {
-                const auto changed = scene.apply_edit(state - 1);
-                run.edit(changed);
-                pcout << "Edit " << state << ": " << changed.size()
-                      << " voxels change material" << std::endl;
-              }
-            vtu.initialize(directory, state);
-            const ModelRun::Result result = run.solve(&vtu);
-            converged              = converged && result.statistics.converged;
-            const auto &statistics = result.statistics;
-            pcout << (statistics.converged ? "Converged " : "NOT converged ")
-                  << statistics.describe() << "\n"
-                  << "  min J = " << std::setprecision(4) << result.min_J
-                  << " at the quadrature points, " << statistics.min_vertex_J
-                  << " at the vertices, max |u| = " << result.max_displacement
-                  << " m\n"
-                  << "  principal strain per cell: median "
-                  << result.strain_quantiles[0] << ", 99 % "
-                  << result.strain_quantiles[1] << ", max "
-                  << result.strain_quantiles[2] << std::endl;
-            // An edit updates only the cells (coarse blocks) it touches.
-            if (state > 0)
-              pcout << "  new materials in " << result.cells_updated << " of "
-                    << model.triangulation.n_active_cells() << " cells"
-                    << std::endl;
-            print_probes(result.probes, pcout);
-            const nlohmann::json json = result.to_json();
-            if (state == 0)
-              summary.update(json);
-            else
-              summary["edits"].push_back(json);
-            if (screen_timings)
-              {
-                pcout << "  wall time " << result.wall_time << " s";
-                for (const auto &[section, seconds] : result.phases)
-                  pcout << ", " << section << " " << seconds << " s";
-                pcout << std::endl;
-              }
-            if (!statistics.converged)
-              err << "Error: the solve did not converge: " << statistics.failure
-                  << "." << std::endl;
-          }
-        summary["total_wall_time_s"] = total.wall_time();
-        summary["peak_memory_mb"]    = peak_memory_mb();
-        write_summary(summary);
-        if (screen_timings)
-          pcout << "  peak memory " << peak_memory_mb() << " MB" << std::endl;
-        return converged ? 0 : 1;
+          bool converged = true;
+          for (unsigned int state = 0; state <= scene.n_edits(); ++state)
+            {
+              if (state > 0)
+                {
+                  const auto changed = scene.apply_edit(state - 1);
+                  run.edit(changed);
+                  pcout << "Edit " << state << ": " << changed.size()
+                        << " voxels change material" << std::endl;
+                }
+              vtu.initialize(directory, state);
+              const ModelRun::Result result = run.solve(&vtu);
+              converged              = converged && result.statistics.converged;
+              const auto &statistics = result.statistics;
+              pcout << (statistics.converged ? "Converged " : "NOT converged ")
+                    << statistics.describe() << "\n"
+                    << "  min J = " << std::setprecision(4) << result.min_J
+                    << " at the quadrature points, " << statistics.min_vertex_J
+                    << " at the vertices, max |u| = " << result.max_displacement
+                    << " m\n"
+                    << "  principal strain per cell: median "
+                    << result.strain_quantiles[0] << ", 99 % "
+                    << result.strain_quantiles[1] << ", max "
+                    << result.strain_quantiles[2] << std::endl;
+              // An edit updates only the cells (coarse blocks) it touches.
+              if (state > 0)
+                pcout << "  new materials in " << result.cells_updated << " of "
+                      << model.triangulation.n_active_cells() << " cells"
+                      << std::endl;
+              print_probes(result.probes, pcout);
+              const nlohmann::json json = result.to_json();
+              if (state == 0)
+                summary.update(json);
+              else
+                summary["edits"].push_back(json);
+              if (screen_timings)
+                {
+                  pcout << "  wall time " << result.wall_time << " s";
+                  for (const auto &[section, seconds] : result.phases)
+                    pcout << ", " << section << " " << seconds << " s";
+                  pcout << std::endl;
+                }
+              if (!statistics.converged)
+                err << "Error: the solve did not converge: "
+                    << statistics.failure << "." << std::endl;
+            }
+          summary["total_wall_time_s"] = total.wall_time();
+          summary["peak_memory_mb"]    = peak_memory_mb();
+          write_summary(summary);
+          if (screen_timings)
+            pcout << "  peak memory " << peak_memory_mb() << " MB" << std::endl;
+          return converged ? 0 : 1;
+        });
       }
 
       ConditionalOStream               pcout;
@@ -671,8 +695,9 @@ namespace ddfem::app
       Comparison           comparison;
       comparison.parse_parameters(prm);
       // Written with the comparison's tables (Comparison::run()).
-      check_writable(output.directory + "/parameters.prm",
-                     "Output/Output directory");
+      check_writable_in(output.directory,
+                        {"parameters.prm"},
+                        "Output/Output directory");
       const int status = comparison.run(prm,
                                         scene,
                                         scene_name_of(prm, prm_file),

@@ -518,7 +518,10 @@ namespace ddfem::app
     // The results are written once every model has run: gnuplot must start
     // and their files (each model's VTU files of every state too) must be
     // writable before the database is prepared and anything runs.
-    report::check_gnuplot();
+    if (std::any_of(configurations.begin(),
+                    configurations.end(),
+                    [](const Configuration &c) { return c.level > 0; }))
+      report::check_gnuplot();
     check_earlier_results(directory, vtu);
     vtu.check_writable(directory, 0);
     for (const Configuration &config : configurations)
@@ -566,9 +569,9 @@ namespace ddfem::app
 
     // From here on results are written; none of an earlier run may stay
     // next to them, and a run that stops with an error before its tables
-    // are written removes its own (a plot that fails leaves the tables and
-    // the VTU files it would draw from).
-    create_directories(directory, "Output/Output directory");
+    // are written removes its own, and the directories it made (a plot
+    // that fails leaves the tables and the VTU files it would draw from).
+    made_directories = create_directories(directory, "Output/Output directory");
     remove_earlier_results(directory);
     bool tables_written = false;
     try
@@ -589,6 +592,7 @@ namespace ddfem::app
           try
             {
               remove_earlier_results(directory);
+              remove_empty_directories(made_directories);
             }
           catch (...)
             {}
@@ -648,7 +652,9 @@ namespace ddfem::app
             report::VtuWriter writer = vtu;
             writer.initialize(run_directory, state);
             if (writer.enabled())
-              create_directories(run_directory, "Output/Output directory");
+              for (const auto &made :
+                   create_directories(run_directory, "Output/Output directory"))
+                made_directories.push_back(made);
             row.result        = model.solve(&writer);
             row.linear_solver = config.linear_solver->method();
             if (reference == nullptr && config.level == 0 &&

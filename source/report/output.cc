@@ -21,17 +21,17 @@ namespace ddfem::report
   namespace
   {
     /**
-     * Runs gnuplot with the single argument @p argument in @p directory,
+     * Runs gnuplot with the arguments @p arguments in @p directory,
      * without a shell (the directory is user input), its standard output
      * and error to /dev/null if @p quiet. Returns whether it ran and
      * exited with 0. Throws ExcMessage naming @p what and the Debian
      * package if it cannot be started.
      */
     bool
-    gnuplot_succeeds(const std::string &directory,
-                     const std::string &argument,
-                     const bool         quiet,
-                     const std::string &what)
+    gnuplot_succeeds(const std::string              &directory,
+                     const std::vector<std::string> &arguments,
+                     const bool                      quiet,
+                     const std::string              &what)
     {
       posix_spawn_file_actions_t actions;
       posix_spawn_file_actions_init(&actions);
@@ -40,11 +40,15 @@ namespace ddfem::report
         for (const int stream : {STDOUT_FILENO, STDERR_FILENO})
           posix_spawn_file_actions_addopen(
             &actions, stream, "/dev/null", O_WRONLY, 0);
-      std::string program = "gnuplot", copy = argument;
-      char       *argv[] = {program.data(), copy.data(), nullptr};
-      pid_t       pid;
-      const int   error =
-        posix_spawnp(&pid, "gnuplot", &actions, nullptr, argv, environ);
+      std::vector<std::string> words = {"gnuplot"};
+      words.insert(words.end(), arguments.begin(), arguments.end());
+      std::vector<char *> argv;
+      for (std::string &word : words)
+        argv.push_back(word.data());
+      argv.push_back(nullptr);
+      pid_t     pid;
+      const int error =
+        posix_spawnp(&pid, "gnuplot", &actions, nullptr, argv.data(), environ);
       posix_spawn_file_actions_destroy(&actions);
       AssertThrow(error == 0,
                   ExcMessage("gnuplot could not be started " + what +
@@ -64,13 +68,18 @@ namespace ddfem::report
   void
   check_gnuplot()
   {
+    // The terminal of the plot: a gnuplot built without cairo would fail
+    // only once every model has run.
     AssertThrow(gnuplot_succeeds(".",
-                                 "--version",
+                                 {"-e",
+                                  "set terminal pngcairo; set output "
+                                  "'/dev/null'; plot 1"},
                                  true,
                                  "(Run type = compare draws its plot with it)"),
-                ExcMessage("gnuplot --version failed: the plot of "
-                           "Run type = compare could not be drawn. Reinstall "
-                           "the Debian package gnuplot-nox."));
+                ExcMessage("gnuplot could not draw with its pngcairo "
+                           "terminal: the plot of Run type = compare could "
+                           "not be drawn. Reinstall the Debian package "
+                           "gnuplot-nox."));
   }
 
 
@@ -80,8 +89,11 @@ namespace ddfem::report
               const std::string              &script,
               const std::vector<std::string> &images)
   {
-    const bool drawn = gnuplot_succeeds(
-      directory, script, false, "to draw \"" + directory + "/" + script + "\"");
+    const bool drawn =
+      gnuplot_succeeds(directory,
+                       {script},
+                       false,
+                       "to draw \"" + directory + "/" + script + "\"");
     // Best effort: the error to report is gnuplot's.
     if (!drawn)
       for (const std::string &image : images)
@@ -297,9 +309,17 @@ namespace ddfem::report
     flags.print_date_and_time = false;
     data_out.set_flags(flags);
     // deal.II's writers throw a generic ExcIO on a stream that did not
-    // open, which ResultFile checks first.
+    // open, which ResultFile checks first, or that failed while they wrote
+    // (a full disk): commit() then names the file.
     ResultFile out(file, "Output/Output directory");
-    data_out.write_vtu(out.stream());
+    try
+      {
+        data_out.write_vtu(out.stream());
+      }
+    catch (const StandardExceptions::ExcIO &)
+      {
+        AssertThrow(!out.stream(), ExcInternalError());
+      }
     out.commit();
   }
 

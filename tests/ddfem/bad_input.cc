@@ -5,7 +5,9 @@
 
 #include <ddfem/app/application.h>
 #include <nlohmann/json.hpp>
+#include <sys/resource.h>
 
+#include <csignal>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -112,6 +114,41 @@ namespace
       std::cout << " " << f;
     std::cout << "\n  " << err.str() << std::endl;
     std::filesystem::remove_all(directory);
+  }
+
+  /**
+   * Runs ddfem on @p prm_text (plus @p extra arguments, VTU files of every
+   * load step) with files limited to 200 bytes, so that the first VTU file
+   * fails to be written once the run has begun to write results, and
+   * reports whether anything is left of them.
+   */
+  void
+  run_with_small_files(const std::string              &name,
+                       const std::string              &prm_text,
+                       const std::vector<std::string> &extra)
+  {
+    const std::string directory = "out_" + name;
+    std::ofstream(name + ".prm")
+      << prm_text
+      << "\nsubsection Output\n  set Output directory = " << directory
+      << "\n  set Screen timings = false\n  set Write VTU = every step\nend\n";
+    std::vector<std::string> arguments = {name + ".prm"};
+    arguments.insert(arguments.end(), extra.begin(), extra.end());
+    std::ostringstream out, err;
+    rlimit             old_limit;
+    getrlimit(RLIMIT_FSIZE, &old_limit);
+    rlimit limit   = old_limit;
+    limit.rlim_cur = 200;
+    // A write past the limit fails (EFBIG) instead of ending the process.
+    const auto old_handler = std::signal(SIGXFSZ, SIG_IGN);
+    setrlimit(RLIMIT_FSIZE, &limit);
+    const int code = app::run(arguments, out, err);
+    setrlimit(RLIMIT_FSIZE, &old_limit);
+    std::signal(SIGXFSZ, old_handler);
+    std::cout << "* " << name << ": exit code " << code << ", " << directory
+              << " exists: " << std::boolalpha
+              << std::filesystem::exists(directory) << "\n  " << err.str()
+              << std::endl;
   }
 } // namespace
 
@@ -890,6 +927,12 @@ end
     "  set 2D refinements = 1, 2\nend\n",
     {},
     "dg_convergence_3D_elasticity.png");
+  // A run that fails once it has begun to write results (here the first
+  // VTU file cannot be written) removes them again, with the directories
+  // it made for them.
+  run_with_small_files("vtu_fails_fine", cantilever, {});
+  run_with_small_files("vtu_fails_dg", cantilever, {"--set", "Method=dg"});
+  run_with_small_files("vtu_fails_compare", cantilever, compare_naive);
   // A gnuplot that does not work is found before anything runs too.
   {
     std::filesystem::create_directories("broken_bin");
@@ -902,15 +945,16 @@ end
       (std::filesystem::absolute("broken_bin").string() + ":" + path).c_str(),
       1);
     run_in_existing_directory("broken_gnuplot", "", cantilever, compare_naive);
+    // Not bad input: a comparison of the fine solvers alone draws no plot
+    // (it needs no gnuplot) and leaves no plot files, but writes its table
+    // and parameters.
+    run_in_existing_directory(
+      "fine_solvers_only",
+      "",
+      cantilever,
+      {"--set", "Run type=compare", "--set", "Comparison/Methods="});
     setenv("PATH", path.c_str(), 1);
   }
-  // Not bad input: a comparison of the fine solvers alone draws no plot
-  // and leaves no plot files, but writes its table and parameters.
-  run_in_existing_directory(
-    "fine_solvers_only",
-    "",
-    cantilever,
-    {"--set", "Run type=compare", "--set", "Comparison/Methods="});
   // Not bad input: a fine run does not read the database settings.
   run_case("fine_ignores_database_settings",
            cantilever,

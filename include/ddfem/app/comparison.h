@@ -9,6 +9,7 @@
 #include <ddfem/solver/linear_solver.h>
 #include <ddfem/solver/static_solver.h>
 
+#include <filesystem>
 #include <memory>
 #include <ostream>
 #include <string>
@@ -119,6 +120,9 @@ namespace ddfem::app
     solver::StaticSolver::Parameters solver_parameters;
     report::VtuWriter                vtu;
     coarsening::DatabaseBuilder      database;
+    /// The directories run() made for its results, parents first: a run
+    /// that fails before its tables are written removes them again.
+    std::vector<std::filesystem::path> made_directories;
   };
 } // namespace ddfem::app
 

@@ -27,22 +27,66 @@ namespace ddfem
         "Cannot create the directory \"" + path + "\" (" + where + ")" +
         (error ? ": " + error.message() : std::string()) + ".");
     }
+
+    /**
+     * Makes the missing directories of @p path one by one, component by
+     * component as written (in "a/../b" it makes a too), and returns those
+     * it made, parents first; stops at the first error, which @p error
+     * holds.
+     */
+    inline std::vector<std::filesystem::path>
+    make_missing_directories(const std::string &path, std::error_code &error)
+    {
+      std::vector<std::filesystem::path> made;
+      std::filesystem::path              partial;
+      for (const auto &part : std::filesystem::path(path))
+        {
+          partial /= part;
+          if (!std::filesystem::exists(partial, error) &&
+              std::filesystem::create_directory(partial, error))
+            made.push_back(partial);
+          if (error)
+            break;
+        }
+      return made;
+    }
   } // namespace internal
 
   /**
-   * Creates the directory @p path and its parents where missing. Throws
-   * ExcMessage naming @p path and the parameter @p where it comes from if
-   * that fails (an empty path, a file in the way, no permission).
+   * Removes the directories @p made (as create_directories() returns them)
+   * that are empty, children first. Best effort, for a run that failed:
+   * the error to report is the run's.
    */
   inline void
+  remove_empty_directories(const std::vector<std::filesystem::path> &made)
+  {
+    for (auto p = made.rbegin(); p != made.rend(); ++p)
+      {
+        std::error_code ignored;
+        std::filesystem::remove(*p, ignored); // fails on a non-empty one
+      }
+  }
+
+  /**
+   * Creates the directory @p path and its parents where missing, and
+   * returns those it made, parents first (for remove_empty_directories()).
+   * Throws ExcMessage naming @p path and the parameter @p where it comes
+   * from if that fails (an empty path, a file in the way, no permission),
+   * and then leaves none of them.
+   */
+  inline std::vector<std::filesystem::path>
   create_directories(const std::string &path, const std::string &where)
   {
-    std::error_code error;
+    std::error_code                    error;
+    std::vector<std::filesystem::path> made;
     if (!path.empty())
-      std::filesystem::create_directories(path, error);
-    AssertThrow(!path.empty() && !error &&
-                  std::filesystem::is_directory(path, error),
-                internal::directory_error(path, where, error));
+      made = internal::make_missing_directories(path, error);
+    const bool ok =
+      !path.empty() && !error && std::filesystem::is_directory(path, error);
+    if (!ok)
+      remove_empty_directories(made);
+    AssertThrow(ok, internal::directory_error(path, where, error));
+    return made;
   }
 
   /**
@@ -110,29 +154,7 @@ namespace ddfem
   inline void
   check_creatable(const std::string &path, const std::string &where)
   {
-    std::vector<std::filesystem::path> made;
-    std::error_code                    error;
-    std::filesystem::path              partial;
-    if (!path.empty())
-      // Component by component as written, as create_directories() goes:
-      // in "a/../b" it makes a too.
-      for (const auto &part : std::filesystem::path(path))
-        {
-          partial /= part;
-          if (!std::filesystem::exists(partial, error) &&
-              std::filesystem::create_directory(partial, error))
-            made.push_back(partial);
-          if (error)
-            break;
-        }
-    const bool ok =
-      !path.empty() && !error && std::filesystem::is_directory(path, error);
-    for (auto p = made.rbegin(); p != made.rend(); ++p)
-      {
-        std::error_code ignored;
-        std::filesystem::remove(*p, ignored);
-      }
-    AssertThrow(ok, internal::directory_error(path, where, error));
+    remove_empty_directories(create_directories(path, where));
   }
 
   /**

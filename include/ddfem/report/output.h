@@ -30,8 +30,8 @@ namespace ddfem::report
 
   /**
    * Throws ExcMessage naming the Debian package unless gnuplot starts and
-   * answers "gnuplot --version": for a check before a comparison runs,
-   * whose plot comes last.
+   * draws with its pngcairo terminal: for a check before a comparison
+   * runs, whose plot comes last.
    */
   void
   check_gnuplot();
