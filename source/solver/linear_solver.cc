@@ -160,18 +160,44 @@ namespace ddfem::solver
                            dof_handler.get_fe().get_name() +
                            " has none: use Type = cg-cholesky or direct."));
 
-    // Rigid body modes about the centroid of the support points.
-    std::vector<Point<3>> points(n);
-    DoFTools::map_dofs_to_support_points(MappingQ1<3>(), dof_handler, points);
+    support_points.resize(n);
+    DoFTools::map_dofs_to_support_points(MappingQ1<3>(),
+                                         dof_handler,
+                                         support_points);
+    components = dof_components(dof_handler);
+    configuration.reinit(0);
+  }
+
+
+
+  void
+  LinearSolver::set_configuration(const Vector<double> &u)
+  {
+    if (chosen == "cg-amg")
+      configuration = u;
+  }
+
+
+
+  void
+  LinearSolver::compute_rigid_body_modes()
+  {
+    // About the centroid of the support points where they are now; the
+    // three DoFs of a node are consecutive (initialize()).
+    const std::size_t     n = support_points.size();
+    std::vector<Point<3>> points(support_points);
+    if (configuration.size() == n)
+      for (std::size_t i = 0; i < n; ++i)
+        for (unsigned int d = 0; d < 3; ++d)
+          points[i][d] += configuration(i - components[i] + d);
     Point<3> centroid;
     for (const Point<3> &p : points)
       centroid += p / static_cast<double>(n);
-    const std::vector<unsigned int> component = dof_components(dof_handler);
     rigid_body_modes.resize(6 * n);
-    for (types::global_dof_index i = 0; i < n; ++i)
+    for (std::size_t i = 0; i < n; ++i)
       {
         const std::array<double, 6> modes =
-          solver::rigid_body_modes(points[i] - centroid, component[i]);
+          solver::rigid_body_modes(points[i] - centroid, components[i]);
         for (unsigned int m = 0; m < 6; ++m)
           rigid_body_modes[m * n + i] = modes[m];
       }
@@ -321,6 +347,7 @@ namespace ddfem::solver
         TimerOutput::Scope scope(*timer, "factorization / preconditioner");
         amg.clear(); // it refers to the matrix about to be replaced
         trilinos_matrix.reinit(K);
+        compute_rigid_body_modes();
         TrilinosWrappers::PreconditionAMG::AdditionalData data;
         data.elliptic              = true;
         data.higher_order_elements = (degree > 1);

@@ -664,6 +664,7 @@ namespace ddfem::solver
         unsigned int       linear_iterations = 0;
         const unsigned int direct_solves     = linear_solver.direct_solves();
         bool               descends          = true;
+        linear_solver.set_configuration(u);
         while (true)
           {
             bool solved = false;

@@ -19,12 +19,16 @@
 //    counted as 'Cholesky factorization cost') makes the next system be
 //    factorized at once, and one that needs more than the CG solves before
 //    it, but not more than that average, does not;
-// 3. auto's cg-amg hands a system on which CG fails to UMFPACK.
+// 3. auto's cg-amg hands a system on which CG fails to UMFPACK;
+// 4. cg-amg builds its near null space on the deformed shape.
 
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/fe/mapping_q1.h>
 #include <deal.II/lac/sparse_direct.h>
 
 #include <ddfem/base/exceptions.h>
 #include <ddfem/solver/sparse_cholesky.h>
+#include <ddfem/solver/supports.h>
 
 #include <random>
 
@@ -315,5 +319,68 @@ main(int argc, char **argv)
     testing::check_below("  relative residual",
                          relative_residual(K, x, b),
                          1e-10);
+  }
+
+  // cg-amg's near null space follows the shape: the stress-free tangent of
+  // a bar turned rigidly by 90 degrees about its axis is the rest tangent
+  // with every node's block rotated, so its CG iterations are the rest
+  // tangent's when the multigrid hierarchy has the rigid body modes of the
+  // turned shape (set_configuration()), more with those of the rest shape.
+  std::cout << "cg-amg on a bar turned by 90 degrees" << std::endl;
+  {
+    testing::Problem      bar(testing::cantilever("6, 24, 6", "0; 0; 0"));
+    const DoFHandler<3>  &dof_handler = bar.discretization->dof_handler;
+    const unsigned int    m           = dof_handler.n_dofs();
+    std::vector<Point<3>> points(m);
+    DoFTools::map_dofs_to_support_points(MappingQ1<3>(), dof_handler, points);
+    const std::vector<unsigned int> component =
+      solver::dof_components(dof_handler);
+    // About the axis x = z = 0.03 m: (x, z) -> (z, -x) about it.
+    Vector<double> turned(m), at_rest(m), residual;
+    for (unsigned int i = 0; i < m; ++i)
+      {
+        const double x = points[i][0] - 0.03, z = points[i][2] - 0.03;
+        turned(i) = component[i] == 0 ? z - x : component[i] == 2 ? -x - z : 0;
+      }
+    // Unsupported (as the tangents of shifted_tangent()), shifted by 1e-4
+    // of the mean diagonal: a shift keeps the turned tangent the rotated
+    // rest tangent, and leaves the rigid motions as the near null space.
+    SparseMatrix<double> K_rest, K_turned;
+    bar.solver->residual_and_tangent(at_rest, 1., residual, K_rest);
+    bar.solver->residual_and_tangent(turned, 1., residual, K_turned);
+    double trace = 0;
+    for (unsigned int i = 0; i < m; ++i)
+      trace += K_rest.diag_element(i);
+    for (SparseMatrix<double> *K : {&K_rest, &K_turned})
+      for (unsigned int i = 0; i < m; ++i)
+        K->diag_element(i) += 1e-4 * trace / m;
+    Vector<double> x(m), b(m);
+    for (auto &v : b)
+      v = uniform(random);
+    ParameterHandler prm;
+    solver::LinearSolver::declare_parameters(prm);
+    prm.parse_input_from_string(
+      "subsection Linear solver\n  set Type = cg-amg\n  set Tolerance = "
+      "1e-8\nend\n");
+    const auto iterations = [&](const SparseMatrix<double> &K,
+                                const Vector<double>       *configuration) {
+      solver::LinearSolver linear_solver;
+      linear_solver.parse_parameters(prm);
+      TimerOutput timer(std::cout, TimerOutput::never, TimerOutput::wall_times);
+      linear_solver.initialize(dof_handler, timer);
+      if (configuration)
+        linear_solver.set_configuration(*configuration);
+      const unsigned int n_iterations = linear_solver.solve(K, x, b);
+      AssertThrow(relative_residual(K, x, b) < 1e-8, ExcInternalError());
+      return n_iterations;
+    };
+    const unsigned int at_rest_iterations    = iterations(K_rest, nullptr);
+    const unsigned int turned_iterations     = iterations(K_turned, &turned);
+    const unsigned int rest_modes_iterations = iterations(K_turned, nullptr);
+    std::cout << "  " << m << " unknowns, CG iterations: at rest "
+              << at_rest_iterations << "; turned, with the modes of the "
+              << "turned shape " << turned_iterations
+              << ", with those of the rest shape " << rest_modes_iterations
+              << std::endl;
   }
 }

@@ -106,6 +106,17 @@ namespace ddfem::solver
           const Vector<double>       &b,
           const double                forcing = 1);
 
+    /**
+     * The displacement @p u (of the DoFHandler of initialize()) at which
+     * the next systems are linearized. cg-amg builds its next multigrid
+     * hierarchy with the rigid body modes of the deformed shape X + u: a
+     * turned part's tangent is nearly singular on rotations about its
+     * present place, not about its rest shape. Without a call, and for
+     * the other methods, the rest shape serves.
+     */
+    void
+    set_configuration(const Vector<double> &u);
+
     /// Overrides 'Type' ("auto", "direct", "cg-cholesky" or "cg-amg") for
     /// the next initialize().
     void
@@ -191,6 +202,16 @@ namespace ddfem::solver
     /// CG iterations, its factorization included.
     unsigned int solves_with_factor = 0, cost_with_factor = 0;
 
+    /// cg-amg: fills rigid_body_modes for the shape support_points +
+    /// configuration (the rest shape while configuration is empty).
+    void
+    compute_rigid_body_modes();
+
+    /// cg-amg: every DoF's support point in the rest shape and component,
+    /// and the displacement of set_configuration().
+    std::vector<Point<3>>     support_points;
+    std::vector<unsigned int> components;
+    Vector<double>            configuration;
     /// The six rigid body modes, mode-major (mode k at [k * n_dofs]).
     std::vector<double> rigid_body_modes;
 
