@@ -23,6 +23,70 @@
 
 namespace ddfem::solver
 {
+  LoadSteps::LoadSteps(const unsigned int n_steps, const double minimum_step)
+    : nominal_step(1. / n_steps)
+    , minimum(minimum_step * nominal_step)
+    , t(0)
+    , step(nominal_step)
+  {}
+
+
+
+  bool
+  LoadSteps::done() const
+  {
+    return t >= 1 - 1e-12;
+  }
+
+
+
+  double
+  LoadSteps::current() const
+  {
+    return t;
+  }
+
+
+
+  double
+  LoadSteps::next() const
+  {
+    return std::min(1., t + step);
+  }
+
+
+
+  void
+  LoadSteps::accept()
+  {
+    t = next();
+    if (++successes_since_cut >= 2 && step < nominal_step)
+      {
+        step                = std::min(nominal_step, 2 * step);
+        successes_since_cut = 0;
+      }
+  }
+
+
+
+  bool
+  LoadSteps::cut()
+  {
+    step                = (next() - t) / 2;
+    successes_since_cut = 0;
+    return step >= minimum;
+  }
+
+
+
+  double
+  LoadSteps::nominal() const
+  {
+    return nominal_step;
+  }
+
+
+
   namespace
   {
     constexpr double infinity = std::numeric_limits<double>::infinity();
@@ -802,19 +866,16 @@ namespace ddfem::solver
         // The factor of that far-off state would only cost CG iterations.
         linear_solver.reset();
       }
-    at_full_load                     = false;
-    const double nominal             = 1. / parameters.load_steps;
-    double       step                = nominal;
-    double       t                   = 0;
-    unsigned int successes_since_cut = 0;
+    at_full_load = false;
+    LoadSteps steps(parameters.load_steps, parameters.minimum_step);
     // The last two accepted increments and their load steps (0: none).
     Vector<double> last_increment(displacement.size()),
       previous_increment(displacement.size());
     double last_step = 0, previous_step = 0;
     displacement = 0;
-    while (t < 1 - 1e-12)
+    while (!steps.done())
       {
-        const double t_new = std::min(1., t + step);
+        const double t = steps.current(), t_new = steps.next();
         pcout << "  Load step " << statistics.load_steps + 1 << ": load factor "
               << t_new << std::endl;
 
@@ -862,10 +923,8 @@ namespace ddfem::solver
             last_increment = u;
             last_increment -= displacement;
             last_step = t_new - t;
-            t         = t_new;
-            accept(u, t, statistics, on_step);
-            if (++successes_since_cut >= 2 && step < nominal)
-              step = std::min(nominal, 2 * step), successes_since_cut = 0;
+            steps.accept();
+            accept(u, t_new, statistics, on_step);
           }
         else if (!inverted.empty())
           {
@@ -893,14 +952,13 @@ namespace ddfem::solver
           }
         else
           {
-            step /= 2;
-            successes_since_cut = 0;
-            if (step < parameters.minimum_step * nominal)
+            const double tried = t_new - t;
+            if (!steps.cut())
               {
                 std::ostringstream message;
                 message << "the load increment at load factor " << t;
-                if (2 * step < nominal)
-                  message << " failed even when cut to " << 2 * step;
+                if (tried < steps.nominal() - 1e-12)
+                  message << " failed even when cut to " << tried;
                 else
                   message << " failed, and no shorter one may follow";
                 message
@@ -912,7 +970,8 @@ namespace ddfem::solver
                 return statistics;
               }
             ++statistics.step_cuts;
-            pcout << "  Cutting the load increment to " << step << std::endl;
+            pcout << "  Cutting the load increment to " << steps.next() - t
+                  << std::endl;
           }
       }
     statistics.converged = true;

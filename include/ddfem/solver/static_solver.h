@@ -22,6 +22,51 @@ namespace ddfem::solver
   using namespace dealii;
 
   /**
+   * The load factors of a load-stepped solve: increments of the nominal
+   * 1 / (load steps) from 0 up to 1 (the last one shortened to reach 1),
+   * an increment that fails halved, and the increment doubled back toward
+   * the nominal after two that succeed.
+   */
+  class LoadSteps
+  {
+  public:
+    /// Steps of 1 / @p n_steps; cut() fails below @p minimum_step of that.
+    LoadSteps(const unsigned int n_steps, const double minimum_step);
+
+    /// Whether the load factor reached 1.
+    bool
+    done() const;
+
+    /// The load factor reached.
+    double
+    current() const;
+
+    /// The load factor the next increment goes to, at most 1.
+    double
+    next() const;
+
+    /// The next increment succeeded: current() becomes next().
+    void
+    accept();
+
+    /**
+     * The next increment failed: halves it (the increment tried, which is
+     * shorter than the step where it ends at 1), and returns whether the
+     * half is at least the minimum step.
+     */
+    bool
+    cut();
+
+    /// The nominal increment.
+    double
+    nominal() const;
+
+  private:
+    double       nominal_step, minimum, t, step;
+    unsigned int successes_since_cut = 0;
+  };
+
+  /**
    * Quasi-static hyperelastic equilibrium on a Discretization: minimizes
    * the total potential energy
    *
