@@ -154,7 +154,15 @@ namespace ddfem::coarsening
       return z;
     };
 
-    for (unsigned int outer = 0; outer < 3 * n + 10; ++outer)
+    // Lawson and Hanson: free the variable of the largest gradient, solve
+    // on the free (passive) set, and where that leaves the feasible set,
+    // step to its boundary and bound the variable that reaches it first
+    // (set to 0 exactly: the step's round-off would leave it at 1e-17,
+    // and the next step would not move). Each pass frees one variable;
+    // the method ends after finitely many.
+    const unsigned int max_passes = 3 * n + 10;
+    bool               optimal    = false;
+    for (unsigned int outer = 0; outer < max_passes && !optimal; ++outer)
       {
         // Gradient of the objective's negative: w = g - H x.
         Vector<double> w(n);
@@ -168,36 +176,46 @@ namespace ddfem::coarsening
               best   = j;
               best_w = w(j);
             }
-        if (best == n)
+        optimal = (best == n);
+        if (optimal)
           break;
         passive[best] = true;
 
-        for (unsigned int inner = 0; inner < 3 * n + 10; ++inner)
+        for (unsigned int inner = 0; inner < max_passes; ++inner)
           {
             const Vector<double> z        = solve_passive();
-            bool                 feasible = true;
             double               alpha    = 1;
+            unsigned int         blocking = n;
             for (unsigned int j = 0; j < n; ++j)
-              if (passive[j] && z(j) <= 0)
+              if (passive[j] && z(j) <= 0 && x(j) / (x(j) - z(j)) < alpha)
                 {
-                  feasible = false;
-                  alpha    = std::min(alpha, x(j) / (x(j) - z(j)));
+                  alpha    = x(j) / (x(j) - z(j));
+                  blocking = j;
                 }
-            if (feasible)
+            if (blocking == n)
               {
-                x = z;
+                // z >= 0 where free (z_j = 0 with x_j = 0 steps nowhere).
+                for (unsigned int j = 0; j < n; ++j)
+                  x(j) = std::max(z(j), 0.);
                 break;
               }
             for (unsigned int j = 0; j < n; ++j)
               x(j) += alpha * (z(j) - x(j));
+            x(blocking) = 0;
             for (unsigned int j = 0; j < n; ++j)
-              if (passive[j] && x(j) <= 1e-300)
+              if (passive[j] && x(j) <= 0)
                 {
                   passive[j] = false;
                   x(j)       = 0;
                 }
           }
       }
+    AssertThrow(optimal,
+                ExcMessage("The bounded least squares of a metamaterial fit "
+                           "did not end in " +
+                           std::to_string(max_passes) +
+                           " passes (an ill-conditioned fit? Database/"
+                           "Fitting/Regularization > 0 keeps it definite)."));
     return x;
   }
 

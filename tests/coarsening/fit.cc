@@ -755,5 +755,44 @@ main()
               << " with active bounds: the solver equals the enumeration "
                  "within 1e-12: "
               << (largest_difference < 1e-12) << std::endl;
+
+    // The size of a level-2 fit (3 x 64 unknowns), with columns scaled
+    // over eight orders of magnitude: the optimality conditions hold (x >=
+    // 0; the gradient g - H x vanishes where x > 0 and is <= 0 where x = 0,
+    // relative to the largest term of g - H x).
+    const unsigned int m         = 192;
+    double             worst_kkt = 0;
+    unsigned int       bounded   = 0;
+    for (unsigned int problem = 0; problem < 5; ++problem)
+      {
+        FullMatrix<double> A(2 * m, m), H(m, m);
+        Vector<double>     b(2 * m), g(m), w(m), Hx(m);
+        for (unsigned int i = 0; i < 2 * m; ++i)
+          {
+            b(i) = normal(generator);
+            for (unsigned int j = 0; j < m; ++j)
+              A(i, j) = normal(generator) * std::pow(10., 4. - 8. * j / m);
+          }
+        A.Tmmult(H, A);
+        A.Tvmult(g, b);
+        const Vector<double> x = nonnegative_least_squares(H, g);
+        H.vmult(Hx, x);
+        w = g;
+        w -= Hx;
+        double scale = g.linfty_norm();
+        for (unsigned int j = 0; j < m; ++j)
+          scale = std::max(scale, std::abs(Hx(j)));
+        for (unsigned int j = 0; j < m; ++j)
+          {
+            bounded += (x(j) == 0);
+            worst_kkt =
+              testing::worst(worst_kkt,
+                             -x(j),
+                             (x(j) > 0 ? std::abs(w(j)) : w(j)) / scale);
+          }
+      }
+    std::cout << "5 problems of " << m << " unknowns (columns scaled from "
+              << "1e4 to 1e-4), " << bounded << " bounds active: ";
+    testing::check_below("optimality conditions, relative", worst_kkt, 1e-9);
   }
 }
