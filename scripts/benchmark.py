@@ -70,6 +70,11 @@ def main():
                  f"are {', '.join(BENCHMARKS)}.")
     if not os.access(BINARY, os.X_OK):
         sys.exit(f"Error: no {BINARY}; build first (bash scripts/setup.sh).")
+    cache = os.path.join(ROOT, "build", "CMakeCache.txt")
+    with open(cache) as f:
+        if "CMAKE_BUILD_TYPE:STRING=Release\n" not in f.read():
+            sys.exit("Error: build/ is not a Release build "
+                     "(scripts/setup.sh makes one).")
     failed = []
     print("| scene | grid | DoFs | solver | load steps | Newton its | s / Newton it "
           "| total s | peak MB | reference s / it |")

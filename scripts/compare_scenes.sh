@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Error against run time on the shipped scenes (doc/coarsening.md): runs
 # 'Run type = compare' on each scene given (default: the nine scenes of the
-# comparison, all of prm/ but bar, default and lattice) with the Release build, one
+# comparison: pushing, bending, twisting, buckling, fibers, bridge,
+# bridge_arch, shoe_sole, character) with the Release build, one
 # after the other, and writes output/compare/<scene>/comparison.{csv,json},
 # error_vs_time.png and VTU. The metamaterials a scene needs are fitted into
 # the database file on its first run (lazy mode); later runs find them there.
@@ -18,6 +19,10 @@
 #   EXTRA='--set "Comparison/Fine direct solver limit=40000"' scripts/compare_scenes.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."
+grep -q "^CMAKE_BUILD_TYPE:STRING=Release$" build/CMakeCache.txt 2>/dev/null || {
+  echo "Error: build/ is not a Release build (scripts/setup.sh makes one)." >&2
+  exit 1
+}
 scenes=("$@")
 [ ${#scenes[@]} -gt 0 ] || scenes=(pushing bending twisting buckling fibers \
                                    bridge bridge_arch shoe_sole character)
@@ -36,8 +41,15 @@ done
 table_failed=0
 if [ ${#with_results[@]} -gt 0 ]; then
   mkdir -p output/compare
-  python3 scripts/compare_table.py output/compare "${with_results[@]}" |
-    tee output/compare/table.md || table_failed=1
+  # The table of an earlier run stays unless this one is complete.
+  if python3 scripts/compare_table.py output/compare "${with_results[@]}" \
+    > output/compare/table.md.partial; then
+    mv output/compare/table.md.partial output/compare/table.md
+    cat output/compare/table.md
+  else
+    rm -f output/compare/table.md.partial
+    table_failed=1
+  fi
 fi
 if [ ${#failed[@]} -gt 0 ]; then
   echo "compare runs that exited with an error: ${failed[*]}" >&2
