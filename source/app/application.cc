@@ -280,11 +280,12 @@ namespace ddfem::app
 
       /**
        * Creates the output directory, removes the results an earlier run
-       * left there (remove_earlier_results()), runs @p write_results, which
-       * writes this run's results, and writes parameters.prm (all after
+       * left there (remove_earlier_results()), writes parameters.prm and
+       * runs @p write_results, which writes this run's results (all after
        * check_output()); returns what @p write_results returns. If anything
-       * throws, the results written so far are removed again, with the
-       * directories made for them: a failed run leaves none of its own.
+       * throws, what was written is removed again, parameters.prm and the
+       * directories made for it included: a failed run leaves nothing of its
+       * own (a run that is killed leaves the parameters of what it wrote).
        */
       int
       write_output(const ParameterHandler     &prm,
@@ -295,12 +296,11 @@ namespace ddfem::app
         remove_earlier_results(directory);
         try
           {
-            const int  status = write_results();
             ResultFile used(directory + "/parameters.prm",
                             "Output/Output directory");
             prm.print_parameters(used.stream(), ParameterHandler::ShortPRM);
             used.commit();
-            return status;
+            return write_results();
           }
         catch (...)
           {
@@ -308,6 +308,8 @@ namespace ddfem::app
             try
               {
                 remove_earlier_results(directory);
+                std::error_code ignored;
+                std::filesystem::remove(directory + "/parameters.prm", ignored);
                 remove_empty_directories(made);
               }
             catch (...)

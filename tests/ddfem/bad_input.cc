@@ -118,9 +118,10 @@ namespace
 
   /**
    * Runs ddfem on @p prm_text (plus @p extra arguments, VTU files of every
-   * load step) with files limited to 200 bytes, so that the first VTU file
-   * fails to be written once the run has begun to write results, and
-   * reports whether anything is left of them.
+   * load step) with files limited to 10000 bytes, more than parameters.prm
+   * needs and less than a VTU file of a scene of 4 x 12 x 4 voxels, so that
+   * the first VTU file fails to be written once the run has begun to write
+   * results, and reports whether anything is left of them.
    */
   void
   run_with_small_files(const std::string              &name,
@@ -138,7 +139,7 @@ namespace
     rlimit             old_limit;
     getrlimit(RLIMIT_FSIZE, &old_limit);
     rlimit limit   = old_limit;
-    limit.rlim_cur = 200;
+    limit.rlim_cur = 10000;
     // A write past the limit fails (EFBIG) instead of ending the process.
     const auto old_handler = std::signal(SIGXFSZ, SIG_IGN);
     setrlimit(RLIMIT_FSIZE, &limit);
@@ -930,9 +931,10 @@ end
   // A run that fails once it has begun to write results (here the first
   // VTU file cannot be written) removes them again, with the directories
   // it made for them.
-  run_with_small_files("vtu_fails_fine", cantilever, {});
-  run_with_small_files("vtu_fails_dg", cantilever, {"--set", "Method=dg"});
-  run_with_small_files("vtu_fails_compare", cantilever, compare_naive);
+  const std::string larger = testing::cantilever("4, 12, 4", "0; 0; -100");
+  run_with_small_files("vtu_fails_fine", larger, {});
+  run_with_small_files("vtu_fails_dg", larger, {"--set", "Method=dg"});
+  run_with_small_files("vtu_fails_compare", larger, compare_naive);
   // A gnuplot that does not work is found before anything runs too.
   {
     std::filesystem::create_directories("broken_bin");
