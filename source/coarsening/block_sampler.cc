@@ -133,6 +133,14 @@ namespace ddfem::coarsening
 
 
 
+  bool
+  SamplingSettings::is_embedded(const unsigned int p) const
+  {
+    return std::floor((p + 1) * embedded) > std::floor(p * embedded);
+  }
+
+
+
   BlockSampler::BlockSampler(
     const std::array<std::vector<material::MaterialPoint>, 8> &children,
     const double child_point_offset)
@@ -802,8 +810,7 @@ namespace ddfem::coarsening
     // of 0.2 and Held-out every = 5, and the fit saw force patterns only.
     unsigned int n_embedded = 0;
     for (unsigned int p = 0; p < settings.n_directions; ++p)
-      if (!has_void && std::floor((p + 1) * settings.embedded) >
-                         std::floor(p * settings.embedded))
+      if (!has_void && settings.is_embedded(p))
         embedded_pattern(settings, n_embedded++, normal, samples, n_dropped);
       else
         force_pattern(settings, p - n_embedded, normal, samples, n_dropped);

@@ -9,7 +9,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <cmath>
 #include <exception>
 #include <filesystem>
 #include <iomanip>
@@ -159,8 +158,7 @@ namespace ddfem::coarsening
     // a block may have needs n patterns at least.
     unsigned int n_embedded = 0;
     for (unsigned int p = 0; p < sampling.n_directions; ++p)
-      n_embedded += (std::floor((p + 1) * sampling.embedded) >
-                     std::floor(p * sampling.embedded));
+      n_embedded += sampling.is_embedded(p);
     unsigned int fewest = sampling.n_directions;
     for (const unsigned int n_of_kind :
          {n_embedded, sampling.n_directions - n_embedded})

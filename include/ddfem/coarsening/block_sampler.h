@@ -70,6 +70,11 @@ namespace ddfem::coarsening
      */
     SamplingSettings
     for_block(const std::vector<scene::MaterialId> &voxels) const;
+
+    /// Whether pattern @p p of n_directions is an embedded one: a
+    /// fraction 'embedded' of them, spread evenly.
+    bool
+    is_embedded(const unsigned int p) const;
   };
 
   /**
