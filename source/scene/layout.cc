@@ -213,19 +213,13 @@ namespace ddfem::scene
         checked_id(prm.get_integer("Material"), n_materials, "Layout/Material");
       shapes = parse_shapes(prm.get("Shapes"), n_materials, "Layout/Shapes");
       edits.clear();
-      const std::string edit_text = prm.get("Edits");
-      if (!Utilities::trim(edit_text).empty())
-        for (const std::string &edit :
-             split_list(edit_text, '|', "Layout/Edits"))
-          {
-            const std::string where =
-              "Layout/Edits, edit " + std::to_string(edits.size() + 1);
-            edits.push_back(parse_shapes(edit, n_materials, where));
-            AssertThrow(!edits.back().empty(),
-                        ExcMessage(where + " is empty: give its shapes as "
-                                           "'<kind> <numbers> : <material "
-                                           "id>', or remove the '|'."));
-          }
+      // split_list() rejects an empty edit, so each has a shape.
+      for (const std::string &edit :
+           split_list(prm.get("Edits"), '|', "Layout/Edits"))
+        edits.push_back(parse_shapes(edit,
+                                     n_materials,
+                                     "Layout/Edits, edit " +
+                                       std::to_string(edits.size() + 1)));
 
       prm.enter_subsection("Layers");
       layer_axis      = axis_index(prm.get("Axis"));

@@ -334,7 +334,7 @@ namespace ddfem::scene
             const std::size_t n_words = line.tokens.size();
             bool well_formed = (n_words == 4 || n_words == 5 || n_words == 7) &&
                                parse_point(line.tokens, 1, p);
-            for (std::size_t t = 4; well_formed && t < line.tokens.size(); ++t)
+            for (std::size_t t = 4; well_formed && t < n_words; ++t)
               {
                 double extra = 0;
                 well_formed  = parse(line.tokens[t], extra);
