@@ -165,31 +165,24 @@ namespace ddfem::solver
                                          dof_handler,
                                          support_points);
     components = dof_components(dof_handler);
-    configuration.reinit(0);
   }
 
 
 
   void
-  LinearSolver::set_configuration(const Vector<double> &u)
-  {
-    if (chosen == "cg-amg")
-      configuration = u;
-  }
-
-
-
-  void
-  LinearSolver::compute_rigid_body_modes()
+  LinearSolver::compute_rigid_body_modes(const Vector<double> *configuration)
   {
     // About the centroid of the support points where they are now; the
     // three DoFs of a node are consecutive (initialize()).
     const std::size_t     n = support_points.size();
     std::vector<Point<3>> points(support_points);
-    if (configuration.size() == n)
-      for (std::size_t i = 0; i < n; ++i)
-        for (unsigned int d = 0; d < 3; ++d)
-          points[i][d] += configuration(i - components[i] + d);
+    if (configuration != nullptr)
+      {
+        AssertDimension(configuration->size(), n);
+        for (std::size_t i = 0; i < n; ++i)
+          for (unsigned int d = 0; d < 3; ++d)
+            points[i][d] += (*configuration)(i - components[i] + d);
+      }
     Point<3> centroid;
     for (const Point<3> &p : points)
       centroid += p / static_cast<double>(n);
@@ -326,7 +319,8 @@ namespace ddfem::solver
   LinearSolver::solve(const SparseMatrix<double> &K,
                       Vector<double>             &x,
                       const Vector<double>       &b,
-                      const double                forcing)
+                      const double                forcing,
+                      const Vector<double>       *configuration)
   {
     if (chosen == "direct" || direct_solves_left > 0)
       {
@@ -347,7 +341,7 @@ namespace ddfem::solver
         TimerOutput::Scope scope(*timer, "factorization / preconditioner");
         amg.clear(); // it refers to the matrix about to be replaced
         trilinos_matrix.reinit(K);
-        compute_rigid_body_modes();
+        compute_rigid_body_modes(configuration);
         TrilinosWrappers::PreconditionAMG::AdditionalData data;
         data.elliptic              = true;
         data.higher_order_elements = (degree > 1);

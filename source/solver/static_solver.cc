@@ -728,7 +728,6 @@ namespace ddfem::solver
         unsigned int       linear_iterations = 0;
         const unsigned int direct_solves     = linear_solver.direct_solves();
         bool               descends          = true;
-        linear_solver.set_configuration(u);
         while (true)
           {
             bool solved = false;
@@ -740,7 +739,8 @@ namespace ddfem::solver
                                       rhs,
                                       on_boundary_values ?
                                         0.1 * residual_norm / reference :
-                                        1.);
+                                        1.,
+                                      &u);
                 constraints.distribute(du);
                 solved = true;
               }

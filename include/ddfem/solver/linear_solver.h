@@ -99,23 +99,20 @@ namespace ddfem::solver
      * 'Tolerance' for cg-cholesky, and the direct solver ignores it).
      * Returns the number of iterations (1 for the direct solver). Throws
      * Failure if the solver does not succeed.
+     *
+     * @p configuration, if given, is the displacement u (of the DoFHandler
+     * of initialize()) at which @p K is the tangent. A multigrid hierarchy
+     * that cg-amg builds for @p K then has the rigid body modes of the
+     * deformed shape X + u: a turned part's tangent is nearly singular on
+     * rotations about its present place, not about its rest shape. Without
+     * it, the rest shape serves.
      */
     unsigned int
     solve(const SparseMatrix<double> &K,
           Vector<double>             &x,
           const Vector<double>       &b,
-          const double                forcing = 1);
-
-    /**
-     * The displacement @p u (of the DoFHandler of initialize()) at which
-     * the next systems are linearized. cg-amg builds its next multigrid
-     * hierarchy with the rigid body modes of the deformed shape X + u: a
-     * turned part's tangent is nearly singular on rotations about its
-     * present place, not about its rest shape. Without a call, and for
-     * the other methods, the rest shape serves.
-     */
-    void
-    set_configuration(const Vector<double> &u);
+          const double                forcing       = 1,
+          const Vector<double>       *configuration = nullptr);
 
     /// Overrides 'Type' ("auto", "direct", "cg-cholesky" or "cg-amg") for
     /// the next initialize().
@@ -203,15 +200,13 @@ namespace ddfem::solver
     unsigned int solves_with_factor = 0, cost_with_factor = 0;
 
     /// cg-amg: fills rigid_body_modes for the shape support_points +
-    /// configuration (the rest shape while configuration is empty).
+    /// @p configuration (the rest shape if null).
     void
-    compute_rigid_body_modes();
+    compute_rigid_body_modes(const Vector<double> *configuration);
 
-    /// cg-amg: every DoF's support point in the rest shape and component,
-    /// and the displacement of set_configuration().
+    /// cg-amg: every DoF's support point in the rest shape and component.
     std::vector<Point<3>>     support_points;
     std::vector<unsigned int> components;
-    Vector<double>            configuration;
     /// The six rigid body modes, mode-major (mode k at [k * n_dofs]).
     std::vector<double> rigid_body_modes;
 
