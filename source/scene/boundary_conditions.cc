@@ -6,6 +6,7 @@
 #include <ddfem/scene/boundary_conditions.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <iostream>
 #include <sstream>
@@ -38,6 +39,19 @@ namespace ddfem::scene
                                  expression +
                                  "\" (write decimals with '.'; components "
                                  "are separated by ';')."));
+          // Inside parentheses, "1,5" is a decimal comma too: min(), max(),
+          // sum() and avg() take any number of arguments, so min(2, 1,5)
+          // would silently be min(2, 1, 5).
+          const auto digit = [&](const std::size_t at) {
+            return std::isdigit(static_cast<unsigned char>(expression[at]));
+          };
+          AssertThrow(c != ',' || i == 0 || i + 1 == expression.size() ||
+                        !digit(i - 1) || !digit(i + 1),
+                      ExcMessage(start + "a ',' between two digits in \"" +
+                                 expression +
+                                 "\" (write decimals with '.'; separate the "
+                                 "arguments of a function by \", \", as in "
+                                 "min(1, 5))."));
           if (c == '=')
             {
               const bool comparison =
@@ -160,6 +174,7 @@ namespace ddfem::scene
     , is_face(true)
     , upper(extent)
     , tolerance(1e-6 * h)
+    , extent(extent)
   {
     const auto words = split_words(text);
     if (words.size() == 1 && words[0].size() == 2 &&
@@ -219,7 +234,11 @@ namespace ddfem::scene
   Point<3>
   Region::center() const
   {
-    return Point<3>(0.5 * (lower + upper));
+    Point<3> center;
+    for (unsigned int d = 0; d < 3; ++d)
+      center[d] = 0.5 * (std::clamp(lower[d], 0., extent[d]) +
+                         std::clamp(upper[d], 0., extent[d]));
+    return center;
   }
 
 
@@ -277,7 +296,9 @@ namespace ddfem::scene
           "auto",
           Patterns::Anything(),
           "rotation: a point on the axis 'x, y, z' (m), or 'auto' for the "
-          "center of the region.");
+          "center of the region's part inside the grid (of a face region: "
+          "the center of the grid's face, so give the point where the part "
+          "does not fill the face).");
         prm.leave_subsection();
       }
     prm.leave_subsection();

@@ -79,7 +79,9 @@ namespace ddfem::scene
         "';'. Each is 'box x0 y0 z0 x1 y1 z1 : id', 'sphere cx cy cz r : id' or "
         "'cylinder ax ay az bx by bz r : id' (a cylinder of radius r around the "
         "segment from a to b). Coordinates in meters; a voxel takes the id if its "
-        "center lies inside.");
+        "center lies inside, or on the surface within 1e-6 of a voxel size (so "
+        "that a bound written at a voxel center holds it whatever the "
+        "round-off).");
       prm.declare_entry(
         "Edits",
         "",
@@ -369,22 +371,27 @@ namespace ddfem::scene
 
 
   bool
-  Layout::Shape::contains(const Point<3> &p) const
+  Layout::Shape::contains(const Point<3> &p, const double tolerance) const
   {
     const auto &v = values;
     switch (kind)
       {
         case Kind::box:
-          return p[0] >= v[0] && p[0] <= v[3] && p[1] >= v[1] && p[1] <= v[4] &&
-                 p[2] >= v[2] && p[2] <= v[5];
+          for (unsigned int d = 0; d < 3; ++d)
+            if (p[d] < v[d] - tolerance || p[d] > v[d + 3] + tolerance)
+              return false;
+          return true;
         case Kind::sphere:
-          return p.distance(Point<3>(v[0], v[1], v[2])) <= v[3];
+          return p.distance(Point<3>(v[0], v[1], v[2])) <= v[3] + tolerance;
         case Kind::cylinder:
           {
             const Point<3>     a(v[0], v[1], v[2]), b(v[3], v[4], v[5]);
-            const Tensor<1, 3> axis = b - a;
-            const double       t    = (p - a) * axis / axis.norm_square();
-            return t >= 0 && t <= 1 && (p - (a + t * axis)).norm() <= v[6];
+            const Tensor<1, 3> axis   = b - a;
+            const double       length = axis.norm();
+            const double       t      = (p - a) * axis / (length * length);
+            return t * length >= -tolerance &&
+                   t * length <= length + tolerance &&
+                   (p - (a + t * axis)).norm() <= v[6] + tolerance;
           }
       }
     return false;
@@ -554,7 +561,8 @@ namespace ddfem::scene
         for (unsigned int j = 0; j < n[1]; ++j)
           for (unsigned int i = 0; i < n[0]; ++i)
             for (unsigned int s = 0; s < list.size(); ++s)
-              if (list[s].contains(grid.center(i, j, k)))
+              if (list[s].contains(grid.center(i, j, k),
+                                   1e-6 * grid.voxel_size()))
                 {
                   grid(i, j, k) = list[s].material;
                   painted[s]    = true;

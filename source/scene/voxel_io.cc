@@ -21,11 +21,12 @@ namespace ddfem::scene
 {
   namespace
   {
-    // The white-space separated tokens of a line.
+    // The white-space separated tokens of a line (or of a piece of text:
+    // line breaks separate tokens too).
     std::vector<std::string_view>
     split(const std::string_view line)
     {
-      const char                   *white_space = " \t\r\v\f";
+      const char                   *white_space = " \t\n\r\v\f";
       std::vector<std::string_view> tokens;
       for (std::size_t begin = line.find_first_not_of(white_space);
            begin != std::string_view::npos;)
@@ -252,6 +253,26 @@ namespace ddfem::scene
                              " bytes does not equal 84 + 50 * the triangle "
                              "count in its header) nor an ASCII STL (it does "
                              "not start with \"solid\")."));
+      // Binary files often start with "solid" as well: one whose size does
+      // not match its triangle count (a truncated one, say) is told apart
+      // from a damaged ASCII file by the control characters (a 0 byte, say)
+      // that binary floats hold and text does not.
+      const bool is_text =
+        std::none_of(content.begin(), content.end(), [](const char c) {
+          const auto byte = static_cast<unsigned char>(c);
+          return byte == 0x7F ||
+                 (byte < 0x20 && std::string_view("\t\n\r\v\f").find(c) ==
+                                   std::string_view::npos);
+        });
+      AssertThrow(is_text || content.size() < 84,
+                  ExcMessage(file +
+                             ": starts with \"solid\" but holds "
+                             "binary data, and as a binary STL its size " +
+                             std::to_string(content.size()) +
+                             " bytes does not equal 84 + 50 * " +
+                             std::to_string(n_binary) +
+                             ", the triangle count in its header (a "
+                             "truncated file?)."));
 
       std::istringstream in(content);
       bool               in_facet        = false;

@@ -448,6 +448,10 @@ main(int argc, char **argv)
   run_case("decimal_comma_in_body_force",
            cantilever +
              "subsection Loads\n  set Body force = 0; 0; -9,81*1000\nend\n");
+  // Inside a function of any number of arguments, "1,5" would be two.
+  run_case("decimal_comma_in_min",
+           cantilever + "subsection Loads\n  set Body force = 0; 0; -min(2000, "
+                        "1,5e4*y)\nend\n");
   run_case("assignment_in_traction",
            cantilever +
              "subsection Boundary conditions\n  subsection Condition 2\n"
@@ -613,13 +617,21 @@ main(int argc, char **argv)
                              "  set Shapes = box 0 0 0 0.02 0.04 0.02 : 2\n"
                              "  subsection Surface mesh\n"));
   // A binary STL whose header starts with "solid", cut short: neither its
-  // size nor its text fits a format.
+  // size nor its text fits a format. Its floats hold 0 bytes and, in 0.01f
+  // (0x3C23D70A), a line feed, which ends the "solid" line of an ASCII
+  // reading.
   {
     std::ofstream stl("truncated.stl", std::ios::binary);
     stl << "solid made by an exporter" << std::string(55, ' ');
     const std::uint32_t n = 12;
     stl.write(reinterpret_cast<const char *>(&n), 4);
-    stl << std::string(200, '\1');
+    for (unsigned int t = 0; t < 4; ++t)
+      {
+        const float normal_and_corners[12] = {
+          0, 0, 1, 0, 0, 0, 0.01f, 0, 0, 0, 0.01f, 0};
+        stl.write(reinterpret_cast<const char *>(normal_and_corners), 48);
+        stl << std::string(2, '\0');
+      }
   }
   run_case("truncated_binary_stl", from_surface_mesh("truncated.stl"));
   // A closed tetrahedron far larger than the 0.02 x 0.04 x 0.02 m grid:

@@ -108,6 +108,28 @@ main()
         std::cout << int(skin(i, 0, 0));
       std::cout << std::endl;
     }
+  // Shapes whose bounds lie at voxel centers hold those voxels, whatever
+  // their round-off: with 0.1 m voxels, 3.5 * 0.1 lies above 0.35, and
+  // mirror-image boxes painted x-voxels 0-2 and 6-8 instead of 0-3 and
+  // 6-9. So do a sphere and a cylinder through centers.
+  {
+    const auto shapes = [&](const std::string &list) {
+      const auto grid =
+        make_scene("set Shapes = " + list, "10, 1, 1\nset Voxel size = 0.1")
+          .grid;
+      std::string row;
+      for (unsigned int i = 0; i < 10; ++i)
+        row += std::to_string(grid(i, 0, 0));
+      return row;
+    };
+    std::cout << "shapes bounded at voxel centers of 0.1 m: boxes "
+              << shapes("box 0.05 0 0 0.35 0.1 0.1 : 2; "
+                        "box 0.65 0 0 0.95 0.1 0.1 : 2")
+              << ", sphere " << shapes("sphere 0.05 0.05 0.05 0.3 : 2")
+              << ", cylinder "
+              << shapes("cylinder 0.65 0.05 0.05 0.95 0.05 0.05 0.01 : 2")
+              << std::endl;
+  }
   print("sphere r = 0.03 m of id 2 at the center",
         make_scene("set Shapes = sphere 0.04 0.04 0.04 0.03 : 2").grid);
   print("box then cylinder painted in order",
@@ -224,6 +246,14 @@ main()
   for (const std::string file : {"octahedron_ascii.stl", "octahedron.obj"})
     std::ofstream("bom_" + file)
       << "\xEF\xBB\xBF" << std::ifstream(file).rdbuf();
+  // The ASCII STL with a bare "solid" line (no name), as some writers
+  // save it.
+  {
+    std::ifstream named("octahedron_ascii.stl");
+    std::string   first_line;
+    std::getline(named, first_line);
+    std::ofstream("unnamed_octahedron_ascii.stl") << "solid\n" << named.rdbuf();
+  }
   unsigned int inside = 0;
   for (unsigned int k = 0; k < 16; ++k)
     for (unsigned int j = 0; j < 16; ++j)
@@ -249,7 +279,8 @@ main()
                                  "octahedron_stray.obj",
                                  "octahedron_degenerate.obj",
                                  "bom_octahedron_ascii.stl",
-                                 "bom_octahedron.obj"})
+                                 "bom_octahedron.obj",
+                                 "unnamed_octahedron_ascii.stl"})
     std::cout << "  " << file << ": " << voxels(file, "false") << " voxels"
               << std::endl;
   std::cout << "  fitted to the grid: octahedron.obj "

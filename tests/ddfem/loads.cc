@@ -18,6 +18,7 @@
 #include <deal.II/dofs/dof_tools.h>
 
 #include <ddfem/base/exceptions.h>
+#include <ddfem/scene/boundary_conditions.h>
 #include <ddfem/solver/supports.h>
 
 #include "../tests.h"
@@ -216,6 +217,38 @@ main(int argc, char **argv)
       end)",
               Tensor<1, 3>({8., 0., 0.}),
               Tensor<1, 3>({0., 26., -16.}));
+
+  // Center = auto is the center of the region's part inside the grid: a
+  // box that reaches past the 4 m grid to hold the top face turns the
+  // node (4, 2, 4) by 90 degrees about z as the face z+ does, about
+  // (2, 2, z), to (2, 4, 4), not about the box's own center (4, 4, z).
+  std::cout << "Rotations about Center = auto:" << std::endl;
+  for (const std::string region : {"z+", "box -1 -1 3.5 9 9 9"})
+    {
+      ParameterHandler prm;
+      scene::BoundaryConditions::declare_parameters(prm);
+      prm.parse_input_from_string(R"(
+        subsection Boundary conditions
+          subsection Condition 1
+            set Type   = rotation
+            set Region = )" + region +
+                                  R"(
+            set Axis   = 0, 0, 1
+            set Angle  = 90
+          end
+        end)");
+      scene::BoundaryConditions conditions;
+      conditions.parse_parameters(prm, Point<3>(4, 4, 4), 1);
+      Tensor<1, 3> u;
+      for (unsigned int d = 0; d < 3; ++d)
+        AssertThrow(
+          conditions.prescribed_displacement(Point<3>(4, 2, 4), d, 1, u[d]),
+          ExcMessage("the node is not held"));
+      std::cout << "  \"" << region << "\": u(4, 2, 4) =";
+      for (unsigned int d = 0; d < 3; ++d)
+        std::cout << ' ' << (std::abs(u[d]) < 1e-12 ? 0. : u[d]);
+      std::cout << " m" << std::endl;
+    }
 
   std::cout << "Dirichlet conditions on boxes:" << std::endl;
   for (const std::string region :

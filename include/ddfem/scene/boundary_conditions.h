@@ -38,7 +38,8 @@ namespace ddfem::scene
     Tensor<1, 3>
     face_normal() const;
 
-    /// Center of the region's bounding box.
+    /// Center of the part of the region inside the grid's bounding box (a
+    /// box may reach past the grid to hold all nodes of a face).
     Point<3>
     center() const;
 
@@ -50,6 +51,8 @@ namespace ddfem::scene
     Point<3> lower, upper;
     /// Geometric tolerance (m).
     double tolerance;
+    /// The far corner of the grid's bounding box.
+    Point<3> extent;
   };
 
   /// A boundary face of the solid's voxels, where tractions and pressures

@@ -70,9 +70,10 @@ namespace ddfem::scene
       /// Its parameter and entry, for messages.
       std::string where;
 
-      /// Whether @p p lies inside this shape.
+      /// Whether @p p lies inside this shape or within @p tolerance (m) of
+      /// its surface.
       bool
-      contains(const Point<3> &p) const;
+      contains(const Point<3> &p, const double tolerance) const;
     };
 
     /// Parses the "Shapes" list.
