@@ -9,7 +9,10 @@
 #include <ddfem/solver/discretization.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <iomanip>
 #include <limits>
@@ -569,6 +572,16 @@ namespace ddfem::coarsening
     const std::string where = "The metamaterial database file '" + file + "' ";
     AssertThrow(std::filesystem::exists(file),
                 ExcMessage(where + "does not exist."));
+    AssertThrow(!std::filesystem::is_directory(file),
+                ExcMessage(where + "is a directory, not a file."));
+    // A file that cannot be read (permissions, say) is not a corrupt one,
+    // which a user might delete.
+    if (std::FILE *probe = std::fopen(file.c_str(), "rb"))
+      std::fclose(probe);
+    else
+      AssertThrow(false,
+                  ExcMessage(where + "cannot be read: " + std::strerror(errno) +
+                             "."));
     try
       {
         check(H5Fis_hdf5(file.c_str()) > 0,
@@ -606,7 +619,14 @@ namespace ddfem::coarsening
                 ", which is not in [" + format_number(low) + ", " +
                 format_number(high) + ")");
         const std::string fingerprint = read_attribute(h5, "settings");
-        Database          db(settings, n_materials);
+        // The settings name the void flag too (DatabaseSettings::
+        // fingerprint()): the two must agree.
+        check(fingerprint.find(" | void: " + with_void + " | ") !=
+                std::string::npos,
+              "has a 'with void' attribute " + with_void +
+                " that its 'settings' attribute does not name (corrupt "
+                "file?)");
+        Database db(settings, n_materials);
         db.settings_fingerprint = fingerprint;
         const double representatives =
           read_number_attribute(h5, "representatives");
@@ -628,6 +648,7 @@ namespace ddfem::coarsening
           check(e.key < n_keys, "has an entry key beyond the palette");
         const std::int64_t n = db.fitted.size();
         // Positions in the file, entry keys in memory.
+        std::vector<bool> used(n, false);
         for (std::size_t k = 0; k < n_keys; ++k)
           {
             std::int32_t &e = db.entry_key_of[k];
@@ -635,19 +656,37 @@ namespace ddfem::coarsening
                   "has an invalid lookup table at combination " +
                     std::to_string(k));
             if (e >= 0)
-              e = db.fitted[e].key;
+              {
+                used[e] = true;
+                e       = db.fitted[e].key;
+              }
           }
-        // Uncompressed, a combination's entry is its orbit's, and its
-        // symmetry maps that entry's block to it (a flipped value that
-        // stays in range would rotate another block's material into it).
-        if (db.representatives == 0)
-          for (std::size_t k = 0; k < n_keys; ++k)
-            check(db.entry_key_of[k] < 0 ||
-                    db.index.key(db.group.apply(db.symmetry_of[k],
-                                                db.index.combination(
-                                                  db.entry_key_of[k]))) == k,
-                  "has a lookup table whose symmetry at combination " +
-                    std::to_string(k) + " does not map its entry onto it");
+        check(std::find(used.begin(), used.end(), false) == used.end(),
+              "has an entry that no combination looks up");
+        // A combination's symmetry maps its entry's block onto the
+        // combination whose entry and symmetry it took: itself,
+        // uncompressed; its representative, compressed, which keeps its own
+        // (Database::compress()). A flipped value that stays in range would
+        // rotate another block's material into it.
+        std::size_t n_representatives = 0;
+        for (std::size_t k = 0; k < n_keys; ++k)
+          if (const std::int32_t e = db.entry_key_of[k]; e >= 0)
+            {
+              const std::size_t r = db.index.key(
+                db.group.apply(db.symmetry_of[k], db.index.combination(e)));
+              check((r == k || db.representatives > 0) &&
+                      db.entry_key_of[r] == e &&
+                      db.symmetry_of[r] == db.symmetry_of[k],
+                    "has a lookup table whose symmetry at combination " +
+                      std::to_string(k) + " does not map its entry onto " +
+                      (db.representatives > 0 ? "a representative" : "it"));
+              n_representatives += (r == k);
+            }
+        check(n_representatives <= db.representatives ||
+                db.representatives == 0,
+              "has " + std::to_string(n_representatives) +
+                " representatives in its lookup table, more than its count " +
+                std::to_string(db.representatives));
         // ... and every member of an entry's orbit is looked up there (a
         // member left out would be fitted again, as a second entry).
         if (db.representatives == 0)

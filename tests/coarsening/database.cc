@@ -753,6 +753,71 @@ main()
     expect_error("another compression", [] {
       build(builder("compressed.h5", false, "all", 1, 3), palette());
     });
+    {
+      // Damage to a compressed file's lookup table that stays in range: a
+      // symmetry that maps the entry's block onto neither the combination
+      // nor a representative, at a combination that is a representative
+      // and at one that is not.
+      std::vector<std::uint8_t> symmetry;
+      std::vector<std::int32_t> position;
+      edit_dataset<std::uint8_t>("compressed.h5",
+                                 "scratch.h5",
+                                 "lookup/symmetry",
+                                 [&](std::vector<std::uint8_t> &values,
+                                     std::vector<hsize_t> &) {
+                                   symmetry = values;
+                                 });
+      edit_dataset<std::int32_t>("compressed.h5",
+                                 "scratch.h5",
+                                 "lookup/entry",
+                                 [&](std::vector<std::int32_t> &values,
+                                     std::vector<hsize_t> &) {
+                                   position = values;
+                                 });
+      const Database file  = Database::load("compressed.h5");
+      const auto    &index = file.combinations();
+      const auto    &group = file.symmetries();
+      // The combination the symmetry g maps the entry of k onto.
+      const auto image = [&](const std::size_t k, const unsigned int g) {
+        return index.key(
+          group.apply(g, index.combination(file.entries()[position[k]].key)));
+      };
+      std::set<std::size_t> representatives;
+      for (std::size_t k = 0; k < index.size(); ++k)
+        if (position[k] >= 0 && image(k, symmetry[k]) == k)
+          representatives.insert(k);
+      std::cout << "compressed file: " << representatives.size()
+                << " representatives in its lookup table" << std::endl;
+      for (const bool representative : {true, false})
+        {
+          // The first such combination with a symmetry that maps its
+          // entry elsewhere, onto no representative.
+          std::size_t  k     = 0;
+          unsigned int wrong = CubeSymmetries::size;
+          for (; wrong == CubeSymmetries::size; ++k)
+            if (position[k] >= 0 &&
+                (representatives.count(k) > 0) == representative)
+              for (wrong = 0; wrong < CubeSymmetries::size &&
+                              (image(k, wrong) == image(k, symmetry[k]) ||
+                               representatives.count(image(k, wrong)) > 0);
+                   ++wrong)
+                ;
+          --k;
+          edit_dataset<std::uint8_t>("compressed.h5",
+                                     "compressed_wrong_symmetry.h5",
+                                     "lookup/symmetry",
+                                     [&](std::vector<std::uint8_t> &values,
+                                         std::vector<hsize_t> &) {
+                                       values[k] = wrong;
+                                     });
+          expect_error(std::string("compressed table with a wrong symmetry "
+                                   "at a ") +
+                         (representative ? "representative" :
+                                           "combination it represents") +
+                         ", " + std::to_string(k),
+                       [] { Database::load("compressed_wrong_symmetry.h5"); });
+        }
+    }
     // More representatives asked for than combinations have distinct
     // features: all are kept, and the file builds again with the setting.
     std::filesystem::copy_file("small.h5", "compressed_all.h5");
@@ -1194,9 +1259,20 @@ main()
                                    std::filesystem::file_size("small.h5") / 2);
     }
     expect_error("truncated", [] { Database::load("truncated.h5"); });
+    std::filesystem::create_directories("a_directory.h5");
+    expect_error("a directory", [] { Database::load("a_directory.h5"); });
     edited_copy("small.h5", "bad_attribute.h5", {{"representatives", "many"}});
     expect_error("damaged attribute",
                  [] { Database::load("bad_attribute.h5"); });
+    {
+      // The void flag is stored twice, as an attribute and in the settings.
+      std::string       settings = Database::load("small.h5").fingerprint();
+      const std::string no_void  = " | void: 0 | ";
+      settings.replace(settings.find(no_void), no_void.size(), " | void: 1 | ");
+      edited_copy("small.h5", "void_disagrees.h5", {{"settings", settings}});
+      expect_error("settings naming void where the attribute does not",
+                   [] { Database::load("void_disagrees.h5"); });
+    }
     // A palette beyond the tables' limit is named before any table is
     // allocated for it (20 materials would ask for 21^8 entries).
     std::string twenty = "E=1e5 nu=0.45";
