@@ -313,17 +313,22 @@ namespace ddfem::coarsening
       std::all_of(combinations.begin(),
                   combinations.end(),
                   [&](const Combination &c) {
-                    return all_void(c) ||
-                           std::size_t(class_of[level1.combinations().key(c)]) <
-                             class_key.size();
+                    if (all_void(c))
+                      return true;
+                    level1.check_covered(c);
+                    return std::size_t(class_of[level1.combinations().key(c)]) <
+                           class_key.size();
                   });
+    // Tables built for no block in particular (Scope = all) represent
+    // every block by its nearest representative.
     return knows_combinations &&
-           std::all_of(blocks.begin(), blocks.end(), [&](const BlockKeys &b) {
-             return std::all_of(b.begin(),
-                                b.end(),
-                                [](auto key) { return key < 0; }) ||
-                    std::binary_search(required.begin(), required.end(), b);
-           });
+           (required.empty() ||
+            std::all_of(blocks.begin(), blocks.end(), [&](const BlockKeys &b) {
+              return std::all_of(b.begin(),
+                                 b.end(),
+                                 [](auto key) { return key < 0; }) ||
+                     std::binary_search(required.begin(), required.end(), b);
+            }));
   }
 
 

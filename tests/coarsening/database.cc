@@ -947,6 +947,37 @@ main()
       }
     std::cout << "every block of a random grid has a 64-point metamaterial: "
               << all_found << std::endl;
+    // A scene built on this complete file fits nothing: its blocks take
+    // their nearest representatives, and the file keeps its fits (it used
+    // to build its tables anew around the scene's blocks, dropping them).
+    {
+      std::filesystem::copy_file(
+        "level2.h5",
+        "level2_scene.h5",
+        std::filesystem::copy_options::overwrite_existing);
+      std::ostringstream    scene_log;
+      const DatabaseBuilder lazy =
+        builder("level2_scene.h5", false, "scene", 1, 0, 2);
+      Database  scene_db = lazy.open(palette(), scene_log);
+      Hierarchy scene_level2;
+      const std::vector<scene::VoxelGrid> grids = {grid};
+      lazy.build(palette(), scene_db, &grids, scene_log, false, &scene_level2);
+      Hierarchy reread;
+      Database::load("level2_scene.h5", &reread);
+      std::cout << "a scene built on the complete file: its level-2 fits "
+                   "kept: "
+                << same_level2_entries(reread.entries, level2.entries)
+                << ", the scene's lookups equal the file's: "
+                << (scene_level2
+                      .lookup(scene_db, DatabaseBuilder::scene_blocks(grid)[0])
+                      .points[5]
+                      .mu ==
+                    level2
+                      .lookup(loaded, DatabaseBuilder::scene_blocks(grid)[0])
+                      .points[5]
+                      .mu)
+                << std::endl;
+    }
 
     // The second level's point offset: named in its settings. Files
     // written before it had one of its own name none; their second level

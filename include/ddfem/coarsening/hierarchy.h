@@ -127,9 +127,10 @@ namespace ddfem::coarsening
     /**
      * Whether the tables know every non-void combination of
      * @p combinations and were built with every non-void block of
-     * @p blocks required: the tables are built from the level-1 entries
-     * present at the time, so a database extended later (lazy mode) needs
-     * new tables.
+     * @p blocks required, or with none (Scope = all: every block takes its
+     * nearest representative): the tables are built from the level-1
+     * entries present at the time, so a database extended later (lazy
+     * mode) needs new tables.
      */
     bool
     covers(const Database                 &level1,
