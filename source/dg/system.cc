@@ -496,7 +496,7 @@ namespace ddfem::dg
               Tensor<1, dim>();
           // A load on components held inside a Dirichlet region goes into
           // the reactions, as where strong conditions or CG hold them.
-          if (weak && data.dirichlet_inside)
+          if (weak && data.dirichlet_inside && data.body_force)
             {
               Tensor<1, dim> g;
               f -= held(fv.quadrature_point(q) + shift, g) * f;

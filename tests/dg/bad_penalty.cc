@@ -8,6 +8,8 @@
 // too close to incompressible for the definiteness check, a stiffness
 // contrast too large for it.
 
+#include <deal.II/base/multithread_info.h>
+
 #include <ddfem/app/application.h>
 
 #include <filesystem>
@@ -109,6 +111,23 @@ main(int argc, char **argv)
   run_case("infinite_body_force",
            cantilever + "subsection Loads\n  set Body force = 0; 0; 1/0\nend\n",
            "");
+  // Weak Dirichlet data is also asked at the cells' quadrature points
+  // inside a region (where it takes the body force off held components):
+  // data that is not finite only strictly inside the first voxel is
+  // reported with its parameter too, also by the threaded assembly (as
+  // the program runs), where an exception in a worker aborts.
+  MultithreadInfo::set_thread_limit(2);
+  run_case("infinite_dirichlet_inside_a_cell",
+           cantilever +
+             "subsection Loads\n  set Body force = 0; 0; -1000\nend\n"
+             "subsection Boundary conditions\n  subsection Condition 3\n"
+             "    set Type = displacement\n"
+             "    set Region = box -1 -1 -1 1 0.0101 1\n"
+             "    set Value = free; free; (abs(x - 0.005) < 0.004 && "
+             "abs(y - 0.005) < 0.004 && abs(z - 0.005) < 0.004) ? 1/0 : 0\n"
+             "  end\nend\n",
+           "");
+  MultithreadInfo::set_thread_limit(1);
   // Not bad input but a corotated iteration that cannot converge (a 90
   // degree turn in one load step with one iteration): a message, and
   // nothing written.
