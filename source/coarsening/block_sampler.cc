@@ -621,9 +621,17 @@ namespace ddfem::coarsening
 
         // Newton's direction; where the Hessian is indefinite (the soft
         // children buckle under compression), shift it until it descends.
+        // The shifts scale with the largest diagonal entry, or with the
+        // largest in magnitude where none is positive (a shift of 0 would
+        // be doubled forever).
         double largest = 0;
         for (unsigned int i = 0; i < n_periodic; ++i)
           largest = std::max(largest, H(i, i));
+        if (!(largest > 0))
+          for (unsigned int i = 0; i < n_periodic; ++i)
+            largest = std::max(largest, std::abs(H(i, i)));
+        if (!(largest > 0))
+          return residual <= 1e-6;
         Vector<double> dw;
         double         slope = 0;
         for (double shift = 0;;)

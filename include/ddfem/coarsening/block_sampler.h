@@ -144,8 +144,10 @@ namespace ddfem::coarsening
       return n_components;
     }
 
-    /// Number of zero-energy modes at rest, the constraints: 6, plus 1 per
-    /// hinge along an edge and 3 per hinge at a corner.
+    /// Number of zero-energy modes at rest, the constraints: the dimension
+    /// of the joint rigid motions of the face-connected groups (6 for one
+    /// group; two groups joined at one edge have 7, at one corner 9, but
+    /// four children that pairwise share edges, as {0, 3, 5, 6}, have 6).
     unsigned int
     n_zero_energy_modes() const
     {
