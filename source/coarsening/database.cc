@@ -1104,13 +1104,17 @@ namespace ddfem::coarsening
       }
     file = std::fopen(name.c_str(), "ab");
     AssertThrow(file != nullptr, ExcMessage(cannot_write(name)));
+    // (Not std::filesystem::file_size(), which throws for a device.)
+    std::fseek(file, 0, SEEK_END);
+    valid_end = std::max(std::ftell(file), 0L);
   }
 
 
 
   Journal::~Journal()
   {
-    std::fclose(file);
+    if (file != nullptr)
+      std::fclose(file);
   }
 
 
@@ -1130,14 +1134,27 @@ namespace ddfem::coarsening
     append_values(entry.material, values);
     append_values(entry.child_material, values);
     const std::uint64_t sum = checksum(values);
-    // A record that is not written whole is ignored by read(); the build
-    // stops here rather than fit on without saving.
-    AssertThrow(
-      std::fwrite(&record_magic, sizeof(record_magic), 1, file) == 1 &&
+    AssertThrow(file != nullptr,
+                ExcMessage(cannot_write(name) +
+                           " An earlier record could not be written, and the "
+                           "journal takes no more."));
+    // A record that is not written whole is cut off, and the journal takes
+    // no more: records appended after a torn one would not be read. The
+    // build stops here rather than fit on without saving.
+    if (std::fwrite(&record_magic, sizeof(record_magic), 1, file) == 1 &&
         std::fwrite(values.data(), sizeof(double), values.size(), file) ==
           values.size() &&
-        std::fwrite(&sum, sizeof(sum), 1, file) == 1 && std::fflush(file) == 0,
-      ExcMessage(cannot_write(name)));
+        std::fwrite(&sum, sizeof(sum), 1, file) == 1 && std::fflush(file) == 0)
+      valid_end +=
+        sizeof(record_magic) + sizeof(double) * values.size() + sizeof(sum);
+    else
+      {
+        std::fclose(file);
+        file = nullptr;
+        std::error_code error;
+        std::filesystem::resize_file(name, valid_end, error);
+        AssertThrow(false, ExcMessage(cannot_write(name)));
+      }
   }
 
 

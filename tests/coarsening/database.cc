@@ -380,6 +380,43 @@ main()
       journal.append(full.entries()[0]);
     });
     std::filesystem::remove("full_disk.h5.journal");
+    // A record cut short by a file size limit is cut off, and the journal
+    // takes no more records, also once the limit is raised: they would
+    // follow the torn one, unread.
+    {
+      std::filesystem::remove("torn.h5.journal");
+      Journal("torn.h5", fingerprint, n_keys);
+      const auto header = std::filesystem::file_size("torn.h5.journal");
+      Journal("torn.h5", fingerprint, n_keys).append(full.entries()[0]);
+      const auto record =
+        std::filesystem::file_size("torn.h5.journal") - header;
+      std::cout.flush();
+      const pid_t appender = fork();
+      if (appender == 0)
+        {
+          std::signal(SIGXFSZ, SIG_IGN);
+          rlimit limit = {rlim_t(header + record + record / 2), RLIM_INFINITY};
+          setrlimit(RLIMIT_FSIZE, &limit);
+          {
+            Journal journal("torn.h5", fingerprint, n_keys);
+            expect_error("record beyond a file size limit",
+                         [&] { journal.append(full.entries()[1]); });
+            limit.rlim_cur = RLIM_INFINITY;
+            setrlimit(RLIMIT_FSIZE, &limit);
+            expect_error("record after the failed one",
+                         [&] { journal.append(full.entries()[2]); });
+          }
+          std::cout.flush();
+          _exit(0);
+        }
+      waitpid(appender, nullptr, 0);
+      std::cout << "then: records read "
+                << Journal::read("torn.h5", fingerprint, n_keys).size()
+                << ", the journal ends with its last complete record: "
+                << (std::filesystem::file_size("torn.h5.journal") ==
+                    header + record)
+                << std::endl;
+    }
     // A new journal's header is written under another name first; if that
     // fails, the partial file goes too.
     std::filesystem::remove("full_disk.h5.journal.partial");

@@ -391,7 +391,9 @@ namespace ddfem::coarsening
 
     /**
      * Appends @p entry and flushes it to the operating system. Throws
-     * ExcMessage if it cannot be written whole (e.g. a full disk).
+     * ExcMessage if it cannot be written whole (e.g. a full disk), after
+     * cutting off what it wrote of it; a journal that failed once takes no
+     * more records (they would follow a torn one, which read() stops at).
      */
     void
     append(const Entry &entry);
@@ -420,8 +422,10 @@ namespace ddfem::coarsening
   private:
     /// The journal's file name.
     std::string name;
-    /// The journal, open for appending.
+    /// The journal, open for appending; nullptr after a failed append.
     std::FILE *file;
+    /// The journal's size up to its last complete record.
+    std::uintmax_t valid_end;
   };
 } // namespace ddfem::coarsening
 
