@@ -81,7 +81,8 @@ namespace ddfem::scene
         "segment from a to b). Coordinates in meters; a voxel takes the id if its "
         "center lies inside, or on the surface within 1e-6 of a voxel size (so "
         "that a bound written at a voxel center holds it whatever the "
-        "round-off).");
+        "round-off). Each shape must keep its material in a voxel: one whose "
+        "every voxel later shapes give another material is an error.");
       prm.declare_entry(
         "Edits",
         "",
@@ -554,28 +555,46 @@ namespace ddfem::scene
   void
   Layout::paint(const std::vector<Shape> &list, VoxelGrid &grid)
   {
-    const auto       &n = grid.size();
-    std::vector<bool> painted(list.size(), false);
+    const auto &n = grid.size();
+    // Per shape: whether it contains a voxel center, and whether one of
+    // them keeps its material in the end (later shapes may paint over it).
+    std::vector<bool> painted(list.size(), false), kept(list.size(), false);
+    std::vector<unsigned int> holding;
     if (!list.empty())
       for (unsigned int k = 0; k < n[2]; ++k)
         for (unsigned int j = 0; j < n[1]; ++j)
           for (unsigned int i = 0; i < n[0]; ++i)
-            for (unsigned int s = 0; s < list.size(); ++s)
-              if (list[s].contains(grid.center(i, j, k),
-                                   1e-6 * grid.voxel_size()))
-                {
-                  grid(i, j, k) = list[s].material;
-                  painted[s]    = true;
-                }
+            {
+              holding.clear();
+              for (unsigned int s = 0; s < list.size(); ++s)
+                if (list[s].contains(grid.center(i, j, k),
+                                     1e-6 * grid.voxel_size()))
+                  {
+                    grid(i, j, k) = list[s].material;
+                    painted[s]    = true;
+                    holding.push_back(s);
+                  }
+              for (const unsigned int s : holding)
+                if (list[s].material == grid(i, j, k))
+                  kept[s] = true;
+            }
     for (unsigned int s = 0; s < list.size(); ++s)
-      AssertThrow(painted[s],
-                  ExcMessage(list[s].where +
-                             ": the shape contains no voxel center of the "
-                             "grid, which spans (0, 0, 0) to " +
-                             format_point(grid.extent()) +
-                             " m with voxel centers half a voxel in from its "
-                             "faces, so it would paint nothing (coordinates "
-                             "are meters)."));
+      {
+        AssertThrow(painted[s],
+                    ExcMessage(list[s].where +
+                               ": the shape contains no voxel center of the "
+                               "grid, which spans (0, 0, 0) to " +
+                               format_point(grid.extent()) +
+                               " m with voxel centers half a voxel in from "
+                               "its faces, so it would paint nothing "
+                               "(coordinates are meters)."));
+        AssertThrow(kept[s],
+                    ExcMessage(list[s].where +
+                               ": later shapes of the list give every voxel "
+                               "of the shape another material, so it has no "
+                               "effect (shapes are painted in the order "
+                               "given)."));
+      }
   }
 
 

@@ -176,7 +176,9 @@ namespace ddfem::scene
                              " voxels along axis " + std::to_string(d) +
                              " is not divisible by " + std::to_string(b) +
                              ", the block size of coarsening level " +
-                             std::to_string(level) + "."));
+                             std::to_string(level) +
+                             " (asked for by Coarsening levels, or in a "
+                             "compare run by Comparison/Levels)."));
   }
 
 

@@ -456,6 +456,10 @@ main(int argc, char **argv)
            cantilever +
              "subsection Boundary conditions\n  subsection Condition 2\n"
              "    set Value = 0; 0; (y=0.32)*-100\n  end\nend\n");
+  // A shape that a later one paints over entirely has no effect.
+  run_case("shape_painted_over",
+           cantilever + "subsection Layout\n  set Shapes = box 0 0 0 0.02 "
+                        "0.02 0.02 : 2; box 0 0 0 0.02 0.04 0.02 : 1\nend\n");
   run_case("cylinder_axis_overflows",
            cantilever + "subsection Layout\n  set Shapes = cylinder 0.01 0 "
                         "0.01 0.01 1e200 0.01 0.01 : 1\nend\n");

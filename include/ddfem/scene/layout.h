@@ -83,7 +83,8 @@ namespace ddfem::scene
                  const std::string &parameter);
 
     /// Paints @p list over @p grid in order. A shape that contains no
-    /// voxel center is an error: it would paint nothing.
+    /// voxel center is an error: it would paint nothing; so is one whose
+    /// every voxel later shapes of @p list give another material.
     static void
     paint(const std::vector<Shape> &list, VoxelGrid &grid);
 
