@@ -251,10 +251,18 @@ namespace ddfem::coarsening
       std::vector<double>       parameters, children, errors, strains;
       for (const Entry &e : entries)
         {
-          Assert(e.material.points.size() == n_points, ExcInternalError());
-          Assert(e.child_material.points.size() ==
-                   (with_children ? n_points : 0),
-                 ExcInternalError());
+          // Entries of another shape would be written misaligned (a
+          // damaged journal's record, say): never in Release either.
+          AssertThrow(
+            e.material.points.size() == n_points &&
+              e.child_material.points.size() == (with_children ? n_points : 0),
+            ExcMessage(
+              "The entry of key " + std::to_string(e.key) + " in " + group +
+              " has " + std::to_string(e.material.points.size()) +
+              " points and " + std::to_string(e.child_material.points.size()) +
+              " child points, not " + std::to_string(n_points) + " and " +
+              std::to_string(with_children ? n_points : 0) +
+              ": it cannot be saved."));
           keys.push_back(e.key);
           append_values(e.material, parameters);
           append_values(e.child_material, children);

@@ -260,7 +260,10 @@ namespace ddfem::dg
     , quadrature(scalar_fe.degree + 1)
     , face_quadrature(scalar_fe.degree + 1)
   {
-    Assert(n_components == 1 || n_components == dim, ExcInternalError());
+    AssertThrow(n_components == 1 || n_components == dim,
+                ExcMessage("A DG system has 1 (scalar) or dim (vector) "
+                           "components, not " +
+                           std::to_string(n_components) + "."));
     AssertThrow(data.materials.size() == triangulation.n_active_cells(),
                 ExcMessage("One material per cell is needed."));
     dof_handler.distribute_dofs(fe);
