@@ -2,6 +2,7 @@
 
 #include <ddfem/app/model_run.h>
 #include <ddfem/base/statistics.h>
+#include <ddfem/report/vertex_error.h>
 
 #include <algorithm>
 #include <optional>
@@ -203,7 +204,11 @@ namespace ddfem::app
     if (!final_fields)
       final_fields = solver->cell_fields(u);
     result.strain_quantiles = quantiles(final_fields->strain);
-    result.max_displacement = max_node_displacement(*model, u);
+    // A coarse element's nodes may lie in void: coarse models are read at
+    // the solid's vertices.
+    result.max_displacement =
+      model->level == 0 ? max_node_displacement(*model, u) :
+                          report::max_solid_displacement(scene.grid, *model, u);
     for (const Point<3> &p : scene.probes)
       result.probes.push_back({p, solver->point_value(u, p)});
     return result;

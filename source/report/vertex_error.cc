@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 
 namespace ddfem::report
 {
@@ -28,6 +29,48 @@ namespace ddfem::report
 
   namespace
   {
+    /// The values at @p x of the 8 trilinear shape functions of the
+    /// axis-aligned box @p cell.
+    template <typename Cell>
+    std::array<double, 8>
+    trilinear_weights(const Cell &cell, const Point<3> &x)
+    {
+      const Point<3>     origin = cell->vertex(0);
+      const Tensor<1, 3> size   = cell->vertex(7) - origin;
+      Point<3>           xi;
+      for (unsigned int d = 0; d < 3; ++d)
+        xi[d] = (x[d] - origin[d]) / size[d];
+      std::array<double, 8> N;
+      for (const unsigned int w : cell->vertex_indices())
+        N[w] = GeometryInfo<3>::d_linear_shape_function(xi, w);
+      return N;
+    }
+
+    /// The trilinear field @p u of @p cell's vertex values where its shape
+    /// functions take the values @p N.
+    template <typename Cell>
+    Tensor<1, 3>
+    interpolate(const Cell                  &cell,
+                const std::array<double, 8> &N,
+                const Vector<double>        &u)
+    {
+      Tensor<1, 3> value;
+      for (const unsigned int w : cell->vertex_indices())
+        for (unsigned int c = 0; c < 3; ++c)
+          value[c] += N[w] * u(cell->vertex_dof_index(w, c));
+      return value;
+    }
+
+    /// The cells of @p d by active index.
+    std::vector<DoFHandler<3>::active_cell_iterator>
+    cells_of(const solver::Discretization &d)
+    {
+      std::vector<DoFHandler<3>::active_cell_iterator> cells;
+      for (const auto &cell : d.dof_handler.active_cell_iterators())
+        cells.push_back(cell);
+      return cells;
+    }
+
     /**
      * Calls @p f(fine vertex index, coarse cell, values of the coarse
      * cell's 8 trilinear shape functions there) once for every vertex of
@@ -49,9 +92,7 @@ namespace ddfem::report
                   ExcMessage("The vertex error compares a coarse trilinear "
                              "solution, or another fine one, with a fine "
                              "one."));
-      std::vector<typename DoFHandler<3>::active_cell_iterator> coarse_cells;
-      for (const auto &cell : coarse.dof_handler.active_cell_iterators())
-        coarse_cells.push_back(cell);
+      const auto coarse_cells = cells_of(coarse);
 
       std::vector<bool> done(fine.triangulation.n_vertices(), false);
       for (const auto &cell : fine.triangulation.active_cell_iterators())
@@ -63,23 +104,16 @@ namespace ddfem::report
                       ExcMessage("The coarse model has no cell over a solid "
                                  "voxel of the fine one: both must come from "
                                  "the same voxel grid."));
-          const auto        &coarse_cell = coarse_cells[c];
-          const Point<3>     origin      = coarse_cell->vertex(0);
-          const Tensor<1, 3> size        = coarse_cell->vertex(7) - origin;
-
+          const auto &coarse_cell = coarse_cells[c];
           for (const unsigned int v : cell->vertex_indices())
             {
               const unsigned int index = cell->vertex_index(v);
               if (done[index])
                 continue;
               done[index] = true;
-              Point<3> xi;
-              for (unsigned int d = 0; d < 3; ++d)
-                xi[d] = (cell->vertex(v)[d] - origin[d]) / size[d];
-              std::array<double, 8> N;
-              for (const unsigned int w : coarse_cell->vertex_indices())
-                N[w] = GeometryInfo<3>::d_linear_shape_function(xi, w);
-              f(index, coarse_cell, N);
+              f(index,
+                coarse_cell,
+                trilinear_weights(coarse_cell, cell->vertex(v)));
             }
         }
     }
@@ -118,17 +152,51 @@ namespace ddfem::report
       [&](const unsigned int           index,
           const auto                  &coarse_cell,
           const std::array<double, 8> &N) {
-        Tensor<1, 3> u;
-        for (const unsigned int w : coarse_cell->vertex_indices())
-          for (unsigned int c = 0; c < 3; ++c)
-            u[c] += N[w] * u_coarse(coarse_cell->vertex_dof_index(w, c));
-        const double e = (u - fine_u[index]).norm() / error.length;
+        const double e =
+          (interpolate(coarse_cell, N, u_coarse) - fine_u[index]).norm() /
+          error.length;
+        // A NaN would leave the maximum as it was.
+        AssertThrow(std::isfinite(e),
+                    ExcMessage(
+                      "The vertex error is not finite at fine vertex " +
+                      std::to_string(index) +
+                      ": a solution holds a NaN or inf."));
         error.mean += e;
         error.max = std::max(error.max, e);
         ++error.n_vertices;
       });
     error.mean /= std::max<std::size_t>(1, error.n_vertices);
     return error;
+  }
+
+
+
+  double
+  max_solid_displacement(const scene::VoxelGrid       &grid,
+                         const solver::Discretization &model,
+                         const Vector<double>         &u)
+  {
+    AssertThrow(model.fe.degree == 1,
+                ExcMessage("max_solid_displacement() reads a trilinear "
+                           "field."));
+    const auto   cells = cells_of(model);
+    const double h     = grid.voxel_size();
+    double       max_u = 0;
+    for (std::size_t v = 0; v < grid.n_voxels(); ++v)
+      if (grid[v] != scene::void_id)
+        {
+          const auto  ijk  = grid.coordinates(v);
+          const auto &cell = cells[model.cell_of_voxel(grid, v)];
+          for (const unsigned int corner : GeometryInfo<3>::vertex_indices())
+            {
+              Point<3> x;
+              for (unsigned int d = 0; d < 3; ++d)
+                x[d] = (ijk[d] + ((corner >> d) & 1)) * h;
+              max_u = std::max(
+                max_u, interpolate(cell, trilinear_weights(cell, x), u).norm());
+            }
+        }
+    return max_u;
   }
 
 

@@ -50,6 +50,17 @@ namespace ddfem::report
                const solver::Discretization &coarse,
                const Vector<double>         &u_coarse);
 
+  /**
+   * The largest displacement at the vertices of the solid voxels of
+   * @p grid of the trilinear field @p u on @p model (FE_Q(1), any
+   * coarsening level, built from @p grid). A coarse element's nodes may lie
+   * in void, where its field is not the part's displacement.
+   */
+  double
+  max_solid_displacement(const scene::VoxelGrid       &grid,
+                         const solver::Discretization &model,
+                         const Vector<double>         &u);
+
   /// The coarse grid's best fit to a fine displacement (grid_fit()).
   struct GridFit
   {
