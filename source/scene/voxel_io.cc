@@ -264,15 +264,17 @@ namespace ddfem::scene
                  (byte < 0x20 && std::string_view("\t\n\r\v\f").find(c) ==
                                    std::string_view::npos);
         });
-      AssertThrow(is_text || content.size() < 84,
-                  ExcMessage(file +
-                             ": starts with \"solid\" but holds "
-                             "binary data, and as a binary STL its size " +
-                             std::to_string(content.size()) +
-                             " bytes does not equal 84 + 50 * " +
-                             std::to_string(n_binary) +
-                             ", the triangle count in its header (a "
-                             "truncated file?)."));
+      // Why a file that starts with "solid" is not read, as ASCII (@p why)
+      // or as binary.
+      const auto neither = [&](const std::string &why) {
+        return ExcMessage(
+          file + ": starts with \"solid\" but " + why +
+          ", and as a binary STL its size " + std::to_string(content.size()) +
+          " bytes does not equal 84 + 50 * " + std::to_string(n_binary) +
+          ", the triangle count in its header (a truncated "
+          "file?).");
+      };
+      AssertThrow(is_text || content.size() < 84, neither("holds binary data"));
 
       std::istringstream in(content);
       bool               in_facet        = false;
@@ -328,14 +330,7 @@ namespace ddfem::scene
       // not match its triangle count (a truncated one, say) gets here, and
       // has no "endsolid" line.
       AssertThrow(!corners.empty() || ended || content.size() < 84,
-                  ExcMessage(file +
-                             ": starts with \"solid\" but has no ASCII facet, "
-                             "and as a binary STL its size " +
-                             std::to_string(content.size()) +
-                             " bytes does not equal 84 + 50 * " +
-                             std::to_string(n_binary) +
-                             ", the triangle count in its header (a "
-                             "truncated file?)."));
+                  neither("has no ASCII facet"));
       return merge_corners(corners);
     }
 

@@ -197,6 +197,21 @@ namespace
     H5Fclose(file);
   }
 
+  /// The values of the dataset @p name of @p file (through a scratch copy).
+  template <typename T>
+  std::vector<T>
+  dataset_values(const std::string &file, const std::string &name)
+  {
+    std::vector<T> result;
+    edit_dataset<T>(file,
+                    "scratch.h5",
+                    name,
+                    [&](std::vector<T> &values, std::vector<hsize_t> &) {
+                      result = values;
+                    });
+    return result;
+  }
+
   /// A copy of @p original named @p copy with the string attributes
   /// @p attributes (name, value) replaced.
   void
@@ -795,22 +810,10 @@ main()
       // symmetry that maps the entry's block onto neither the combination
       // nor a representative, at a combination that is a representative
       // and at one that is not.
-      std::vector<std::uint8_t> symmetry;
-      std::vector<std::int32_t> position;
-      edit_dataset<std::uint8_t>("compressed.h5",
-                                 "scratch.h5",
-                                 "lookup/symmetry",
-                                 [&](std::vector<std::uint8_t> &values,
-                                     std::vector<hsize_t> &) {
-                                   symmetry = values;
-                                 });
-      edit_dataset<std::int32_t>("compressed.h5",
-                                 "scratch.h5",
-                                 "lookup/entry",
-                                 [&](std::vector<std::int32_t> &values,
-                                     std::vector<hsize_t> &) {
-                                   position = values;
-                                 });
+      const auto symmetry =
+        dataset_values<std::uint8_t>("compressed.h5", "lookup/symmetry");
+      const auto position =
+        dataset_values<std::int32_t>("compressed.h5", "lookup/entry");
       const Database file  = Database::load("compressed.h5");
       const auto    &index = file.combinations();
       const auto    &group = file.symmetries();
