@@ -830,19 +830,23 @@ main()
                 << " representatives in its lookup table" << std::endl;
       for (const bool representative : {true, false})
         {
-          // The first such combination with a symmetry that maps its
-          // entry elsewhere, onto no representative.
-          std::size_t  k     = 0;
-          unsigned int wrong = CubeSymmetries::size;
-          for (; wrong == CubeSymmetries::size; ++k)
-            if (position[k] >= 0 &&
-                (representatives.count(k) > 0) == representative)
-              for (wrong = 0; wrong < CubeSymmetries::size &&
-                              (image(k, wrong) == image(k, symmetry[k]) ||
-                               representatives.count(image(k, wrong)) > 0);
-                   ++wrong)
-                ;
-          --k;
+          // A symmetry of combination k that maps its entry elsewhere,
+          // onto no representative; CubeSymmetries::size if none does.
+          const auto wrong_symmetry = [&](const std::size_t k) {
+            unsigned int g = 0;
+            while (g < CubeSymmetries::size &&
+                   (image(k, g) == image(k, symmetry[k]) ||
+                    representatives.count(image(k, g)) > 0))
+              ++g;
+            return g;
+          };
+          // The first such combination that has one.
+          std::size_t k = 0;
+          while (position[k] < 0 ||
+                 (representatives.count(k) > 0) != representative ||
+                 wrong_symmetry(k) == CubeSymmetries::size)
+            ++k;
+          const unsigned int wrong = wrong_symmetry(k);
           edit_dataset<std::uint8_t>("compressed.h5",
                                      "compressed_wrong_symmetry.h5",
                                      "lookup/symmetry",
