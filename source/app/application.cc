@@ -22,6 +22,7 @@
 #include <ddfem/solver/supports.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cctype>
 #include <filesystem>
 #include <fstream>
@@ -223,9 +224,16 @@ namespace ddfem::app
         , err(err)
       {}
 
+      /**
+       * Reads the run's settings from @p prm, read from @p prm_file, which
+       * with the files it includes are @p input_files (canonical paths).
+       */
       void
-      parse_parameters(ParameterHandler &prm, const std::string &prm_file)
+      parse_parameters(ParameterHandler               &prm,
+                       const std::string              &prm_file,
+                       const std::vector<std::string> &input_files)
       {
+        inputs     = input_files;
         scene_name = scene_name_of(prm, prm_file);
         method     = prm.get("Method");
         level      = prm.get_integer("Coarsening levels");
@@ -286,18 +294,35 @@ namespace ddfem::app
        * throws, what was written is removed again, parameters.prm and the
        * directories made for it included: a failed run leaves nothing of its
        * own (a run that is killed leaves the parameters of what it wrote).
+       * A run started from that parameters.prm (or from a file that includes
+       * it) puts it back as it was instead: it is the run's input.
        */
       int
       write_output(const ParameterHandler     &prm,
                    const std::function<int()> &write_results) const
       {
+        const std::string used_file = directory + "/parameters.prm";
+        std::error_code   error;
+        const std::string used_path =
+          std::filesystem::weakly_canonical(used_file, error).string();
+        std::optional<std::string> input;
+        if (std::find(inputs.begin(), inputs.end(), used_path) != inputs.end())
+          {
+            std::ifstream      file(used_file, std::ios::binary);
+            std::ostringstream bytes;
+            bytes << file.rdbuf();
+            AssertThrow(file.good() || file.eof(),
+                        ExcMessage("Cannot read \"" + used_file +
+                                   "\", the parameter file of this run, "
+                                   "before replacing it."));
+            input = bytes.str();
+          }
         const auto made =
           create_directories(directory, "Output/Output directory");
         remove_earlier_results(directory);
         try
           {
-            ResultFile used(directory + "/parameters.prm",
-                            "Output/Output directory");
+            ResultFile used(used_file, "Output/Output directory");
             prm.print_parameters(used.stream(), ParameterHandler::ShortPRM);
             used.commit();
             return write_results();
@@ -308,8 +333,13 @@ namespace ddfem::app
             try
               {
                 remove_earlier_results(directory);
-                std::error_code ignored;
-                std::filesystem::remove(directory + "/parameters.prm", ignored);
+                std::filesystem::remove(used_file, error);
+                if (input)
+                  {
+                    ResultFile restored(used_file, "Output/Output directory");
+                    restored.stream() << *input;
+                    restored.commit();
+                  }
                 remove_empty_directories(made);
               }
             catch (...)
@@ -532,16 +562,19 @@ namespace ddfem::app
                     << statistics.failure << "." << std::endl;
             }
           summary["total_wall_time_s"] = total.wall_time();
-          summary["peak_memory_mb"]    = peak_memory_mb();
+          const double peak_memory     = peak_memory_mb();
+          summary["peak_memory_mb"]    = peak_memory;
           write_summary(summary);
           if (screen_timings)
-            pcout << "  peak memory " << peak_memory_mb() << " MB" << std::endl;
+            pcout << "  peak memory " << peak_memory << " MB" << std::endl;
           return converged ? 0 : 1;
         });
       }
 
-      ConditionalOStream               pcout;
-      std::ostream                    &err;
+      ConditionalOStream pcout;
+      std::ostream      &err;
+      /// The parameter file and the files it includes (canonical paths).
+      std::vector<std::string>         inputs;
       std::string                      scene_name, method, directory;
       unsigned int                     degree, level;
       bool                             screen_timings;
@@ -626,12 +659,14 @@ namespace ddfem::app
      * name), lead back to a file of @p chain, the files that include it
      * (each as written and as a canonical path). ParameterHandler would
      * recurse until the stack overflows. A top-level XML or JSON file has
-     * no include statements.
+     * no include statements. Adds the canonical path of every file read to
+     * @p read.
      */
     void
     check_include_cycles(
       const std::string                                &file,
-      std::vector<std::pair<std::string, std::string>> &chain)
+      std::vector<std::pair<std::string, std::string>> &chain,
+      std::vector<std::string>                         &read)
     {
       namespace fs = std::filesystem;
       std::error_code   error;
@@ -653,14 +688,30 @@ namespace ddfem::app
       std::ifstream input(file);
       if (!input)
         return; // ParameterHandler reports it
+      read.push_back(path);
       if (chain.empty() && (lowercase_extension(file) == ".xml" ||
                             lowercase_extension(file) == ".json"))
         return;
       chain.emplace_back(file, path);
-      // Lines as ParameterHandler reads them: trimmed, those ending in '\'
-      // joined to the next, then without their comment; an include
-      // statement is "include" or "INCLUDE" and white space (a space or a
-      // tab) before the file name.
+      // Statements as ParameterHandler reads them: lines trimmed, those
+      // ending in '\' joined to the next (the last line too), white space
+      // made spaces, without their comment; an include statement is
+      // "include" or "INCLUDE" and a space before the file name.
+      const auto check = [&](std::string statement) {
+        std::replace_if(
+          statement.begin(),
+          statement.end(),
+          [](const char c) {
+            return std::isspace(static_cast<unsigned char>(c));
+          },
+          ' ');
+        statement = Utilities::trim(statement.substr(0, statement.find('#')));
+        if (statement.rfind("include ", 0) == 0 ||
+            statement.rfind("INCLUDE ", 0) == 0)
+          check_include_cycles(Utilities::trim(statement.substr(7)),
+                               chain,
+                               read);
+      };
       std::string line, statement;
       while (std::getline(input, line))
         {
@@ -670,15 +721,11 @@ namespace ddfem::app
               statement += line.substr(0, line.size() - 1);
               continue;
             }
-          statement = Utilities::trim(statement + line);
-          statement = Utilities::trim(statement.substr(0, statement.find('#')));
-          if ((statement.rfind("include", 0) == 0 ||
-               statement.rfind("INCLUDE", 0) == 0) &&
-              statement.size() > 7 &&
-              std::isspace(static_cast<unsigned char>(statement[7])))
-            check_include_cycles(Utilities::trim(statement.substr(7)), chain);
+          check(statement + line);
           statement.clear();
         }
+      if (!statement.empty())
+        check(statement);
       chain.pop_back();
     }
 
@@ -799,6 +846,21 @@ namespace ddfem::app
     // A run may change the streams' precision; the caller's next run (tests
     // run several in one process) must print as if it were the first.
     const boost::io::ios_all_saver out_format(out), err_format(err);
+    // Every MPI process would run the whole job and write the same output
+    // and database files (or print the same usage).
+    if (Utilities::MPI::job_supports_mpi() &&
+        Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) > 1)
+      {
+        if (Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0)
+          err << "Error: ddfem runs as one process and does its parallel "
+                 "work with threads (assembly, and Database/Threads in "
+                 "database builds), but it was started as "
+              << Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD)
+              << " MPI processes, which would all write the same files. "
+                 "Start it without mpirun."
+              << std::endl;
+        return 1;
+      }
     if (arguments.empty() || arguments[0] == "--help" || arguments[0] == "-h")
       {
         if (arguments.size() > 1)
@@ -808,21 +870,6 @@ namespace ddfem::app
       }
     try
       {
-        // Every MPI process would run the whole job and write the same
-        // output and database files.
-        if (Utilities::MPI::job_supports_mpi() &&
-            Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) > 1)
-          {
-            if (Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0)
-              err << "Error: ddfem runs as one process and does its parallel "
-                     "work with threads (assembly, and Database/Threads in "
-                     "database builds), but it was started as "
-                  << Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD)
-                  << " MPI processes, which would all write the same files. "
-                     "Start it without mpirun."
-                  << std::endl;
-            return 1;
-          }
         ParameterHandler prm;
         declare_parameters(prm);
         if (arguments[0] == "--print-parameters")
@@ -838,17 +885,17 @@ namespace ddfem::app
                                "\": the parameter file comes first.\n" +
                                usage));
         const std::string prm_file = arguments[0];
-        AssertThrow(!std::filesystem::is_directory(prm_file) &&
-                      std::ifstream(prm_file).good(),
+        std::error_code   error;
+        const bool directory = std::filesystem::is_directory(prm_file, error);
+        AssertThrow(!directory && std::ifstream(prm_file).good(),
                     ExcMessage("Cannot read the parameter file \"" + prm_file +
                                "\"" +
-                               (std::filesystem::is_directory(prm_file) ?
-                                  ": it is a directory." :
-                                  ".")));
+                               (directory ? ": it is a directory." : ".")));
+        std::vector<std::string> input_files;
         try
           {
             std::vector<std::pair<std::string, std::string>> chain;
-            check_include_cycles(prm_file, chain);
+            check_include_cycles(prm_file, chain, input_files);
             prm.parse_input(prm_file);
           }
         catch (ExceptionBase &e)
@@ -895,7 +942,7 @@ namespace ddfem::app
         if (run_type == "compare")
           return run_comparison(prm, prm_file, out, err);
         Simulation simulation(out, err);
-        simulation.parse_parameters(prm, prm_file);
+        simulation.parse_parameters(prm, prm_file, input_files);
         return simulation.run(prm);
       }
     catch (ExceptionBase &e)

@@ -521,7 +521,7 @@ namespace ddfem::app
     if (std::any_of(configurations.begin(),
                     configurations.end(),
                     [](const Configuration &c) { return c.level > 0; }))
-      report::check_gnuplot();
+      report::check_gnuplot("compare");
     check_earlier_results(directory, vtu);
     vtu.check_writable(directory, 0);
     for (const Configuration &config : configurations)

@@ -49,7 +49,7 @@ namespace ddfem
   {
     AssertThrow(out,
                 dealii::ExcMessage("Cannot write \"" + file + "\" (" + where +
-                                   ")."));
+                                   "): " + std::strerror(errno) + "."));
   }
 
 

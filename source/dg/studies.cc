@@ -440,7 +440,9 @@ namespace ddfem::dg
   ConvergenceStudy::run(const std::string &directory, std::ostream &out) const
   {
     // The tables are written once the study is complete: a study that
-    // fails (out of memory, say) leaves no partial files.
+    // fails (out of memory, say) leaves no partial files; nor does one
+    // whose figures could not be drawn.
+    report::check_gnuplot("dg convergence");
     replace_earlier(directory,
                     {"dg_convergence.txt",
                      "dg_convergence.csv",

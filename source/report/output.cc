@@ -13,7 +13,6 @@
 #include <cctype>
 #include <cerrno>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 
 namespace ddfem::report
@@ -21,9 +20,11 @@ namespace ddfem::report
   namespace
   {
     /**
-     * Runs gnuplot with the arguments @p arguments in @p directory,
-     * without a shell (the directory is user input), its standard output
-     * and error to /dev/null if @p quiet. Returns whether it ran and
+     * Runs gnuplot with its default settings (not the user's ~/.gnuplot,
+     * which could change how the scripts read their data) and the
+     * arguments @p arguments in @p directory, without a shell (the
+     * directory is user input), its standard output and error to /dev/null
+     * if @p quiet. Returns whether it ran and
      * exited with 0. Throws ExcMessage naming @p what and the Debian
      * package if it cannot be started.
      */
@@ -40,7 +41,7 @@ namespace ddfem::report
         for (const int stream : {STDOUT_FILENO, STDERR_FILENO})
           posix_spawn_file_actions_addopen(
             &actions, stream, "/dev/null", O_WRONLY, 0);
-      std::vector<std::string> words = {"gnuplot"};
+      std::vector<std::string> words = {"gnuplot", "--default-settings"};
       words.insert(words.end(), arguments.begin(), arguments.end());
       std::vector<char *> argv;
       for (std::string &word : words)
@@ -66,20 +67,22 @@ namespace ddfem::report
 
 
   void
-  check_gnuplot()
+  check_gnuplot(const std::string &run_type)
   {
     // The terminal of the plot: a gnuplot built without cairo would fail
-    // only once every model has run.
+    // only once everything has been solved.
     AssertThrow(gnuplot_succeeds(".",
                                  {"-e",
                                   "set terminal pngcairo; set output "
                                   "'/dev/null'; plot 1"},
                                  true,
-                                 "(Run type = compare draws its plot with it)"),
+                                 "(Run type = " + run_type +
+                                   " draws its plots with it)"),
                 ExcMessage("gnuplot could not draw with its pngcairo "
-                           "terminal: the plot of Run type = compare could "
-                           "not be drawn. Reinstall the Debian package "
-                           "gnuplot-nox."));
+                           "terminal: the plots of Run type = " +
+                           run_type +
+                           " could not be drawn. Reinstall the Debian "
+                           "package gnuplot-nox."));
   }
 
 

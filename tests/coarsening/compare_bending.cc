@@ -396,7 +396,7 @@ main(int argc, char **argv)
   std::filesystem::remove_all("failing_gnuplot");
   std::filesystem::create_directory("failing_gnuplot");
   std::ofstream("failing_gnuplot/gnuplot")
-    << "#!/bin/sh\n[ \"$1\" = -e ] && exit 0\n"
+    << "#!/bin/sh\ncase \" $* \" in *\" -e \"*) exit 0 ;; esac\n"
        "echo 'set output' > error_vs_time.png\nexit 1\n";
   std::filesystem::permissions("failing_gnuplot/gnuplot",
                                std::filesystem::perms::owner_all);

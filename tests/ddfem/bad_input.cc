@@ -45,13 +45,24 @@ namespace
 
   /// Runs ddfem on @p prm_text (plus @p extra arguments) and reports; of
   /// the error message only its first sentence if @p first_sentence (the
-  /// rest may depend on the machine).
+  /// rest may depend on the machine). Removes what a run of this case left
+  /// before (test directories persist between runs, and that must not count
+  /// as written by this one), unless @p keep_earlier (the case puts an
+  /// earlier run's files in place itself).
   void
   run_case(const std::string              &name,
            const std::string              &prm_text,
            const std::vector<std::string> &extra          = {},
-           const bool                      first_sentence = false)
+           const bool                      first_sentence = false,
+           const bool                      keep_earlier   = false)
   {
+    if (!keep_earlier)
+      for (const auto &f : std::filesystem::directory_iterator("."))
+        {
+          const std::string n = f.path().filename().string();
+          if (n == "out_" + name || n.rfind("out_" + name + ".", 0) == 0)
+            std::filesystem::remove_all(f.path());
+        }
     const std::string file = name + ".prm";
     std::ofstream(file) << prm_text
                         << "\nsubsection Output\n  set Output directory = out_"
@@ -117,6 +128,36 @@ namespace
   }
 
   /**
+   * Runs ddfem with @p arguments where no file may grow past 10000 bytes;
+   * returns its exit code, its errors in @p err.
+   */
+  int
+  run_with_small_files(const std::vector<std::string> &arguments,
+                       std::ostream                   &err)
+  {
+    std::ostringstream out;
+    rlimit             old_limit;
+    getrlimit(RLIMIT_FSIZE, &old_limit);
+    rlimit limit   = old_limit;
+    limit.rlim_cur = 10000;
+    // A write past the limit fails (EFBIG) instead of ending the process.
+    const auto old_handler = std::signal(SIGXFSZ, SIG_IGN);
+    setrlimit(RLIMIT_FSIZE, &limit);
+    const int code = app::run(arguments, out, err);
+    setrlimit(RLIMIT_FSIZE, &old_limit);
+    std::signal(SIGXFSZ, old_handler);
+    return code;
+  }
+
+  /// The content of the file @p file ("" if there is none).
+  std::string
+  content_of(const std::string &file)
+  {
+    std::ifstream in(file, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  }
+
+  /**
    * Runs ddfem on @p prm_text (plus @p extra arguments, VTU files of every
    * load step) with files limited to 10000 bytes, more than parameters.prm
    * needs and less than a VTU file of a scene of 4 x 12 x 4 voxels, so that
@@ -135,17 +176,8 @@ namespace
       << "\n  set Screen timings = false\n  set Write VTU = every step\nend\n";
     std::vector<std::string> arguments = {name + ".prm"};
     arguments.insert(arguments.end(), extra.begin(), extra.end());
-    std::ostringstream out, err;
-    rlimit             old_limit;
-    getrlimit(RLIMIT_FSIZE, &old_limit);
-    rlimit limit   = old_limit;
-    limit.rlim_cur = 10000;
-    // A write past the limit fails (EFBIG) instead of ending the process.
-    const auto old_handler = std::signal(SIGXFSZ, SIG_IGN);
-    setrlimit(RLIMIT_FSIZE, &limit);
-    const int code = app::run(arguments, out, err);
-    setrlimit(RLIMIT_FSIZE, &old_limit);
-    std::signal(SIGXFSZ, old_handler);
+    std::ostringstream err;
+    const int          code = run_with_small_files(arguments, err);
     std::cout << "* " << name << ": exit code " << code << ", " << directory
               << " exists: " << std::boolalpha
               << std::filesystem::exists(directory) << "\n  " << err.str()
@@ -204,6 +236,20 @@ main(int argc, char **argv)
   run_case("include_directory", "include .\n" + cantilever);
   run_case("include_cycle_continued",
            "include include_cycle_\\\n  continued.prm\n" + cantilever);
+  // ParameterHandler also reads a last line that ends in a backslash.
+  {
+    std::ofstream("include_cycle_last_line.prm")
+      << cantilever
+      << "subsection Output\n  set Output directory = "
+         "out_include_cycle_last_line\nend\ninclude "
+         "include_cycle_last_line.prm\\";
+    std::ostringstream out, err;
+    const int code = app::run({"include_cycle_last_line.prm"}, out, err);
+    std::cout << "* include_cycle_last_line: exit code " << code
+              << ", output written: " << std::boolalpha
+              << std::filesystem::exists("out_include_cycle_last_line")
+              << "\n  " << err.str() << std::endl;
+  }
   std::ofstream("include_other.inc") << "include include_each_other.prm\n";
   run_case("include_each_other", "include include_other.inc\n" + cantilever);
   // 1e308 degrees overflowed to an infinite angle in radians, whose NaN
@@ -786,7 +832,8 @@ end
   std::filesystem::remove_all("out_unconverged_later");
   std::filesystem::create_directory("out_unconverged_later");
   std::ofstream("out_unconverged_later/solution-0003.vtu") << "earlier run\n";
-  run_case("unconverged_later", bent_far + R"(
+  run_case("unconverged_later",
+           bent_far + R"(
 subsection Nonlinear solver
   set Load steps = 5
   set Maximum Newton iterations = 16
@@ -795,7 +842,10 @@ end
 subsection Output
   set Write VTU = every step
 end
-)");
+)",
+           {},
+           false,
+           true);
   {
     std::ifstream        file("out_unconverged_later/summary.json");
     const nlohmann::json summary = nlohmann::json::parse(file);
@@ -830,7 +880,7 @@ end
             std::filesystem::path(directory + "/" + file).parent_path());
           std::ofstream(directory + "/" + file) << "earlier run\n";
         }
-      run_case(name, prm, extra);
+      run_case(name, prm, extra, false, true);
       std::cout << "  earlier files left:";
       for (const std::string &file : earlier)
         {
@@ -860,6 +910,16 @@ end
   // Results that could not be written are found before anything runs: the
   // output directory keeps only what was there.
   run_in_existing_directory("summary_blocked", "summary.json", cantilever, {});
+  // Also where a result is written first (it used to be found only once
+  // the solve was done, with a message naming the result).
+  run_in_existing_directory("summary_partial_blocked",
+                            "summary.json.partial/x",
+                            cantilever,
+                            {});
+  run_in_existing_directory("parameters_partial_blocked",
+                            "parameters.prm.partial/x",
+                            cantilever,
+                            {});
   const std::vector<std::string> compare_naive = {"--set",
                                                   "Run type=compare",
                                                   "--set",
@@ -951,6 +1011,35 @@ end
   run_with_small_files("vtu_fails_fine", larger, {});
   run_with_small_files("vtu_fails_dg", larger, {"--set", "Method=dg"});
   run_with_small_files("vtu_fails_compare", larger, compare_naive);
+  // A rerun from the parameters.prm of a run that fails the same way puts
+  // that file back as it was: it is the rerun's input (it used to be
+  // removed with the rerun's results).
+  {
+    std::filesystem::remove_all("out_rerun_fails");
+    std::ofstream("rerun_fails.prm")
+      << larger
+      << "\nsubsection Output\n  set Output directory = out_rerun_fails\n"
+         "  set Screen timings = false\n  set Write VTU = none\nend\n";
+    std::ostringstream out, err;
+    const int          first = app::run({"rerun_fails.prm"}, out, err);
+    const std::string  used  = content_of("out_rerun_fails/parameters.prm");
+    std::ostringstream rerun_err;
+    const int code = run_with_small_files({"out_rerun_fails/parameters.prm",
+                                           "--set",
+                                           "Output/Write VTU=every step"},
+                                          rerun_err);
+    std::set<std::string> files;
+    for (const auto &f : std::filesystem::directory_iterator("out_rerun_fails"))
+      files.insert(f.path().filename().string());
+    std::cout << "* rerun_fails: first run's exit code " << first
+              << ", the rerun's " << code << ", out_rerun_fails holds:";
+    for (const std::string &f : files)
+      std::cout << " " << f;
+    std::cout << ", parameters.prm as the first run wrote it: "
+              << (!used.empty() &&
+                  content_of("out_rerun_fails/parameters.prm") == used)
+              << "\n  " << rerun_err.str() << std::endl;
+  }
   // A gnuplot that does not work is found before anything runs too.
   {
     std::filesystem::create_directories("broken_bin");
@@ -963,6 +1052,14 @@ end
       (std::filesystem::absolute("broken_bin").string() + ":" + path).c_str(),
       1);
     run_in_existing_directory("broken_gnuplot", "", cantilever, compare_naive);
+    // The same for a DG convergence study, which draws its figures last.
+    run_in_existing_directory("broken_gnuplot_dg_study",
+                              "",
+                              "set Run type = dg convergence\nsubsection DG "
+                              "convergence\n  set Problems = 2D Poisson\n"
+                              "  set Methods = IP lin\n  set 2D refinements "
+                              "= 1, 2\nend\n",
+                              {});
     // Not bad input: a comparison of the fine solvers alone draws no plot
     // (it needs no gnuplot) and leaves no plot files, but writes its table
     // and parameters.

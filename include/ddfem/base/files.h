@@ -164,9 +164,10 @@ namespace ddfem
    * exists in a directory that does not let remove_earlier() remove it (a
    * regular file there is removed before it is written, so its own
    * permissions do not matter), or it does not exist and cannot be
-   * created. Leaves an existing file as it is and creates none (a missing
-   * directory is check_creatable()'s to check): for checks before a long
-   * run.
+   * created; or something other than a regular file is in the way of its
+   * ResultFile::partial_name(), which it is written under first. Leaves an
+   * existing file as it is and creates none (a missing directory is
+   * check_creatable()'s to check): for checks before a long run.
    */
   inline void
   check_writable(const std::string &file, const std::string &where)
@@ -178,6 +179,15 @@ namespace ddfem
                                          path.parent_path(),
                                        error))
       return;
+    const std::string partial = ResultFile::partial_name(file);
+    AssertThrow(!std::filesystem::exists(partial, error) ||
+                  std::filesystem::is_regular_file(partial, error),
+                dealii::ExcMessage("Cannot write \"" + file + "\" (" + where +
+                                   "): something other than a regular file "
+                                   "is in the way of \"" +
+                                   partial +
+                                   "\", which it is written under "
+                                   "first."));
     const bool        existed = std::filesystem::exists(path, error);
     const std::string directory =
       path.parent_path().empty() ? "." : path.parent_path().string();

@@ -30,11 +30,11 @@ namespace ddfem::report
 
   /**
    * Throws ExcMessage naming the Debian package unless gnuplot starts and
-   * draws with its pngcairo terminal: for a check before a comparison
-   * runs, whose plot comes last.
+   * draws with its pngcairo terminal: for a check before a run of the run
+   * type @p run_type ("compare", "dg convergence"), whose plots come last.
    */
   void
-  check_gnuplot();
+  check_gnuplot(const std::string &run_type);
 
   /**
    * @p text as a gnuplot single-quoted string: quotes doubled, so no text
