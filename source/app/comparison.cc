@@ -9,8 +9,8 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
-#include <fstream>
 #include <iomanip>
 #include <limits>
 #include <map>
@@ -87,6 +87,27 @@ namespace ddfem::app
     const std::vector<std::pair<std::string, std::string>> fine_runs =
       {{"fine", ""}, {"fine-amg", "cg-amg"}, {"fine-direct", "direct"}};
 
+    /// The coarse methods a comparison can have.
+    constexpr std::array<coarsening::CoarseningMethod, 3> coarse_methods = {
+      {coarsening::CoarseningMethod::ddfem,
+       coarsening::CoarseningMethod::naive,
+       coarsening::CoarseningMethod::average}};
+
+    /**
+     * The marker of coarse model @p r in the plot (report::gnuplot_style()):
+     * the same for a method and level in every plot, whichever others are
+     * drawn.
+     */
+    unsigned int
+    series_of(const Row &r)
+    {
+      unsigned int m = 0;
+      while (m < coarse_methods.size() &&
+             coarsening::to_string(coarse_methods[m]) != r.method)
+        ++m;
+      return 2 * m + r.level - 1;
+    }
+
     /// The directory of every model a comparison can have in @p directory.
     std::vector<std::string>
     all_model_directories(const std::string &directory)
@@ -94,9 +115,7 @@ namespace ddfem::app
       std::vector<std::string> result;
       for (const auto &[name, solver] : fine_runs)
         result.push_back(model_directory(directory, name, 0));
-      for (const auto method : {coarsening::CoarseningMethod::ddfem,
-                                coarsening::CoarseningMethod::naive,
-                                coarsening::CoarseningMethod::average})
+      for (const auto method : coarse_methods)
         for (const unsigned int level : {1u, 2u})
           result.push_back(
             model_directory(directory, coarsening::to_string(method), level));
@@ -127,7 +146,7 @@ namespace ddfem::app
               state = row.state;
               out << "\nState: " << state << "\n"
                   << std::left << std::setw(13) << "method" << std::setw(10)
-                  << "grid" << std::right << std::setw(7) << "cells"
+                  << "grid" << std::right << std::setw(8) << "cells"
                   << std::setw(8) << "DoFs" << std::setw(8) << "Newton"
                   << std::setw(12) << "mean error" << std::setw(12)
                   << "max error" << std::setw(12) << "grid fit";
@@ -139,7 +158,7 @@ namespace ddfem::app
               out << "\n";
             }
           out << std::left << std::setw(13) << row.label() << std::setw(10)
-              << row.grid << std::right << std::setw(7) << row.cells
+              << row.grid << " " << std::right << std::setw(7) << row.cells
               << std::setw(8) << row.dofs << std::setw(8)
               << row.result.statistics.newton_iterations;
           out << std::scientific << std::setprecision(3);
@@ -290,10 +309,10 @@ namespace ddfem::app
                 << r.error.mean << "\n\n\n";
             lowest  = std::min(lowest, r.error.mean);
             highest = std::max(highest, r.error.mean);
-            curves.push_back(
-              "'error_vs_time.dat' index " + std::to_string(block) +
-              " using 1:2 with points ps 2 " + report::gnuplot_style(block) +
-              " title '" + r.label() + "'");
+            curves.push_back("'error_vs_time.dat' index " +
+                             std::to_string(block) + " using 1:2 with points " +
+                             "ps 2 " + report::gnuplot_style(series_of(r)) +
+                             " title '" + r.label() + "'");
             ++block;
           }
       std::map<unsigned int, double> grid_fits;
@@ -301,24 +320,29 @@ namespace ddfem::app
         if (r.state == rows.front().state && r.has_grid_fit() &&
             r.grid_fit.mean > 0) // a log axis has no 0
           grid_fits[r.level] = r.grid_fit.mean;
+      // A fit at round-off (an affine solution) would stretch the axis
+      // over many decades, and leave the markers in one corner.
+      const double lowest_marker = lowest;
       for (const auto &[level, error] : grid_fits)
-        {
-          lowest = std::min(lowest, error);
-          script << "set arrow from graph 0, first " << error
-                 << " to graph 1, first " << error << " nohead dashtype 3\n"
-                 << "set label 'L" << level
-                 << " grid fit' at graph 0.02, first " << error
-                 << " offset 0,0.7\n";
-        }
+        if (error > 1e-3 * lowest_marker)
+          {
+            lowest  = std::min(lowest, error);
+            highest = std::max(highest, error);
+            script << "set arrow from graph 0, first " << error
+                   << " to graph 1, first " << error << " nohead dashtype 3\n"
+                   << "set label 'L" << level
+                   << " grid fit' at graph 0.02, first " << error
+                   << " offset 0,0.7\n";
+          }
       // The fine runs' lines, labelled at staggered heights: their wall
       // times may differ by a few per cent only.
-      unsigned int fine_runs = 0;
+      unsigned int fine_lines = 0;
       for (const Row &r : rows)
         if (is_fine_line(r))
           script << "set arrow from " << r.result.wall_time << ", graph 0 to "
                  << r.result.wall_time << ", graph 1 nohead dashtype 2\n"
                  << "set label '" << r.label() << "' at " << r.result.wall_time
-                 << ", graph " << 0.95 - 0.3 * (fine_runs++ % 3)
+                 << ", graph " << 0.95 - 0.3 * (fine_lines++ % 3)
                  << " rotate by 90 right offset -1,0\n";
       dat_file.commit();
       // Labelled tics at 1, 2 and 5 times the powers of ten: the errors
