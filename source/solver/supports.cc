@@ -188,6 +188,18 @@ namespace ddfem::solver
           for (unsigned int b = 0; b < 6; ++b)
             gram[a][b] += m[a] * m[b];
       }
+    // Scaled to a unit diagonal: a mode held by a few rows (a turn about
+    // the normal of a plate held across its whole face, stopped at two
+    // neighbouring nodes) has a diagonal entry that does not grow with the
+    // rows holding the others, and would otherwise fall below the
+    // tolerance of a large part. A mode no row holds keeps its 0.
+    double diagonal[6];
+    for (unsigned int a = 0; a < 6; ++a)
+      diagonal[a] = std::sqrt(gram[a][a]);
+    for (unsigned int a = 0; a < 6; ++a)
+      for (unsigned int b = 0; b < 6; ++b)
+        if (diagonal[a] > 0 && diagonal[b] > 0)
+          gram[a][b] /= diagonal[a] * diagonal[b];
     // Gaussian elimination with full pivoting; the rank is the number of
     // pivots above a relative tolerance.
     double       max_pivot   = 0;

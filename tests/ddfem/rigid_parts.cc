@@ -111,6 +111,42 @@ namespace
 int
 main()
 {
+  // fixed_rigid_modes() of known supports. A plate of L x L voxels (size h)
+  // held in z at every bottom node, counted per cell as the checks count
+  // them, and in x and y at two neighbouring nodes: all six are fixed,
+  // though the turn about z has a lever of h only (from L = 241 on, five
+  // were counted). The same without the second node: five.
+  {
+    const unsigned int                  L = 300;
+    std::vector<solver::ConstrainedRow> rows;
+    for (unsigned int i = 0; i < L; ++i)
+      for (unsigned int j = 0; j < L; ++j)
+        for (unsigned int v = 0; v < 4; ++v)
+          rows.emplace_back(Point<3>(i + v % 2, j + v / 2, 0), 2);
+    rows.emplace_back(Point<3>(0, 0, 0), 0);
+    rows.emplace_back(Point<3>(0, 0, 0), 1);
+    std::cout << "plate held at one node in x and y: "
+              << solver::fixed_rigid_modes(rows) << " modes fixed" << std::endl;
+    rows.emplace_back(Point<3>(1, 0, 0), 1);
+    rows.emplace_back(Point<3>(1, 0, 0), 1);
+    std::cout << "and at its neighbour in y: "
+              << solver::fixed_rigid_modes(rows) << " modes fixed" << std::endl;
+    // A bar of N voxels held along an edge line, in all components, is
+    // free to turn about it; one row in z at a node off the line stops
+    // that (from N = 2714 on, it was not counted).
+    const unsigned int N = 3000;
+    rows.clear();
+    for (unsigned int i = 0; i < N; ++i)
+      for (unsigned int v = 0; v < 2; ++v)
+        for (unsigned int d = 0; d < 3; ++d)
+          rows.emplace_back(Point<3>(i + v, 0, 0), d);
+    std::cout << "bar held along an edge line: "
+              << solver::fixed_rigid_modes(rows) << " modes fixed";
+    rows.emplace_back(Point<3>(0, 1, 0), 2);
+    std::cout << ", and in z at one node off it: "
+              << solver::fixed_rigid_modes(rows) << std::endl;
+  }
+
   // One part held along one line: the rotation about it.
   {
     solver::RigidPartConditions conditions(1, Point<3>(0, 0, 0.5), 1.);

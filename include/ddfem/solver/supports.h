@@ -56,7 +56,9 @@ namespace ddfem::solver
   /**
    * The number of the six rigid body modes that prescribing the (point,
    * component) pairs of @p rows fixes: the rank of the Gram matrix of the
-   * modes restricted to those rows (points centered and scaled).
+   * modes restricted to those rows (points centered and scaled, the matrix
+   * scaled to a unit diagonal, so that the count of rows holding one mode
+   * does not hide another).
    */
   unsigned int
   fixed_rigid_modes(const std::vector<ConstrainedRow> &rows);
