@@ -290,7 +290,9 @@ namespace ddfem::coarsening
     // Normal equations of the scaled unknowns x = (p - lower) / scale. A
     // sample whose corner motion inverts the coarse element (det F <= 0 at
     // a point, whatever the parameters) is one the element cannot take: it
-    // is left out of the fit and of the errors alike, and counted.
+    // is left out of the fit and of the errors alike, and counted; so is
+    // one whose energy is not finite and positive (an infinite one would
+    // make every right-hand side NaN, and the solver stop at the bounds).
     std::vector<Sample>                held_out, fitted;
     Vector<double>                     row(n);
     std::vector<std::array<double, 3>> terms;
@@ -298,7 +300,8 @@ namespace ddfem::coarsening
     std::vector<double>                rhs;
     for (const Sample &s : samples)
       {
-        if (!(s.energy > 0 && element.energy_terms(s.corners, prior, terms)))
+        if (!(std::isfinite(s.energy) && s.energy > 0 &&
+              element.energy_terms(s.corners, prior, terms)))
           {
             ++n_rejected;
             continue;
@@ -321,6 +324,16 @@ namespace ddfem::coarsening
         rhs.push_back((s.energy - lower_energy) / s.energy);
       }
     n_fit = rows.size();
+    AssertThrow(n_fit > 0,
+                ExcMessage("A metamaterial fit has no sample to fit: of " +
+                           std::to_string(samples.size()) + ", " +
+                           std::to_string(n_rejected) +
+                           " were rejected (energies that are not finite "
+                           "and positive, or motions that invert the coarse "
+                           "element) and " +
+                           std::to_string(held_out.size()) +
+                           " held out (Database/Fitting/Held-out every). "
+                           "Give more Database/Sampling/Patterns."));
     // The rows in the unknowns: an unknown's column sums its parameters'.
     const unsigned int m = unknowns.size();
     H.reinit(m, m);

@@ -31,6 +31,7 @@
 // 7. the bounded least-squares solver agrees with the enumeration of all
 //    active sets on random problems.
 
+#include <ddfem/base/exceptions.h>
 #include <ddfem/coarsening/block_sampler.h>
 #include <ddfem/coarsening/fitting.h>
 
@@ -208,6 +209,30 @@ main()
     testing::check_below("  parameter difference to the fit without them",
                          parameter_difference(dirty.material, clean.material),
                          1e-14);
+    // So is a sample of infinite energy (it made every right-hand side NaN,
+    // and the fit stopped at the lower bounds).
+    std::vector<Sample> with_infinite = samples;
+    with_infinite.push_back(samples[3]);
+    with_infinite.back().energy = std::numeric_limits<double>::infinity();
+    const FitResult infinite =
+      fit_metamaterial(element, with_infinite, prior, settings);
+    std::cout << "with a sample of infinite energy: rejected "
+              << infinite.n_rejected << std::endl;
+    testing::check_below("  parameter difference to the fit without it",
+                         parameter_difference(infinite.material,
+                                              clean.material),
+                         1e-14);
+    // With no sample left to fit, there is no fit (it used to be the
+    // bounds, with errors of 0).
+    try
+      {
+        fit_metamaterial(element, {samples[4]}, prior, settings);
+        std::cout << "a held-out sample alone: NO ERROR" << std::endl;
+      }
+    catch (const ExceptionBase &e)
+      {
+        std::cout << "a held-out sample alone: " << message_of(e) << std::endl;
+      }
   }
 
   // The paper's force patterns on a free block; embedded samples are

@@ -57,13 +57,14 @@ namespace ddfem::coarsening
     /// The fitted parameters and directions.
     Metamaterial material;
     /// Median relative energy error |E_fit - E_fine| / E_fine over the
-    /// held-out samples.
+    /// held-out samples (over the fitted ones if none is held out: n_held_out
+    /// = 0).
     double median_error = 0;
-    /// Largest relative energy error over the held-out samples.
+    /// Largest relative energy error over the same samples.
     double max_error = 0;
     /// Samples used for the fit, held out (the errors' samples), and
-    /// rejected from either because the coarse element inverts (det F <= 0)
-    /// under their corner motion.
+    /// rejected from either because their energy is not finite and positive
+    /// or the coarse element inverts (det F <= 0) under their corner motion.
     unsigned int n_fit = 0, n_held_out = 0, n_rejected = 0;
   };
 
@@ -77,7 +78,8 @@ namespace ddfem::coarsening
    * subject to mu >= max(min(stiffness_floor * s_mu, smallest solid mu0),
    * point_floor * mu0) (Metamaterial::stiffness_floor()),
    * lambda >= point_floor * lambda0 and C >= 0, with
-   * p0 the fine parameters in @p prior (C0 = 0), s_j the block's largest
+   * p0 the parameters in @p prior (at level 1 the fine ones, C0 = 0; at
+   * level 2 the children's fitted records), s_j the block's largest
    * fine value of p_j's kind (largest mu for mu and C, largest lambda for
    * lambda), and the directions taken from @p prior. The energy is linear
    * in p, so this is a bound-constrained linear least-squares problem,
@@ -96,7 +98,11 @@ namespace ddfem::coarsening
   class MetamaterialFit
   {
   public:
-    /// Assembles the problem (FitSettings::regularization is not used).
+    /**
+     * Assembles the problem (FitSettings::regularization is not used).
+     * Throws ExcMessage if no sample can be fitted: every one is rejected
+     * or held out.
+     */
     MetamaterialFit(const CoarseElement       &element,
                     const std::vector<Sample> &samples,
                     const Metamaterial        &prior,
