@@ -12,6 +12,7 @@
 #include <deal.II/grid/grid_generator.h>
 #include <deal.II/lac/lapack_full_matrix.h>
 
+#include <ddfem/base/exceptions.h>
 #include <ddfem/dg/studies.h>
 #include <ddfem/dg/system.h>
 
@@ -128,6 +129,18 @@ int
 main(int argc, char **argv)
 {
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  // Method names outside the study's six are errors (two words used to be
+  // enough: "XY lin" was IP lin, "CG quad" CG Q2).
+  for (const std::string name : {"XY lin", "CG quad", "IP Q1"})
+    try
+      {
+        dg::parse_methods(name);
+        std::cout << name << ": NO ERROR" << std::endl;
+      }
+    catch (const ExceptionBase &e)
+      {
+        std::cout << name << ": " << message_of(e) << std::endl;
+      }
   // The condition numbers on 16^2 of CG, by degree.
   std::map<unsigned int, double> cg;
   {

@@ -15,7 +15,11 @@ namespace ddfem::dg
    * The choices of the discontinuous Galerkin discretization (prm
    * subsection "DG"; the polynomial degree k is
    * "Discretization/Polynomial degree"). Every enum has an explicit value
-   * per allowed prm string; parse_parameters() validates the combination.
+   * per allowed prm string. parse_parameters() checks only the penalty;
+   * the combinations are checked where they are used: 'automatic' with
+   * Babuska-Zlamal by check_penalty() (called by System::search_penalty()
+   * and the studies' parse_parameters()), strong Dirichlet conditions with
+   * FE_DGP by SceneSolver's constructor.
    */
   struct Parameters
   {
@@ -59,7 +63,12 @@ namespace ddfem::dg
     static void
     declare_parameters(ParameterHandler &prm);
 
-    /// Reads and validates "DG" and "Discretization/Polynomial degree".
+    /**
+     * Reads "DG" and "Discretization/Polynomial degree". Checks only that
+     * a 'Penalty' other than 'automatic' is a finite decimal number in
+     * (0, 2^30]; the other entries are checked by their Patterns when the
+     * file is read, and no combination is checked here.
+     */
     void
     parse_parameters(ParameterHandler &prm);
 
