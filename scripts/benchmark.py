@@ -82,7 +82,7 @@ def main():
     for name in names:
         s = run(name)
         ref = REFERENCE.get(name)
-        per_iteration = s["time_per_iteration_s"] or float("nan")
+        per_iteration = s["time_per_iteration_s"]
         ref_text = "%.1f (ratio %.2f)" % (ref, per_iteration / ref) if ref else ""
         # A run that did not converge, or that ended with an error after
         # its summary, fails the benchmark.

@@ -1,11 +1,13 @@
 #!/usr/bin/env bash
 # Error against run time on the shipped scenes (doc/coarsening.md): runs
-# 'Run type = compare' on each scene given (default: the nine scenes of the
-# comparison: pushing, bending, twisting, buckling, fibers, bridge,
-# bridge_arch, shoe_sole, character) with the Release build, one
-# after the other, and writes output/compare/<scene>/comparison.{csv,json},
-# error_vs_time.png and VTU. The metamaterials a scene needs are fitted into
-# the database file on its first run (lazy mode); later runs find them there.
+# 'Run type = compare' on each scene given (a file prm/<scene>.prm; default:
+# the nine scenes of the comparison: pushing, bending, twisting, buckling,
+# fibers, bridge, bridge_arch, shoe_sole, character) with the Release build,
+# one after the other, and writes output/compare/<scene>/comparison.{csv,json},
+# error_vs_time.png and VTU. EXTRA holds further arguments of every run, as
+# shell words (quoted as on a command line). The metamaterials a scene needs
+# are fitted into the database file on its first run (lazy mode); later runs
+# find them there.
 # A compare run in which a model does not converge exits with 1 but writes
 # its results; a scene whose run fails goes on to the next one. At the end it
 # prints the table of doc/coarsening.md and the targets each scene state
@@ -26,16 +28,33 @@ grep -q "^CMAKE_BUILD_TYPE:STRING=Release$" build/CMakeCache.txt 2>/dev/null || 
 scenes=("$@")
 [ ${#scenes[@]} -gt 0 ] || scenes=(pushing bending twisting buckling fibers \
                                    bridge bridge_arch shoe_sole character)
+# A scene is a file prm/<scene>.prm; a name is never parsed as shell code.
+for s in "${scenes[@]}"; do
+  if [[ "$s" == */* || ! -f "prm/$s.prm" ]]; then
+    echo "Error: no scene '$s': a scene is the name of a file prm/<scene>.prm" \
+      "(pushing, bending, ...)." >&2
+    exit 1
+  fi
+done
+# EXTRA's words, with their quotes: the settings every run gets.
+extra=()
+eval "extra=(${EXTRA:-})" || {
+  echo "Error: EXTRA is not a list of shell words: ${EXTRA}" >&2
+  exit 1
+}
 failed=()
 with_results=()
 for s in "${scenes[@]}"; do
   echo "=== $s"
   # An earlier run's results must not stand in for a run that fails on its
-  # input (which writes nothing).
-  rm -f "output/compare/$s/comparison.json"
-  eval build/ddfem "prm/$s.prm" --set "'Run type=compare'" \
-    --set "'Output/Output directory=output/compare/$s'" \
-    --set "'Output/Write VTU=last step'" "${EXTRA:-}" || failed+=("$s")
+  # input (which writes nothing): neither its tables nor its plot.
+  for f in comparison.json comparison.csv error_vs_time.dat \
+    error_vs_time.gnuplot error_vs_time.png; do
+    rm -f "output/compare/$s/$f"
+  done
+  build/ddfem "prm/$s.prm" --set "Run type=compare" \
+    --set "Output/Output directory=output/compare/$s" \
+    --set "Output/Write VTU=last step" "${extra[@]}" || failed+=("$s")
   [ ! -f "output/compare/$s/comparison.json" ] || with_results+=("$s")
 done
 table_failed=0
