@@ -57,7 +57,9 @@ namespace ddfem::solver
     analyze(const SparseMatrix<double> &K);
 
     /**
-     * Factorizes the symmetric matrix @p K, reading its upper triangle.
+     * Factorizes the symmetric matrix @p K, reading its lower triangle
+     * (the entries with column <= row, diagonal included; CHOLMOD takes
+     * them as the upper triangle of the transpose, the same matrix).
      * Returns false, and holds no factor, where @p K is not positive
      * definite (a pivot that is not positive) or has an entry that is not
      * finite. Throws std::runtime_error if CHOLMOD fails otherwise (out of
