@@ -364,6 +364,21 @@ namespace ddfem::coarsening
     const double                regularization,
     const std::optional<double> spring_regularization) const
   {
+    // Without regularization, fewer samples than unknowns cannot
+    // determine them: the active-set solver would leave all but as many as
+    // there are samples at their bounds, without an error.
+    const bool unregularized =
+      regularization == 0 || spring_regularization.value_or(1) == 0;
+    AssertThrow(!unregularized || n_fit >= unknowns.size(),
+                ExcMessage("A metamaterial fit without regularization has " +
+                           std::to_string(n_fit) + " samples for " +
+                           std::to_string(unknowns.size()) +
+                           " unknowns, which they cannot determine. Give the "
+                           "regularization weights (Database/Fitting/"
+                           "Regularization, Spring regularization and Child "
+                           "regularization, Database/Level 2/"
+                           "Regularization) values above 0, or more "
+                           "Database/Sampling/Patterns."));
     // The regularization sums over an unknown's parameters, which share
     // their fine value and bounds.
     FullMatrix<double> A = H;
@@ -382,15 +397,14 @@ namespace ddfem::coarsening
         }
 
     const Vector<double> x = nonnegative_least_squares(A, b);
-    // Without regularization, too few samples can leave the normal
-    // equations singular.
     AssertThrow(all_finite(x),
-                ExcMessage("A metamaterial fit is singular: its samples do "
-                           "not determine the parameters. Give the "
-                           "regularization weights (Database/Fitting/"
-                           "Regularization and Child regularization, "
-                           "Database/Level 2/Regularization) values above "
-                           "0, or more Database/Sampling/Patterns."));
+                ExcMessage("A metamaterial fit gave parameters that are not "
+                           "finite: its samples do not determine them. Give "
+                           "the regularization weights (Database/Fitting/"
+                           "Regularization, Spring regularization and Child "
+                           "regularization, Database/Level 2/Regularization) "
+                           "values above 0, or more "
+                           "Database/Sampling/Patterns."));
     std::vector<double> p(3 * prior.points.size());
     for (unsigned int q = 0; q < prior.points.size(); ++q)
       for (unsigned int t = 0; t < 3; ++t)

@@ -233,6 +233,21 @@ main()
       {
         std::cout << "a held-out sample alone: " << message_of(e) << std::endl;
       }
+    // Without regularization, three samples cannot determine 24 unknowns
+    // (the fit left all but three at their bounds, without an error).
+    try
+      {
+        fit_metamaterial(element,
+                         {samples[0], samples[1], samples[2]},
+                         prior,
+                         settings);
+        std::cout << "three samples, no regularization: NO ERROR" << std::endl;
+      }
+    catch (const ExceptionBase &e)
+      {
+        std::cout << "three samples, no regularization: " << message_of(e)
+                  << std::endl;
+      }
   }
 
   // The paper's force patterns on a free block; embedded samples are
