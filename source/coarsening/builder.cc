@@ -121,13 +121,23 @@ namespace ddfem::coarsening
     // not the link, so that the file stays shared; also before the file's
     // first build, when the link dangles.
     std::filesystem::path file = database_file;
-    for (unsigned int hops = 0; hops < 40 && std::filesystem::is_symlink(file);
+    std::error_code       error;
+    for (unsigned int hops = 0;
+         hops < 40 && std::filesystem::is_symlink(file, error);
          ++hops)
       {
         const std::filesystem::path target =
-          std::filesystem::read_symlink(file);
+          std::filesystem::read_symlink(file, error);
+        AssertThrow(!error,
+                    ExcMessage("Database/File = " + database_file +
+                               ": the link \"" + file.string() +
+                               "\" cannot be read: " + error.message() + "."));
         file = target.is_absolute() ? target : file.parent_path() / target;
       }
+    AssertThrow(!std::filesystem::is_symlink(file, error),
+                ExcMessage("Database/File = " + database_file +
+                           ": its symbolic links form a loop (40 of them "
+                           "followed)."));
     database_file     = file.string();
     with_void         = prm.get_bool("Include void");
     run_scope         = prm.get("Scope") == "all" ? Scope::all : Scope::scene;

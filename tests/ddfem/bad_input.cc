@@ -577,6 +577,18 @@ main(int argc, char **argv)
             "Database/Fitting/Stiffness floor=0",
             "--set",
             "Database/File=out_zero_stiffness_floor.h5"});
+  // Database/File as a link in a loop of links (it was taken as it was
+  // after 40 of them).
+  for (const auto &[link, target] :
+       {std::pair("link_loop_a.h5", "link_loop_b.h5"),
+        std::pair("link_loop_b.h5", "link_loop_a.h5")})
+    {
+      std::filesystem::remove(link);
+      std::filesystem::create_symlink(target, link);
+    }
+  run_case("database_link_loop",
+           cantilever,
+           {"--set", "Method=ddfem", "--set", "Database/File=link_loop_a.h5"});
   run_case("ddfem_quadratic",
            cantilever,
            {"--set",
