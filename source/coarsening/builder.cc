@@ -757,7 +757,7 @@ namespace ddfem::coarsening
         const unsigned int n_picked =
           database.compress(n_representatives,
                             element,
-                            feature_deformations(32, 0.1, 4711));
+                            compression_deformations());
         out << "Compressed to " << n_picked << " representatives ("
             << database.entries().size() << " entries kept)" << std::endl;
       }

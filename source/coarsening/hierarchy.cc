@@ -135,8 +135,8 @@ namespace ddfem::coarsening
     // The second level's palette: clusters of the level-1 metamaterials,
     // the required blocks' sub-blocks first.
     std::vector<std::size_t> keys;
-    const auto               level1_features = level1.features(
-      element, feature_deformations(32, 0.1, 4711), keys, Fit::child);
+    const auto               level1_features =
+      level1.features(element, compression_deformations(), keys, Fit::child);
     std::vector<unsigned int> required_classes;
     for (const BlockKeys &block : required)
       for (const std::int64_t key : block)
@@ -180,7 +180,7 @@ namespace ddfem::coarsening
         const unsigned int n_positions = 2u << s;
         const Point<3>     size(2, s >= 1 ? 2 : 1, s >= 2 ? 2 : 1);
         const std::vector<CornerDisplacements> deformations =
-          feature_deformations(32, 0.1, 4711 + s);
+          compression_deformations(s);
         const unsigned int n_deformations = deformations.size();
         // energy[d][position][class]
         std::vector<std::vector<std::vector<double>>> energy(

@@ -777,7 +777,7 @@ main()
               << std::endl;
 
     Database compressed = loaded;
-    compressed.compress(5, element, feature_deformations(32, 0.1, 4711));
+    compressed.compress(5, element, compression_deformations());
     // A symmetry permutes the points: the sorted shear moduli of a lookup
     // name its representative.
     std::set<std::vector<double>> distinct;

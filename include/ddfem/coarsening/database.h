@@ -360,6 +360,18 @@ namespace ddfem::coarsening
                        const std::uint64_t seed);
 
   /**
+   * The feature deformations of every compression: 32 patterns at strain
+   * 0.1, of level 1 and of the second level's classes (@p stage 0) and of
+   * its pairing stages (@p stage 0, 1, 2), each stage seeded on its own.
+   * Files built with other ones would compress differently.
+   */
+  inline std::vector<CornerDisplacements>
+  compression_deformations(const unsigned int stage = 0)
+  {
+    return feature_deformations(32, 0.1, 4711 + stage);
+  }
+
+  /**
    * An append-only journal of finished entries next to a database file
    * (its name plus ".journal"): each record carries a checksum, so a
    * build killed at any moment resumes with every entry that was
