@@ -679,16 +679,17 @@ namespace ddfem::dg
   {
     replace_earlier(directory, {"dg_cost.txt"});
     // One thread, as the paper's timings and so that integration and
-    // assembly times are separable; the default limit again afterwards,
+    // assembly times are separable; the caller's limit again afterwards,
     // also when a solve throws.
-    MultithreadInfo::set_thread_limit(1);
     struct RestoreThreads
     {
       ~RestoreThreads()
       {
-        MultithreadInfo::set_thread_limit();
+        MultithreadInfo::set_thread_limit(n_threads);
       }
+      const unsigned int n_threads = MultithreadInfo::n_threads();
     } restore_threads;
+    MultithreadInfo::set_thread_limit(1);
     const std::vector<StudyMethod> dg_methods =
       parse_methods("BZ lin, IP lin, BZ quad, IP quad");
     std::vector<std::pair<StudyMethod, Result>> results;

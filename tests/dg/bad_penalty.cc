@@ -180,4 +180,13 @@ main(int argc, char **argv)
              "subsection Boundary conditions\n  subsection Condition 2\n"
              "    set Value = 0; 0; sqrt(-1)\n  end\nend\n",
            "");
+  // Not bad input: a cost study runs on one thread and gives its caller
+  // the caller's limit back (it used to set the default, every core).
+  const unsigned int threads = MultithreadInfo::n_threads();
+  run_case("cost_study_threads",
+           "set Run type = dg cost\n"
+           "subsection DG cost\n  set Resolution = 1\nend\n",
+           "set Penalty = 10\n");
+  std::cout << "threads before the cost study: " << threads
+            << ", after: " << MultithreadInfo::n_threads() << std::endl;
 }
