@@ -255,19 +255,28 @@ namespace ddfem::app
      * of the first state against its wall time, log-log, one marker per
      * method and level; the times of the fine runs that reached the full load
      * as vertical lines, and the error of each level's grid fit as a horizontal
-     * one.
+     * one. If no coarse model of the first state has an error, says so on
+     * @p out instead.
      */
     void
     plot(const std::vector<Row> &rows,
          const std::string      &scene_name,
-         const std::string      &directory)
+         const std::string      &directory,
+         std::ostream           &out)
     {
       // One marker per coarse model of the first state; none, no plot.
       const auto is_marker = [&](const Row &r) {
         return r.state == rows.front().state && r.level > 0 && r.error.mean > 0;
       };
       if (std::none_of(rows.begin(), rows.end(), is_marker))
-        return;
+        {
+          out << "No error_vs_time.png: no coarse model of state "
+              << rows.front().state
+              << " has a vertex error (none ran, reached the full load, or "
+                 "had a fine solution at the full load to compare with)."
+              << std::endl;
+          return;
+        }
       ResultFile    dat_file(directory + "/error_vs_time.dat",
                           "Output/Output directory");
       ResultFile    script_file(directory + "/error_vs_time.gnuplot",
@@ -802,7 +811,7 @@ namespace ddfem::app
     prm.print_parameters(used.stream(), ParameterHandler::ShortPRM);
     used.commit();
     tables_written = true;
-    plot(rows, scene_name, directory);
+    plot(rows, scene_name, directory, out);
     if (screen_timings)
       out << "Peak memory " << peak_memory << " MB" << std::endl;
     return all_converged ? 0 : 1;

@@ -71,9 +71,12 @@ namespace ddfem::app
      * results to @p directory, with @p prm (the parameters of the run) as
      * parameters.prm next to its tables. Logs to @p out; timings on screen
      * only if @p screen_timings (files always have them). Returns 0 if every
-     * solve converged, 1 otherwise. A run that stops with an error before
-     * its tables are written leaves no result and an earlier run's
-     * parameters.prm.
+     * solve converged, 1 otherwise. A run that stops with an error in its
+     * checks, before anything is solved, leaves the directory as it was; one
+     * that stops later, before its tables are written, leaves no result of
+     * its own nor an earlier run's, but an earlier run's parameters.prm (a
+     * rerun from it keeps it). The plot is of the first state; without a
+     * coarse model with an error there it is not drawn, which the log says.
      */
     int
     run(const ParameterHandler &prm,
