@@ -334,6 +334,18 @@ namespace ddfem::testing
     return text.str();
   }
 
+  /**
+   * Removes the database file @p file and the build journals of its two
+   * levels that an earlier run of the test (killed, or timed out) may have
+   * left: a build would resume from them.
+   */
+  inline void
+  remove_database(const std::string &file)
+  {
+    for (const std::string suffix : {"", ".journal", ".level2.journal"})
+      std::filesystem::remove(file + suffix);
+  }
+
   /// Prints "name: below bound" if @p value < @p bound, else "FAILED" with
   /// the value and bound (also for a NaN value); the bound as
   /// power_of_ten() writes it. With @p digits > 0 the value is printed too,

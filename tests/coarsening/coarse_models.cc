@@ -58,8 +58,7 @@ namespace
     Setup(const std::string &text, const std::string &database_file)
       : log(std::cout, false)
     {
-      for (const std::string suffix : {"", ".journal", ".level2"})
-        std::filesystem::remove(database_file + suffix);
+      testing::remove_database(database_file);
       app::declare_parameters(prm);
       prm.parse_input_from_string(text + database_prm(database_file));
       scene.parse_parameters(prm);

@@ -207,7 +207,7 @@ main(int argc, char **argv)
   // the cantilever's entry into db.h5 just before they release the lock: a
   // run that read the file before it held the lock would find no entry
   // and fit it again.
-  std::filesystem::remove("db.h5");
+  ddfem::testing::remove_database("db.h5");
   {
     std::ostringstream quiet;
     ddfem_run("prepare", "set Run type = database\n")(quiet);
@@ -226,7 +226,7 @@ main(int argc, char **argv)
   std::cout << "Method = ddfem (lazy fits) while another process holds the "
                "lock:"
             << std::endl;
-  std::filesystem::remove("db.h5");
+  ddfem::testing::remove_database("db.h5");
   {
     const auto [child, go] = holder(path, "prepared.h5");
     // A simulation needs MPI (its linear algebra); no process is forked

@@ -68,7 +68,7 @@ int
 main(int argc, char **argv)
 {
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
-  std::filesystem::remove("db.h5");
+  ddfem::testing::remove_database("db.h5");
   run("database", "database");
   run("simulation", "simulation");
 }

@@ -127,8 +127,7 @@ main(int argc, char **argv)
         return name + (offset == "default" ? "" : "_" + offset) + ".h5";
       };
       for (const std::string &offset : offsets)
-        for (const std::string suffix : {"", ".journal", ".level2"})
-          std::filesystem::remove(database(offset) + suffix);
+        ddfem::testing::remove_database(database(offset));
       for (const unsigned int level : levels)
         for (const std::string &offset : offsets)
           {

@@ -59,8 +59,7 @@ int
 main(int argc, char **argv)
 {
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
-  for (const std::string suffix : {"", ".journal", ".level2"})
-    std::filesystem::remove("rotation.h5" + suffix);
+  ddfem::testing::remove_database("rotation.h5");
   std::ofstream("rotation.prm") << bar;
 
   const std::vector<std::pair<std::string, std::vector<std::string>>> models = {

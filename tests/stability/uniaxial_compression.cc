@@ -99,8 +99,7 @@ main(int argc, char **argv)
     {
       const std::string name     = "cube_" + std::to_string(nu).substr(0, 5);
       const std::string database = name + ".h5";
-      for (const std::string suffix : {"", ".journal", ".level2"})
-        std::filesystem::remove(database + suffix);
+      ddfem::testing::remove_database(database);
       std::ofstream(name + ".prm") << cube(nu, c, database);
 
       const double E = 1e5, mu = E / (2 * (1 + nu)),
