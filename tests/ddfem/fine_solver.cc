@@ -218,13 +218,28 @@ namespace
     testing::check_below("  axial force error, relative",
                          std::abs(force - P11) / P11,
                          1e-8);
-    // Every cell's largest principal strain is the axial one, 0.5.
-    const Vector<double> strain =
-      problem.solver->cell_fields(problem.solver->solution()).strain;
-    double strain_error = 0;
-    for (const double e : strain)
-      strain_error = testing::worst(strain_error, std::abs(e - (stretch - 1)));
+    // Every cell's largest principal strain is the axial one, 0.5; its
+    // det F is J and its von Mises stress the axial Cauchy stress
+    // sigma_11 = P_11 stretch / J (the others are 0), the fields of the
+    // VTU files.
+    const auto fields = problem.solver->cell_fields(problem.solver->solution());
+    double     strain_error = 0, J_error = 0, stress_error = 0;
+    for (unsigned int c = 0; c < fields.strain.size(); ++c)
+      {
+        strain_error =
+          testing::worst(strain_error,
+                         std::abs(fields.strain[c] - (stretch - 1)));
+        J_error = testing::worst(J_error, std::abs(fields.J[c] - J) / J);
+        stress_error =
+          testing::worst(stress_error,
+                         std::abs(fields.von_mises[c] - P11 * stretch / J) /
+                           (P11 * stretch / J));
+      }
     testing::check_below("  cell principal strain error", strain_error, 1e-8);
+    testing::check_below("  cell det F error, relative", J_error, 1e-8);
+    testing::check_below("  cell von Mises stress error, relative",
+                         stress_error,
+                         1e-8);
   }
 
   void

@@ -190,6 +190,21 @@ main(int argc, char **argv)
       end)",
               Tensor<1, 3>({0., 0., -12.}),
               Tensor<1, 3>({-24., 30., 0.}));
+  // A traction that varies over the face, (0, 0, -x) Pa on z+ (x from 1
+  // to 4, y from 0 to 4), is evaluated where each face's quadrature points
+  // are: force (0, 0, -int x dA) and moment (-int x y dA, int x^2 dA, 0),
+  // with int x dA = 30, int x y dA = 60 and int x^2 dA = 84.
+  check_loads("Traction (0, 0, -x) Pa on z+",
+              R"(
+      subsection Boundary conditions
+        subsection Condition 2
+          set Type   = traction
+          set Region = z+
+          set Value  = 0; 0; -x
+        end
+      end)",
+              Tensor<1, 3>({0., 0., -30.}),
+              Tensor<1, 3>({-60., 84., 0.}));
   // The face x = 0 has 12 solid voxel faces (the notch takes 4 of 16),
   // centroid (0, 2, 1.5).
   check_loads("Pressure 2 Pa on x-",
