@@ -91,6 +91,46 @@ namespace ddfem::app
       return name;
     }
 
+    /**
+     * Throws ExcMessage naming the parameter and @p prm_file if a value of
+     * @p prm cannot be held by a parameter file (fits_in_parameter_file()):
+     * only an XML or JSON file can give one (call it for those), and the
+     * run's parameters.prm would not repeat it.
+     */
+    void
+    check_values_fit(const ParameterHandler &prm, const std::string &prm_file)
+    {
+      std::ostringstream text;
+      prm.print_parameters(text, ParameterHandler::ShortJSON);
+      const std::function<void(const nlohmann::json &, const std::string &)>
+        check = [&](const nlohmann::json &node, const std::string &path) {
+          for (const auto &[name, value] : node.items())
+            if (value.is_object())
+              check(value, path + name + "/");
+            else
+              AssertThrow(!value.is_string() ||
+                            fits_in_parameter_file(value.get<std::string>()),
+                          ExcMessage(
+                            "In parameter file \"" + prm_file + "\": " + path +
+                            name +
+                            " holds a line break or '#', or ends in '\\', "
+                            "which the run's parameters.prm could not hold "
+                            "(a rerun from it would read another value)."));
+        };
+      nlohmann::json values;
+      try
+        {
+          values = nlohmann::json::parse(text.str());
+        }
+      catch (const nlohmann::json::exception &)
+        {
+          AssertThrow(false,
+                      ExcMessage("In parameter file \"" + prm_file +
+                                 "\": a value is not UTF-8 text."));
+        }
+      check(values, "");
+    }
+
     /// 'Output directory' and 'Screen timings' of subsection "Output".
     struct OutputSettings
     {
@@ -934,6 +974,9 @@ namespace ddfem::app
             apply_override(prm, arguments[++i]);
           }
 
+        if (lowercase_extension(prm_file) == ".xml" ||
+            lowercase_extension(prm_file) == ".json")
+          check_values_fit(prm, prm_file);
         const std::string run_type = prm.get("Run type");
         if (run_type == "database")
           return build_database(prm, out);

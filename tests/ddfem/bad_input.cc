@@ -236,6 +236,19 @@ main(int argc, char **argv)
   run_case("include_directory", "include .\n" + cantilever);
   run_case("include_cycle_continued",
            "include include_cycle_\\\n  continued.prm\n" + cantilever);
+  // A JSON parameter file can hold values that parameters.prm cannot
+  // (a '#' would start a comment there, so a rerun read "Run").
+  {
+    std::ofstream("hash_in_json.json")
+      << "{\"Scene name\": \"Run #3\", \"Output\": {\"Output directory\": "
+         "\"out_hash_in_json\"}}\n";
+    std::ostringstream out, err;
+    const int          code = app::run({"hash_in_json.json"}, out, err);
+    std::cout << "* hash_in_json: exit code " << code
+              << ", output written: " << std::boolalpha
+              << std::filesystem::exists("out_hash_in_json") << "\n  "
+              << err.str() << std::endl;
+  }
   // ParameterHandler also reads a last line that ends in a backslash.
   {
     std::ofstream("include_cycle_last_line.prm")
