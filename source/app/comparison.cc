@@ -101,11 +101,10 @@ namespace ddfem::app
     unsigned int
     series_of(const Row &r)
     {
-      unsigned int m = 0;
-      while (m < coarse_methods.size() &&
-             coarsening::to_string(coarse_methods[m]) != r.method)
-        ++m;
-      return 2 * m + r.level - 1;
+      const auto method = std::find(coarse_methods.begin(),
+                                    coarse_methods.end(),
+                                    coarsening::coarsening_method(r.method));
+      return 2 * (method - coarse_methods.begin()) + r.level - 1;
     }
 
     /// The directory of every model a comparison can have in @p directory.

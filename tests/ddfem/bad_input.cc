@@ -43,41 +43,35 @@ namespace
            file + "\n" + extra + "  end\nend\n";
   }
 
-  /// Runs ddfem on @p prm_text (plus @p extra arguments) and reports; of
-  /// the error message only its first sentence if @p first_sentence (the
-  /// rest may depend on the machine). Removes what a run of this case left
-  /// before (test directories persist between runs, and that must not count
-  /// as written by this one), unless @p keep_earlier (the case puts an
-  /// earlier run's files in place itself).
+  /// Whether @p file is what case @p name writes: out_<name> or
+  /// out_<name>.<something>.
+  bool
+  is_output_of(const std::string &name, const std::string &file)
+  {
+    return file == "out_" + name || file.rfind("out_" + name + ".", 0) == 0;
+  }
+
+  /// Runs ddfem with @p arguments as case @p name and reports; of the error
+  /// message only its first sentence if @p first_sentence (the rest may
+  /// depend on the machine). Removes what a run of this case left before
+  /// (test directories persist between runs, and that must not count as
+  /// written by this one), unless @p keep_earlier (the case puts an earlier
+  /// run's files in place itself).
   void
-  run_case(const std::string              &name,
-           const std::string              &prm_text,
-           const std::vector<std::string> &extra          = {},
-           const bool                      first_sentence = false,
-           const bool                      keep_earlier   = false)
+  report_run(const std::string              &name,
+             const std::vector<std::string> &arguments,
+             const bool                      first_sentence = false,
+             const bool                      keep_earlier   = false)
   {
     if (!keep_earlier)
       for (const auto &f : std::filesystem::directory_iterator("."))
-        {
-          const std::string n = f.path().filename().string();
-          if (n == "out_" + name || n.rfind("out_" + name + ".", 0) == 0)
-            std::filesystem::remove_all(f.path());
-        }
-    const std::string file = name + ".prm";
-    std::ofstream(file) << prm_text
-                        << "\nsubsection Output\n  set Output directory = out_"
-                        << name << "\n  set Screen timings = false\nend\n";
-    std::vector<std::string> arguments = {file};
-    arguments.insert(arguments.end(), extra.begin(), extra.end());
+        if (is_output_of(name, f.path().filename().string()))
+          std::filesystem::remove_all(f.path());
     std::ostringstream out, err;
-    const int          code    = app::run(arguments, out, err);
-    const std::string  written = "out_" + name;
-    bool               any     = false;
+    const int          code = app::run(arguments, out, err);
+    bool               any  = false;
     for (const auto &f : std::filesystem::directory_iterator("."))
-      {
-        const std::string n = f.path().filename().string();
-        any = any || n == written || n.rfind(written + ".", 0) == 0;
-      }
+      any = any || is_output_of(name, f.path().filename().string());
     std::string message =
       first_sentence ? err.str().substr(0, err.str().find(". ") + 1) + "\n" :
                        err.str();
@@ -88,6 +82,24 @@ namespace
     std::cout << "* " << name << ": exit code " << code
               << ", output written: " << std::boolalpha << any << "\n  "
               << message << std::endl;
+  }
+
+  /// report_run() of @p prm_text (plus @p extra arguments) with its output
+  /// in out_<name>.
+  void
+  run_case(const std::string              &name,
+           const std::string              &prm_text,
+           const std::vector<std::string> &extra          = {},
+           const bool                      first_sentence = false,
+           const bool                      keep_earlier   = false)
+  {
+    const std::string file = name + ".prm";
+    std::ofstream(file) << prm_text
+                        << "\nsubsection Output\n  set Output directory = out_"
+                        << name << "\n  set Screen timings = false\nend\n";
+    std::vector<std::string> arguments = {file};
+    arguments.insert(arguments.end(), extra.begin(), extra.end());
+    report_run(name, arguments, first_sentence, keep_earlier);
   }
 
   /**
@@ -242,12 +254,7 @@ main(int argc, char **argv)
     std::ofstream("hash_in_json.json")
       << "{\"Scene name\": \"Run #3\", \"Output\": {\"Output directory\": "
          "\"out_hash_in_json\"}}\n";
-    std::ostringstream out, err;
-    const int          code = app::run({"hash_in_json.json"}, out, err);
-    std::cout << "* hash_in_json: exit code " << code
-              << ", output written: " << std::boolalpha
-              << std::filesystem::exists("out_hash_in_json") << "\n  "
-              << err.str() << std::endl;
+    report_run("hash_in_json", {"hash_in_json.json"});
   }
   // ParameterHandler also reads a last line that ends in a backslash.
   {
@@ -256,12 +263,7 @@ main(int argc, char **argv)
       << "subsection Output\n  set Output directory = "
          "out_include_cycle_last_line\nend\ninclude "
          "include_cycle_last_line.prm\\";
-    std::ostringstream out, err;
-    const int code = app::run({"include_cycle_last_line.prm"}, out, err);
-    std::cout << "* include_cycle_last_line: exit code " << code
-              << ", output written: " << std::boolalpha
-              << std::filesystem::exists("out_include_cycle_last_line")
-              << "\n  " << err.str() << std::endl;
+    report_run("include_cycle_last_line", {"include_cycle_last_line.prm"});
   }
   std::ofstream("include_other.inc") << "include include_each_other.prm\n";
   run_case("include_each_other", "include include_other.inc\n" + cantilever);
@@ -625,12 +627,9 @@ main(int argc, char **argv)
            cantilever,
            {"--set", "Output/Output directory=a_file/out"});
   {
-    std::ifstream     file("a_file");
-    const std::string text((std::istreambuf_iterator<char>(file)),
-                           std::istreambuf_iterator<char>());
     std::cout << "  a_file unchanged: " << std::boolalpha
               << (std::filesystem::is_regular_file("a_file") &&
-                  text == "not a directory\n")
+                  content_of("a_file") == "not a directory\n")
               << "\n"
               << std::endl;
   }
@@ -909,10 +908,7 @@ end
       std::cout << "  earlier files left:";
       for (const std::string &file : earlier)
         {
-          std::ifstream     in(directory + "/" + file);
-          const std::string text((std::istreambuf_iterator<char>(in)),
-                                 std::istreambuf_iterator<char>());
-          if (text == "earlier run\n")
+          if (content_of(directory + "/" + file) == "earlier run\n")
             std::cout << ' ' << file;
         }
       std::cout << "\n" << std::endl;
