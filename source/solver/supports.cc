@@ -1,6 +1,8 @@
 #include <deal.II/base/exceptions.h>
 #include <deal.II/fe/fe.h>
+#include <deal.II/lac/lapack_full_matrix.h>
 
+#include <SuiteSparseQR_C.h>
 #include <ddfem/base/parsing.h>
 #include <ddfem/solver/supports.h>
 
@@ -92,9 +94,9 @@ namespace ddfem::solver
   RigidPartConditions::RigidPartConditions(const unsigned int n_parts,
                                            const Point<3>    &center,
                                            const double       scale)
-    : center(center)
+    : n_parts(n_parts)
+    , center(center)
     , scale(scale)
-    , gram(6 * n_parts)
   {}
 
 
@@ -128,11 +130,15 @@ namespace ddfem::solver
   {
     const std::array<double, 6> modes =
       rigid_body_modes((x - center) / scale, component);
-    for (const auto &[p, sign_p] : parts)
-      for (const auto &[q, sign_q] : parts)
+    std::vector<std::pair<unsigned int, double>> row;
+    for (const auto &[p, sign] : parts)
+      {
+        AssertIndexRange(p, n_parts);
         for (unsigned int i = 0; i < 6; ++i)
-          for (unsigned int j = 0; j < 6; ++j)
-            gram(6 * p + i, 6 * q + j) += sign_p * sign_q * modes[i] * modes[j];
+          if (modes[i] != 0)
+            row.emplace_back(6 * p + i, sign * modes[i]);
+      }
+    conditions.push_back(std::move(row));
   }
 
 
@@ -140,11 +146,82 @@ namespace ddfem::solver
   FullMatrix<double>
   RigidPartConditions::free_motions() const
   {
-    LAPACKFullMatrix<double> matrix = gram;
-    Vector<double>           eigenvalues;
-    FullMatrix<double>       motions;
-    matrix.compute_eigenvalues_symmetric(-1., 1e-8, 0., eigenvalues, motions);
+    LAPACKFullMatrix<double> gram(6 * n_parts);
+    for (const auto &row : conditions)
+      for (const auto &[i, c_i] : row)
+        for (const auto &[j, c_j] : row)
+          gram(i, j) += c_i * c_j;
+    Vector<double>     eigenvalues;
+    FullMatrix<double> motions;
+    gram.compute_eigenvalues_symmetric(-1., 1e-8, 0., eigenvalues, motions);
     return motions;
+  }
+
+
+
+  unsigned int
+  RigidPartConditions::n_free_motions() const
+  {
+    const unsigned int n_unknowns = 6 * n_parts;
+    std::size_t        n_entries  = 0;
+    for (const auto &row : conditions)
+      n_entries += row.size();
+    if (n_entries == 0)
+      return n_unknowns;
+
+    cholmod_common common;
+    cholmod_l_start(&common);
+    cholmod_triplet *triplet = cholmod_l_allocate_triplet(
+      conditions.size(), n_unknowns, n_entries, 0, CHOLMOD_REAL, &common);
+    SuiteSparse_long rank = -1;
+    if (triplet != nullptr)
+      {
+        auto *const rows    = static_cast<SuiteSparse_long *>(triplet->i);
+        auto *const columns = static_cast<SuiteSparse_long *>(triplet->j);
+        auto *const values  = static_cast<double *>(triplet->x);
+        for (std::size_t r = 0; r < conditions.size(); ++r)
+          for (const auto &[column, value] : conditions[r])
+            {
+              rows[triplet->nnz]     = r;
+              columns[triplet->nnz]  = column;
+              values[triplet->nnz++] = value;
+            }
+        cholmod_sparse *matrix =
+          cholmod_l_triplet_to_sparse(triplet, n_entries, &common);
+        cholmod_l_free_triplet(&triplet, &common);
+        if (matrix != nullptr)
+          {
+            rank = SuiteSparseQR_C(SPQR_ORDERING_DEFAULT,
+                                   SPQR_DEFAULT_TOL,
+                                   0,
+                                   0,
+                                   matrix,
+                                   nullptr,
+                                   nullptr,
+                                   nullptr,
+                                   nullptr,
+                                   nullptr,
+                                   nullptr,
+                                   nullptr,
+                                   nullptr,
+                                   nullptr,
+                                   &common);
+            cholmod_l_free_sparse(&matrix, &common);
+          }
+      }
+    const int status = common.status;
+    cholmod_l_finish(&common);
+    AssertThrow(rank >= 0,
+                ExcMessage("SuiteSparseQR could not factorize the " +
+                           std::to_string(conditions.size()) + " x " +
+                           std::to_string(n_unknowns) +
+                           " matrix of the conditions on the rigid motions "
+                           "of " +
+                           std::to_string(n_parts) +
+                           " parts that share only edges or corners "
+                           "(CHOLMOD status " +
+                           std::to_string(status) + ", out of memory?)."));
+    return n_unknowns - static_cast<unsigned int>(rank);
   }
 
 
@@ -401,8 +478,8 @@ namespace ddfem::solver
       return;
 
     // The groups of the parts not held, joined at the nodes where no held
-    // part holds them, and their conditions (up to max_group parts; the
-    // parts of a group are numbered from 0).
+    // part holds them, and their conditions (the parts of a group are
+    // numbered from 0).
     const auto at_held = [&](const unsigned int v) {
       return std::any_of(parts_at_vertex[v].begin(),
                          parts_at_vertex[v].end(),
@@ -419,27 +496,25 @@ namespace ddfem::solver
     for (const auto &[p, part] : face_parts)
       if (held.count(p) == 0)
         members[groups.find(p)].push_back(p);
-    constexpr unsigned int                     max_group = 200;
     std::map<std::size_t, RigidPartConditions> conditions;
     std::map<std::size_t, unsigned int>        number;
     for (const auto &[group, parts] : members)
-      if (parts.size() <= max_group)
-        {
-          Point<3> lower = face_parts[parts[0]].lower,
-                   upper = face_parts[parts[0]].upper;
-          for (const std::size_t p : parts)
-            for (unsigned int d = 0; d < 3; ++d)
-              {
-                lower[d] = std::min(lower[d], face_parts[p].lower[d]);
-                upper[d] = std::max(upper[d], face_parts[p].upper[d]);
-              }
-          conditions.emplace(group,
-                             RigidPartConditions(parts.size(),
-                                                 0.5 * (lower + upper),
-                                                 0.5 * lower.distance(upper)));
-          for (unsigned int i = 0; i < parts.size(); ++i)
-            number[parts[i]] = i;
-        }
+      {
+        Point<3> lower = face_parts[parts[0]].lower,
+                 upper = face_parts[parts[0]].upper;
+        for (const std::size_t p : parts)
+          for (unsigned int d = 0; d < 3; ++d)
+            {
+              lower[d] = std::min(lower[d], face_parts[p].lower[d]);
+              upper[d] = std::max(upper[d], face_parts[p].upper[d]);
+            }
+        conditions.emplace(group,
+                           RigidPartConditions(parts.size(),
+                                               0.5 * (lower + upper),
+                                               0.5 * lower.distance(upper)));
+        for (unsigned int i = 0; i < parts.size(); ++i)
+          number[parts[i]] = i;
+      }
 
     // A group's own rows and the nodes held parts share with it hold it;
     // the nodes its parts share with each other join them.
@@ -458,7 +533,7 @@ namespace ddfem::solver
       }
     for (const auto &[group, motions] : conditions)
       {
-        const unsigned int n_free = motions.free_motions().n();
+        const unsigned int n_free = motions.n_free_motions();
         unsigned int       cells  = 0;
         for (const std::size_t p : members[group])
           cells += face_parts[p].cells;

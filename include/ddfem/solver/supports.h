@@ -5,7 +5,6 @@
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/grid/tria.h>
 #include <deal.II/lac/full_matrix.h>
-#include <deal.II/lac/lapack_full_matrix.h>
 
 #include <ddfem/scene/scene.h>
 
@@ -76,10 +75,13 @@ namespace ddfem::solver
    * each (rigid_body_modes() about a centre, lengths in units of a scale):
    * a point two parts share moves alike in both, a held point does not
    * move. The motions the conditions leave free are the null space of
-   * their Gram matrix C^T C. With the centre and scale of the parts'
-   * extent its entries are geometric and O(1), so its zero eigenvalues
-   * stand far from the others. The block sampler finds a block's
-   * zero-energy modes with it, and require_supported_mesh() mechanisms.
+   * their matrix C, one row per condition. With the centre and scale of the
+   * parts' extent its entries are geometric and O(1). The block sampler
+   * takes a block's zero-energy modes from free_motions(), and
+   * require_supported_mesh() counts a group's mechanisms with
+   * n_free_motions(). The conditions are stored sparsely (at most 12
+   * entries per row), so that many parts cost little until
+   * free_motions() is asked for.
    */
   class RigidPartConditions
   {
@@ -103,11 +105,25 @@ namespace ddfem::solver
 
     /**
      * An orthonormal basis of the free motions (one column each, 6
-     * numbers per part): the eigenvectors of the Gram matrix whose
-     * eigenvalues are below 1e-8.
+     * numbers per part): the eigenvectors of the dense Gram matrix C^T C
+     * whose eigenvalues are below 1e-8. Its cost grows with the cube of
+     * the number of parts: for a few parts, such as a block's children.
      */
     FullMatrix<double>
     free_motions() const;
+
+    /**
+     * The number of free motions: 6 n_parts minus the rank of C, which
+     * SuiteSparseQR's rank-revealing sparse QR factorization estimates
+     * (a column whose norm falls to its default tolerance, 20 (m + n)
+     * eps times the largest column norm, counts as dependent). The
+     * motions of hinged voxels are free exactly, up to round-off, so
+     * this counts those of thousands of parts at the cost of a sparse
+     * factorization. Throws ExcMessage if the factorization fails (out
+     * of memory).
+     */
+    unsigned int
+    n_free_motions() const;
 
   private:
     /// Adds the condition sum_p sign_p (motion of part p at @p x, component
@@ -118,9 +134,11 @@ namespace ddfem::solver
       const unsigned int                                           component,
       const std::initializer_list<std::pair<unsigned int, double>> parts);
 
-    Point<3>                 center;
-    double                   scale;
-    LAPACKFullMatrix<double> gram;
+    unsigned int n_parts;
+    Point<3>     center;
+    double       scale;
+    /// The rows of C: (column, value) pairs, columns 6 p + mode.
+    std::vector<std::vector<std::pair<unsigned int, double>>> conditions;
   };
 
   /// The vector component of every DoF of @p dof_handler (an FESystem).
@@ -156,8 +174,8 @@ namespace ddfem::solver
    * on the others along an edge or at a corner only (a mechanism): each
    * such part must be held by its rows and the nodes it shares with the
    * other parts, and the parts that are not held by their rows and by
-   * parts held already (in turn) must be held as a group, which
-   * RigidPartConditions decides for groups of up to 200 parts.
+   * parts held already (in turn) must be held as a group
+   * (RigidPartConditions::n_free_motions(), whatever the group's size).
    * @p cell_rows lists, per active cell, the rows of its constrained nodes
    * (a node shared by cells may appear in each).
    */
