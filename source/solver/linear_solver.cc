@@ -370,9 +370,10 @@ namespace ddfem::solver
         if (requested == "auto" && x.size() <= fallback_limit)
           return failure.last_step +
                  fall_back_to_direct(K, x, b, direct_solves_after_cg_failure);
-        throw Failure("CG did not converge in " +
+        throw Failure("CG did not converge in Linear solver/Maximum "
+                      "iterations = " +
                         std::to_string(failure.last_step) +
-                        " iterations (indefinite or ill-conditioned tangent?)",
+                        " (an indefinite or ill-conditioned tangent?)",
                       failure.last_step);
       }
     if (rebuild)

@@ -728,6 +728,8 @@ namespace ddfem::solver
         unsigned int       linear_iterations = 0;
         const unsigned int direct_solves     = linear_solver.direct_solves();
         bool               descends          = true;
+        // Why the tangent was shifted, then why the last shift failed.
+        std::string why_shifted, why_failed;
         while (true)
           {
             bool solved = false;
@@ -747,15 +749,25 @@ namespace ddfem::solver
             catch (LinearSolver::Failure &failure)
               {
                 linear_iterations += failure.iterations;
+                why_failed =
+                  "the linear solve failed: " + std::string(failure.what());
                 pcout << (shift == 0 ? "\n      " : "") << failure.what()
                       << "; ";
               }
             if (solved && (!on_boundary_values || residual * du < 0))
               break;
+            if (solved)
+              why_failed = "the Newton direction did not descend (an "
+                           "indefinite tangent, as near buckling)";
+            if (shift == 0)
+              why_shifted = why_failed;
             const double new_shift = (shift == 0 ? 1e-4 : 10 * shift);
             if (new_shift > 1e4)
               {
-                descends = false;
+                descends       = false;
+                newton_failure = why_failed +
+                                 " even with the tangent shifted by " +
+                                 format_number(shift) + " times its diagonal";
                 break;
               }
             for (types::global_dof_index i = 0; i < n; ++i)
@@ -784,6 +796,11 @@ namespace ddfem::solver
             // shorter load increment is the better cure.
             if (++regularized > max_regularized_iterations)
               {
+                newton_failure =
+                  "more than " + std::to_string(max_regularized_iterations) +
+                  " of its iterations needed a shifted tangent; in the "
+                  "last, unshifted, " +
+                  why_shifted;
                 pcout << ", too many shifted iterations" << std::endl;
                 return false;
               }
@@ -825,6 +842,8 @@ namespace ddfem::solver
           }
         if (!accepted)
           {
+            newton_failure = "the line search found no step along the Newton "
+                             "direction that lowers the energy";
             pcout << ", line search failed" << std::endl;
             return false;
           }
@@ -834,6 +853,9 @@ namespace ddfem::solver
     pcout << std::endl
           << "    no convergence in " << parameters.max_iterations
           << " Newton iterations" << std::endl;
+    newton_failure = "it did not converge in Nonlinear solver/Maximum Newton "
+                     "iterations = " +
+                     std::to_string(parameters.max_iterations);
     return false;
   }
 
@@ -961,10 +983,12 @@ namespace ddfem::solver
                   message << " failed even when cut to " << tried;
                 else
                   message << " failed, and no shorter one may follow";
-                message
-                  << " (Nonlinear solver/Minimum load step = "
-                  << parameters.minimum_step
-                  << " of the nominal increment); the last converged state is kept";
+                message << " (Nonlinear solver/Minimum load step = "
+                        << parameters.minimum_step
+                        << " of the nominal increment). Newton's method "
+                           "stopped because "
+                        << newton_failure
+                        << ". The last converged state is kept";
                 statistics.failure = message.str();
                 pcout << "  Stopped: " << statistics.failure << std::endl;
                 return statistics;

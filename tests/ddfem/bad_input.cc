@@ -834,6 +834,26 @@ subsection Nonlinear solver
   set Minimum load step = 0.1
 end
 )");
+  // A linear solver that fails on the tangent (CG limited to one
+  // iteration, toward a reduction of 1e-12, on a grid whose 2793 unknowns
+  // ML does not solve on its coarsest level) and succeeds only on the
+  // tangent shifted by 1e4 times its diagonal: every Newton iteration is
+  // shifted, and after 8 of them the increment fails. The message says
+  // why, not only that the step failed.
+  run_case("linear_solver_fails",
+           cantilever,
+           {"--set",
+            "Geometry/Grid size=6, 18, 6",
+            "--set",
+            "Linear solver/Type=cg-amg",
+            "--set",
+            "Linear solver/Tolerance=1e-12",
+            "--set",
+            "Linear solver/Maximum iterations=1",
+            "--set",
+            "Nonlinear solver/Load steps=1",
+            "--set",
+            "Nonlinear solver/Minimum load step=1"});
   // A solve that converges in its first load step and fails in its second
   // (a soft cantilever bent far, Newton's method limited, no cutting)
   // keeps the converged step: its VTU file and a summary.json that says so.

@@ -271,7 +271,8 @@ namespace ddfem::solver
              Vector<double>                  *newton_rhs,
              double                          &min_J) const;
 
-    /// Newton's method at load factor @p t starting from @p u.
+    /// Newton's method at load factor @p t starting from @p u. Returns
+    /// false, and says why in newton_failure, if it stops unconverged.
     bool
     newton(const double t, Vector<double> &u, Statistics &statistics);
 
@@ -336,6 +337,9 @@ namespace ddfem::solver
     /// Whether #displacement is an equilibrium at the full load, of the
     /// materials of the last solve.
     bool at_full_load = false;
+    /// Why the last call of newton() stopped unconverged, for the message
+    /// of a solve that fails (which parameter to change).
+    std::string newton_failure;
   };
 } // namespace ddfem::solver
 
