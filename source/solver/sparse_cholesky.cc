@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <new>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -18,6 +19,28 @@ namespace ddfem::solver
     is_upper(const Entry &entry)
     {
       return entry.column() <= static_cast<unsigned int>(entry.row());
+    }
+
+    /**
+     * Throws for CHOLMOD's failure with status @p status in @p step of an
+     * @p n-unknown matrix: std::bad_alloc when it ran out of memory, as
+     * every other allocation would, and a message that names the remedy
+     * when the factor has more entries than CHOLMOD's 32-bit indices count.
+     */
+    [[noreturn]] void
+    throw_failure(const int status, const std::string &step, const int n)
+    {
+      if (status == CHOLMOD_OUT_OF_MEMORY)
+        throw std::bad_alloc();
+      if (status == CHOLMOD_TOO_LARGE)
+        throw std::runtime_error(
+          "CHOLMOD: the Cholesky factor of a " + std::to_string(n) +
+          "-unknown matrix has more entries than its 32-bit indices "
+          "count; use Linear solver/Type = cg-amg, which needs no factor (a "
+          "DG system: DG/Definiteness check limit below its size)");
+      throw std::runtime_error(
+        "CHOLMOD: the " + step + " of a " + std::to_string(n) +
+        "-unknown matrix failed (status " + std::to_string(status) + ")");
     }
   } // namespace
 
@@ -110,7 +133,7 @@ namespace ddfem::solver
         data->matrix =
           cholmod_allocate_sparse(n, n, nnz, false, true, 1, CHOLMOD_REAL, &c);
         if (data->matrix == nullptr)
-          throw std::runtime_error("CHOLMOD: out of memory for the matrix");
+          throw_failure(c.status, "allocation", n);
         int        *columns = static_cast<int *>(data->matrix->p);
         int        *rows    = static_cast<int *>(data->matrix->i);
         std::size_t k       = 0;
@@ -125,8 +148,9 @@ namespace ddfem::solver
         data->factor = cholmod_analyze(data->matrix, &c);
         if (data->factor == nullptr)
           {
+            const int status = c.status;
             clear();
-            throw std::runtime_error("CHOLMOD: the analysis failed (memory?)");
+            throw_failure(status, "analysis", n);
           }
         // Supernodes store their blocks with the zeros that amalgamation
         // adds (xsize); a simplicial factor holds its nonzeros (lnz).
@@ -173,13 +197,9 @@ namespace ddfem::solver
       return false;
 
     cholmod_factorize(data->matrix, data->factor, &c);
-    // Errors are negative (out of memory, a factor too large for 32-bit
-    // indices); CHOLMOD_NOT_POSDEF is a warning.
+    // Errors are negative; CHOLMOD_NOT_POSDEF is a warning.
     if (c.status < CHOLMOD_OK)
-      throw std::runtime_error("CHOLMOD: the factorization of a " +
-                               std::to_string(n) +
-                               "-unknown matrix failed (status " +
-                               std::to_string(c.status) + "; out of memory?)");
+      throw_failure(c.status, "factorization", n);
     data->valid = (c.status == CHOLMOD_OK);
     return data->valid;
   }
@@ -262,7 +282,7 @@ namespace ddfem::solver
                         &data->y,
                         &data->e,
                         &c))
-      throw std::runtime_error("CHOLMOD: the solve failed (memory?)");
+      throw_failure(c.status, "solve", b.size());
     const double *values = static_cast<const double *>(data->x->x);
     std::copy(values, values + b.size(), x.begin());
   }
