@@ -69,11 +69,12 @@ namespace ddfem::dg
     prm.declare_entry(
       "Corotation iterations",
       "50",
-      Patterns::Integer(1, 10000),
+      Patterns::Integer(2, 10000),
       "Maximum fixed-point iterations (rotations from the last iterate, "
       "one linear solve each, the iterates relaxed by Aitken's factor) per "
       "load step of the corotated formulation; the run fails if they do "
-      "not reach the tolerance.");
+      "not reach the tolerance. At least 2: a step's first solve moves the "
+      "solution from the last step's, only a second can show it settled.");
     prm.declare_entry(
       "Corotation tolerance",
       "1e-8",

@@ -175,6 +175,11 @@ namespace ddfem::dg
   {
     const scene::BoundaryConditions &bc = scene.boundary_conditions;
     const bool weak = parameters.dirichlet == Parameters::Dirichlet::weak;
+    // Weak conditions hold where the continuous model holds.
+    if (weak)
+      bc.check_weak_supports(scene.grid.extent(),
+                             scene.grid.voxel_size(),
+                             QGauss<1>(parameters.degree + 1).point(0)[0]);
 
     // One pass over the cells evaluates the loads and Dirichlet data at the
     // assembly's points (the evaluations throw, naming the parameter, where

@@ -905,6 +905,7 @@ namespace ddfem::dg
     // Sparse Cholesky (CHOLMOD, with a fill-reducing ordering): its
     // symbolic analysis gives the size of the factor before any numerical
     // work.
+    // A factor too large for CHOLMOD's indices has infinitely many values.
     factor_values = cholesky.analyze(matrix);
     if (factor_values > parameters.definiteness_check_limit)
       return Definiteness::not_checked;
@@ -1014,19 +1015,24 @@ namespace ddfem::dg
       {
         assemble(eta, t);
         const Definiteness d = check_definiteness(check_factor);
-        std::ostringstream limit, values;
-        limit << parameters.definiteness_check_limit;
-        values << factor_values;
+        std::ostringstream size;
+        if (std::isinf(factor_values))
+          size << "more values than CHOLMOD's 32-bit indices count. Give a "
+                  "fixed DG/Penalty.";
+        else
+          size << factor_values
+               << " values, more than DG/Definiteness check limit = "
+               << parameters.definiteness_check_limit
+               << " (8 bytes each). Raise the limit or give a fixed "
+                  "DG/Penalty.";
         AssertThrow(
           d != Definiteness::not_checked,
           ExcMessage(
             "DG/Penalty = automatic checks positive definiteness by a sparse "
             "Cholesky factorization, but its factor for this system (" +
             std::to_string(dof_handler.n_dofs()) + " DoFs) stores " +
-            values.str() +
-            " values, more than DG/Definiteness check limit = " + limit.str() +
-            " (8 bytes each). Raise the limit or give a fixed DG/Penalty. "
-            "For the "
+            size.str() +
+            " For the "
             "penalty, take twice the value found automatically on a "
             "coarser grid of the same part: eq. 7 scales it with the "
             "cells, but the smallest stable value also depends on the "

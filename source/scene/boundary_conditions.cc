@@ -710,6 +710,54 @@ namespace ddfem::scene
 
 
 
+  void
+  BoundaryConditions::check_weak_supports(const Point<3> &extent,
+                                          const double    h,
+                                          const double    first) const
+  {
+    for (const Condition &condition : conditions)
+      if (!condition.constrained.empty() && !condition.region->is_face)
+        for (unsigned int d = 0; d < 3; ++d)
+          for (const bool upper : {false, true})
+            {
+              const Region &region = *condition.region;
+              const double  bound  = upper ? region.upper[d] : region.lower[d];
+              // Bounds outside the grid, or on its faces, hold nothing
+              // partly.
+              if (bound <= region.tolerance ||
+                  bound >= extent[d] - region.tolerance)
+                continue;
+              // The bound's place in its layer of voxels, mirrored for a
+              // lower bound: from the node plane it may be on (0) past the
+              // points of the layer it reaches into.
+              const double layer = std::floor(bound / h);
+              const double t =
+                upper ? bound / h - layer : 1 - (bound / h - layer);
+              const double      slack = region.tolerance / h;
+              const std::string axis(1, "xyz"[d]);
+              AssertThrow(
+                t < first - slack || t > 1 - slack,
+                ExcMessage(
+                  condition.where + " (" + condition.type + " on \"" +
+                  region.name + "\"): its " + axis + " bound " +
+                  format_number(bound) + " m reaches into the voxels from " +
+                  format_number(layer * h) + " to " +
+                  format_number((layer + 1) * h) + " m along " + axis +
+                  " past their first quadrature points. With DG/Dirichlet = "
+                  "weak a condition holds the quadrature points inside its "
+                  "region, so it would hold faces that cross those voxels, "
+                  "where the continuous model holds only the nodes on the "
+                  "plane at " +
+                  format_number((upper ? layer : layer + 1) * h) +
+                  " m. Move the bound to a node plane (" +
+                  format_number(layer * h) + " or " +
+                  format_number((layer + 1) * h) +
+                  " m), or use DG/Dirichlet = strong."));
+            }
+  }
+
+
+
   bool
   BoundaryConditions::has_traction() const
   {

@@ -150,6 +150,8 @@ namespace ddfem::solver
           {
             const int status = c.status;
             clear();
+            if (status == CHOLMOD_TOO_LARGE)
+              return std::numeric_limits<double>::infinity();
             throw_failure(status, "analysis", n);
           }
         // Supernodes store their blocks with the zeros that amalgamation
@@ -168,7 +170,8 @@ namespace ddfem::solver
     cholmod_common &c = data->common;
     const int       n = K.m();
     data->valid       = false;
-    analyze(K);
+    if (std::isinf(analyze(K)))
+      throw_failure(CHOLMOD_TOO_LARGE, "analysis", n);
     // The values go into the structure of the analyzed pattern: another
     // pattern would write past its end.
     const int  *columns = static_cast<const int *>(data->matrix->p);

@@ -129,14 +129,30 @@ main(int argc, char **argv)
            "");
   MultithreadInfo::set_thread_limit(1);
   // Not bad input but a corotated iteration that cannot converge (a 90
-  // degree turn in one load step with one iteration): a message, and
+  // degree turn in one load step with two iterations): a message, and
   // nothing written.
   run_case("corotated_not_converging",
            cantilever +
              "subsection Boundary conditions\n  subsection Condition 2\n"
              "    set Type = rotation\n    set Angle = 90\n  end\nend\n",
            "set Penalty = 10\nset Formulation = corotated\n"
-           "set Load steps = 1\nset Corotation iterations = 1\n");
+           "set Load steps = 1\nset Corotation iterations = 2\n");
+  // One iteration could not converge (a step's first solve moves the
+  // solution); the range says so before any setup.
+  run_case("one_corotation_iteration",
+           cantilever,
+           "set Formulation = corotated\nset Corotation iterations = 1\n");
+  // A weak condition on a box whose bound reaches into a layer of voxels
+  // past its first quadrature points (y = 0.015 m in voxels of 0.01 m)
+  // would hold faces across the layer, and take the body force off half
+  // its points, where CG and strong conditions hold the nodes at
+  // y <= 0.01 m. A bound short of the first points (0.0101 m, above) holds
+  // the plane, as the nodes are held.
+  run_case("weak_box_into_a_layer",
+           cantilever +
+             "subsection Boundary conditions\n  subsection Condition 1\n"
+             "    set Region = box -1 -1 -1 1 0.015 1\n  end\nend\n",
+           "set Penalty = 10\nset Dirichlet = weak\n");
   // A turn of 720 degrees in one load step would prescribe no motion.
   run_case("rotation_step_too_large",
            cantilever +

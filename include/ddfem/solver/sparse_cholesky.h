@@ -51,7 +51,9 @@ namespace ddfem::solver
      * Computes the ordering and the structure of L for the sparsity pattern
      * of @p K, unless they are held already, and returns the number of
      * values L will store (8 bytes each; the factorization's peak memory is
-     * larger). Throws std::runtime_error if CHOLMOD runs out of memory.
+     * larger): +infinity, and no structure held, if they are more than
+     * CHOLMOD's 32-bit indices count (about 2.1e9). Throws std::bad_alloc
+     * if CHOLMOD runs out of memory.
      */
     double
     analyze(const SparseMatrix<double> &K);
@@ -62,8 +64,9 @@ namespace ddfem::solver
      * them as the upper triangle of the transpose, the same matrix).
      * Returns false, and holds no factor, where @p K is not positive
      * definite (a pivot that is not positive) or has an entry that is not
-     * finite. Throws std::runtime_error if CHOLMOD fails otherwise (out of
-     * memory), ExcMessage if @p K's sparsity pattern is not the analyzed
+     * finite. Throws std::bad_alloc if CHOLMOD runs out of memory,
+     * std::runtime_error if it fails otherwise (a factor too large for its
+     * indices), ExcMessage if @p K's sparsity pattern is not the analyzed
      * one.
      */
     bool
