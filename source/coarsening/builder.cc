@@ -767,7 +767,10 @@ namespace ddfem::coarsening
     // A scene's blocks are required in the tables: each is then fitted as
     // it is. Tables that predate a level-1 entry or a block this build
     // needs (lazy mode) are built anew; they keep the blocks required
-    // before, and the fits of compositions they still represent.
+    // before, and the fits of compositions they still represent. A build
+    // for no scene (Scope = all) makes tables that require no block, which
+    // represent every block and so serve every later scene: it renews
+    // tables that earlier lazy runs made, and drops their blocks.
     bool new_tables = false;
     // Compression changes the level-1 models level 2 was sampled from.
     if (compressed_now)
@@ -779,7 +782,8 @@ namespace ddfem::coarsening
       {
         if (level2.empty() ||
             level2.settings.fingerprint() != hierarchy.fingerprint() ||
-            !level2.covers(database, wanted, block_keys))
+            !level2.covers(database, wanted, block_keys) ||
+            (scene_grids == nullptr && !level2.required_blocks().empty()))
           {
             Hierarchy  old  = std::move(level2);
             const bool keep = !old.empty() && old.settings.fingerprint() ==
@@ -791,9 +795,10 @@ namespace ddfem::coarsening
                 add_journaled(old, level2_journal, level2_fingerprint) > 0)
               database.save(database_file, &old);
             Journal::remove(level2_journal);
-            block_keys.insert(block_keys.end(),
-                              old.required_blocks().begin(),
-                              old.required_blocks().end());
+            if (scene_grids != nullptr)
+              block_keys.insert(block_keys.end(),
+                                old.required_blocks().begin(),
+                                old.required_blocks().end());
             level2 = Hierarchy();
             level2.build_tables(database, hierarchy, block_keys);
             if (keep)

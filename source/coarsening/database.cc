@@ -381,10 +381,16 @@ namespace ddfem::coarsening
     , entry_key_of(index.size(), -1)
     , symmetry_of(index.size(), 0)
   {
-    // At most 9 ids (Database::load checks files for it): 9^8 keys.
-    Assert(index.size() <=
-             std::size_t(std::numeric_limits<std::int32_t>::max()),
-           ExcInternalError());
+    // The tables index keys with 32-bit integers. The palettes and files
+    // ddfem reads have at most 9 ids (9^8 keys), which the checks of the
+    // scene and of Database::load ensure.
+    AssertThrow(index.size() <=
+                  std::size_t(std::numeric_limits<std::int32_t>::max()),
+                ExcMessage("A database of " + std::to_string(n_materials) +
+                           " materials" +
+                           (settings.with_void ? " and void" : "") +
+                           " has more combinations than its 32-bit tables "
+                           "index."));
   }
 
 

@@ -1188,6 +1188,39 @@ main()
                 << (extended.entries().size() > old.entries().size())
                 << ") and keeps the file's level 2: " << kept << std::endl;
     }
+    // A Scope = all build of both levels on a file that lazy runs made
+    // renews the tables to require no block (they kept the lazy runs'
+    // blocks): they then represent every block, and a new scene's lazy run
+    // fits nothing. (The build kept the 4 blocks before, and the new
+    // scene's renewed tables dropped 2 of the fits.)
+    {
+      std::filesystem::copy_file(
+        "lazy2.h5",
+        "lazy2_all.h5",
+        std::filesystem::copy_options::overwrite_existing);
+      std::ostringstream    log;
+      const DatabaseBuilder all =
+        builder("lazy2_all.h5", false, "all", 1, 0, 2);
+      Database db = all.open(palette(), log);
+      all.build(palette(), db, nullptr, log, false);
+      Hierarchy             complete, after;
+      const Database        built = Database::load("lazy2_all.h5", &complete);
+      const DatabaseBuilder lazy =
+        builder("lazy2_all.h5", false, "scene", 1, 0, 2);
+      Database                            again = lazy.open(palette(), log);
+      const std::vector<scene::VoxelGrid> third = {random_grid(3)};
+      lazy.build(palette(), again, &third, log, false);
+      const Database reread = Database::load("lazy2_all.h5", &after);
+      std::cout << "  a Scope = all build over lazy tables: blocks required "
+                << complete.required_blocks().size()
+                << "; a new scene's lazy run then fits "
+                << static_cast<long>(reread.entries().size()) -
+                     static_cast<long>(built.entries().size())
+                << " level-1 and "
+                << static_cast<long>(after.entries.size()) -
+                     static_cast<long>(complete.entries.size())
+                << " level-2 entries" << std::endl;
+    }
     // A scene with more distinct parts than the budgets allow: the build
     // says how many blocks share another composition's fit.
     {
