@@ -228,12 +228,29 @@ namespace ddfem::dg
       }
     catch (const ExceptionBase &e)
       {
-        AssertThrow(weak == false,
-                    ExcMessage(message_of(e) +
-                               " With DG/Dirichlet = weak, conditions act at "
-                               "the quadrature points of faces: use "
-                               "regions that cover faces, or "
-                               "DG/Dirichlet = strong."));
+        // Where the nodes would do, the quadrature points are the cause.
+        if (weak)
+          {
+            std::vector<Point<3>> nodes;
+            for (const auto &cell : triangulation.active_cell_iterators())
+              for (const unsigned int v : cell->vertex_indices())
+                nodes.push_back(cell->vertex(v));
+            bool nodes_do = true;
+            try
+              {
+                bc.check_regions(nodes, faces);
+              }
+            catch (const ExceptionBase &)
+              {
+                nodes_do = false;
+              }
+            AssertThrow(!nodes_do,
+                        ExcMessage(message_of(e) +
+                                   " With DG/Dirichlet = weak, conditions "
+                                   "act at the quadrature points of faces: "
+                                   "use regions that cover faces, or "
+                                   "DG/Dirichlet = strong."));
+          }
         throw;
       }
     bc.check_effects(points, faces);

@@ -148,6 +148,14 @@ main(int argc, char **argv)
   // its points, where CG and strong conditions hold the nodes at
   // y <= 0.01 m. A bound short of the first points (0.0101 m, above) holds
   // the plane, as the nodes are held.
+  // A load region that misses the solid misses it for any Dirichlet
+  // setting: no word about weak conditions (the point region above has
+  // one, as nodes would hold it).
+  run_case("weak_load_region_misses",
+           cantilever +
+             "subsection Boundary conditions\n  subsection Condition 2\n"
+             "    set Region = box 0 0.05 0 0.02 0.06 0.02\n  end\nend\n",
+           "set Penalty = 10\nset Dirichlet = weak\n");
   run_case("weak_box_into_a_layer",
            cantilever +
              "subsection Boundary conditions\n  subsection Condition 1\n"
