@@ -79,7 +79,8 @@ namespace ddfem::report
   /**
    * Writes the states of a solve as VTU files, one per load step, and a
    * .pvd record over them: displacement, material id, det F and the von
-   * Mises Cauchy stress (cell averages) and the largest principal strain
+   * Mises Cauchy stress (averaged over each cell's quadrature points with
+   * the rule's weights) and the largest principal strain
    * (each cell's largest material::principal_strain, max_i |lambda_i - 1|,
    * which is positive under compression too). Declared in the prm subsection
    * "Output" next to the output directory.

@@ -156,9 +156,11 @@ namespace ddfem::solver
     /// Per-cell results for output.
     struct CellFields
     {
-      /// Average det F of each active cell.
+      /// det F of each active cell, averaged over its quadrature points
+      /// with the rule's weights (at the points of a coarse rule, not the
+      /// volume average).
       Vector<double> J;
-      /// Average von Mises Cauchy stress of each active cell (Pa).
+      /// von Mises Cauchy stress of each active cell (Pa), averaged as J.
       Vector<double> von_mises;
       /// Largest material::principal_strain at any quadrature point of each
       /// active cell.
