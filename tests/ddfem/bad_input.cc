@@ -733,11 +733,11 @@ main(int argc, char **argv)
   {
     std::ofstream cut("cut_between_facets.stl");
     cut << "solid two parts\n";
-    for (const auto &[a, b, c] :
-         std::vector<std::array<const char *, 3>>{{"0 0 0", "0 1 0", "1 0 0"},
-                                                  {"0 0 0", "1 0 0", "0 0 1"},
-                                                  {"0 0 0", "0 0 1", "0 1 0"},
-                                                  {"1 0 0", "0 1 0", "0 0 1"}})
+    for (const auto &[a, b, c] : std::vector<std::array<const char *, 3>>{
+           {{"0 0 0", "0 1 0", "1 0 0"}},
+           {{"0 0 0", "1 0 0", "0 0 1"}},
+           {{"0 0 0", "0 0 1", "0 1 0"}},
+           {{"1 0 0", "0 1 0", "0 0 1"}}})
       cut << "facet normal 0 0 0\nouter loop\nvertex " << a << "\nvertex " << b
           << "\nvertex " << c << "\nendloop\nendfacet\n";
   }
