@@ -177,9 +177,14 @@ namespace ddfem::dg
     const bool weak = parameters.dirichlet == Parameters::Dirichlet::weak;
     // Weak conditions hold where the continuous model holds.
     if (weak)
-      bc.check_weak_supports(scene.grid.extent(),
-                             scene.grid.voxel_size(),
-                             QGauss<1>(parameters.degree + 1).point(0)[0]);
+      {
+        std::vector<Point<3>> centers;
+        for (const auto &cell : triangulation.active_cell_iterators())
+          centers.push_back(cell->center());
+        bc.check_weak_supports(centers,
+                               scene.grid.voxel_size(),
+                               QGauss<1>(parameters.degree + 1).point(0)[0]);
+      }
 
     // One pass over the cells evaluates the loads and Dirichlet data at the
     // assembly's points (the evaluations throw, naming the parameter, where

@@ -711,9 +711,10 @@ namespace ddfem::scene
 
 
   void
-  BoundaryConditions::check_weak_supports(const Point<3> &extent,
-                                          const double    h,
-                                          const double    first) const
+  BoundaryConditions::check_weak_supports(
+    const std::vector<Point<3>> &voxel_centers,
+    const double                 h,
+    const double                 first) const
   {
     for (const Condition &condition : conditions)
       if (!condition.constrained.empty() && !condition.region->is_face)
@@ -722,32 +723,48 @@ namespace ddfem::scene
             {
               const Region &region = *condition.region;
               const double  bound  = upper ? region.upper[d] : region.lower[d];
-              // Bounds outside the grid, or on its faces, hold nothing
-              // partly.
-              if (bound <= region.tolerance ||
-                  bound >= extent[d] - region.tolerance)
-                continue;
               // The bound's place in its layer of voxels, mirrored for a
               // lower bound: from the node plane it may be on (0) past the
               // points of the layer it reaches into.
               const double layer = std::floor(bound / h);
               const double t =
                 upper ? bound / h - layer : 1 - (bound / h - layer);
-              const double      slack = region.tolerance / h;
+              const double slack = region.tolerance / h;
+              if (t < first - slack || t > 1 - slack)
+                continue;
+              // Only a solid voxel of the layer that the box reaches
+              // across the other two directions (its faces on the box's
+              // sides included) is held in part.
+              const auto in_part = [&](const Point<3> &c) {
+                if (std::abs(c[d] - (layer + 0.5) * h) > 0.25 * h)
+                  return false;
+                for (unsigned int e = 0; e < 3; ++e)
+                  if (e != d &&
+                      (c[e] + 0.5 * h < region.lower[e] - region.tolerance ||
+                       c[e] - 0.5 * h > region.upper[e] + region.tolerance))
+                    return false;
+                return true;
+              };
+              const auto held = std::find_if(voxel_centers.begin(),
+                                             voxel_centers.end(),
+                                             in_part);
+              if (held == voxel_centers.end())
+                continue;
               const std::string axis(1, "xyz"[d]);
               AssertThrow(
-                t < first - slack || t > 1 - slack,
+                false,
                 ExcMessage(
                   condition.where + " (" + condition.type + " on \"" +
                   region.name + "\"): its " + axis + " bound " +
                   format_number(bound) + " m reaches into the voxels from " +
                   format_number(layer * h) + " to " +
                   format_number((layer + 1) * h) + " m along " + axis +
-                  " past their first quadrature points. With DG/Dirichlet = "
-                  "weak a condition holds the quadrature points inside its "
-                  "region, so it would hold faces that cross those voxels, "
-                  "where the continuous model holds only the nodes on the "
-                  "plane at " +
+                  " past their first quadrature points (the voxel at " +
+                  format_point(*held) +
+                  " m, for one). With DG/Dirichlet = weak a condition holds "
+                  "the quadrature points inside its region, so it would "
+                  "hold faces that cross those voxels, where the continuous "
+                  "model holds only the nodes on the plane at " +
                   format_number((upper ? layer : layer + 1) * h) +
                   " m. Move the bound to a node plane (" +
                   format_number(layer * h) + " or " +

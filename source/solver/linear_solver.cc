@@ -370,11 +370,14 @@ namespace ddfem::solver
         if (requested == "auto" && x.size() <= fallback_limit)
           return failure.last_step +
                  fall_back_to_direct(K, x, b, direct_solves_after_cg_failure);
-        throw Failure("CG did not converge in Linear solver/Maximum "
-                      "iterations = " +
-                        std::to_string(failure.last_step) +
-                        " (an indefinite or ill-conditioned tangent?)",
-                      failure.last_step);
+        throw Failure(
+          failure.last_step < max_iterations ?
+            "CG stopped at iteration " + std::to_string(failure.last_step) +
+              " on a residual that is not finite" :
+            "CG did not converge in Linear solver/Maximum iterations = " +
+              std::to_string(max_iterations) +
+              " (an indefinite or ill-conditioned tangent?)",
+          failure.last_step);
       }
     if (rebuild)
       iterations_after_setup = std::max(1u, last_iterations);

@@ -36,8 +36,7 @@ namespace ddfem::solver
         throw std::runtime_error(
           "CHOLMOD: the Cholesky factor of a " + std::to_string(n) +
           "-unknown matrix has more entries than its 32-bit indices "
-          "count; use Linear solver/Type = cg-amg, which needs no factor (a "
-          "DG system: DG/Definiteness check limit below its size)");
+          "count; use Linear solver/Type = cg-amg, which needs no factor");
       throw std::runtime_error(
         "CHOLMOD: the " + step + " of a " + std::to_string(n) +
         "-unknown matrix failed (status " + std::to_string(status) + ")");

@@ -842,8 +842,12 @@ namespace ddfem::solver
           }
         if (!accepted)
           {
-            newton_failure = "the line search found no step along the Newton "
-                             "direction that lowers the energy";
+            newton_failure =
+              on_boundary_values ?
+                "the line search found no step along its direction that "
+                "lowers the energy" :
+                "every step toward the boundary values, down to 2^-29 of "
+                "it, made a cell inadmissible (det F <= 0)";
             pcout << ", line search failed" << std::endl;
             return false;
           }

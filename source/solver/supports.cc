@@ -171,6 +171,7 @@ namespace ddfem::solver
 
     cholmod_common common;
     cholmod_l_start(&common);
+    common.print             = 0;
     cholmod_triplet *triplet = cholmod_l_allocate_triplet(
       conditions.size(), n_unknowns, n_entries, 0, CHOLMOD_REAL, &common);
     SuiteSparse_long rank = -1;
@@ -211,6 +212,8 @@ namespace ddfem::solver
       }
     const int status = common.status;
     cholmod_l_finish(&common);
+    if (rank < 0 && status == CHOLMOD_OUT_OF_MEMORY)
+      throw std::bad_alloc();
     AssertThrow(rank >= 0,
                 ExcMessage("SuiteSparseQR could not factorize the " +
                            std::to_string(conditions.size()) + " x " +
@@ -220,7 +223,7 @@ namespace ddfem::solver
                            std::to_string(n_parts) +
                            " parts that share only edges or corners "
                            "(CHOLMOD status " +
-                           std::to_string(status) + ", out of memory?)."));
+                           std::to_string(status) + ")."));
     return n_unknowns - static_cast<unsigned int>(rank);
   }
 

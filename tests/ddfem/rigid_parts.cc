@@ -252,4 +252,5 @@ main()
   report_checkerboard(41, 1, {20});
   report_checkerboard(41, 1, {20, 30});
   report_checkerboard(21, 2, {10});
+  report_checkerboard(41, 2, {20});
 }

@@ -161,6 +161,16 @@ main(int argc, char **argv)
              "subsection Boundary conditions\n  subsection Condition 1\n"
              "    set Region = box -1 -1 -1 1 0.015 1\n  end\nend\n",
            "set Penalty = 10\nset Dirichlet = weak\n");
+  // The same bound in a layer of void voxels holds nothing there: the box
+  // reaches x = 0.035 m, where the solid ends at 0.02 m. The run goes on.
+  run_case("weak_box_into_void",
+           cantilever +
+             "subsection Geometry\n  set Grid size = 4, 4, 2\nend\n"
+             "subsection Layout\n  set Shapes = box 0.02 0 0 0.04 0.04 0.02 "
+             ": 0\nend\n"
+             "subsection Boundary conditions\n  subsection Condition 1\n"
+             "    set Region = box -1 -1 -1 0.035 0.001 1\n  end\nend\n",
+           "set Penalty = 10\nset Dirichlet = weak\n");
   // A turn of 720 degrees in one load step would prescribe no motion.
   run_case("rotation_step_too_large",
            cantilever +

@@ -182,21 +182,22 @@ namespace ddfem::scene
 
     /**
      * For weak Dirichlet conditions (DG/Dirichlet = weak), which hold the
-     * quadrature points inside their regions, in a grid of voxels of size
-     * @p h with the far corner @p extent: throws ExcMessage naming the
+     * quadrature points inside their regions, on the solid voxels of size
+     * @p h centred at @p voxel_centers: throws ExcMessage naming the
      * condition and the bound to move if a box region's bound reaches
      * into a layer of voxels past its first quadrature points, whose
      * abscissa in a voxel is @p first (a fraction of @p h, from the side
-     * of the box). Such a box holds part or all of the faces that cross
-     * the layer, and takes the body force off its points, where a model
-     * with conditions at nodes holds only the nodes on the layer's near
-     * plane. A bound on a node plane, or short of the first points, holds
-     * that plane, as nodes do.
+     * of the box), where a solid voxel of the layer meets the box. Such a
+     * box holds part or all of the faces that cross the layer, and takes
+     * the body force off its points, where a model with conditions at
+     * nodes holds only the nodes on the layer's near plane. A bound on a
+     * node plane, or short of the first points, holds that plane, as
+     * nodes do.
      */
     void
-    check_weak_supports(const Point<3> &extent,
-                        const double    h,
-                        const double    first) const;
+    check_weak_supports(const std::vector<Point<3>> &voxel_centers,
+                        const double                 h,
+                        const double                 first) const;
 
     /// Whether any traction or pressure condition is given.
     bool

@@ -119,8 +119,8 @@ namespace ddfem::solver
      * eps times the largest column norm, counts as dependent). The
      * motions of hinged voxels are free exactly, up to round-off, so
      * this counts those of thousands of parts at the cost of a sparse
-     * factorization. Throws ExcMessage if the factorization fails (out
-     * of memory).
+     * factorization. Throws std::bad_alloc if SuiteSparseQR runs out of
+     * memory, ExcMessage if it fails otherwise.
      */
     unsigned int
     n_free_motions() const;
