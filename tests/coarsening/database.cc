@@ -87,6 +87,22 @@ namespace
     return db;
   }
 
+  /// Both levels of palette() without void built into @p file with Scope
+  /// @p scope, for the blocks of @p grids (no scene if null); the second
+  /// level in @p level2 if given.
+  Database
+  build_levels(const std::string                   &file,
+               const std::string                   &scope,
+               const std::vector<scene::VoxelGrid> *grids,
+               Hierarchy                           *level2 = nullptr)
+  {
+    std::ostringstream    log;
+    const DatabaseBuilder b  = builder(file, false, scope, 1, 0, 2);
+    Database              db = b.open(palette(), log);
+    b.build(palette(), db, grids, log, false, level2);
+    return db;
+  }
+
   bool
   same_points(const Metamaterial &a, const Metamaterial &b)
   {
@@ -999,13 +1015,10 @@ main()
         "level2.h5",
         "level2_scene.h5",
         std::filesystem::copy_options::overwrite_existing);
-      std::ostringstream    scene_log;
-      const DatabaseBuilder lazy =
-        builder("level2_scene.h5", false, "scene", 1, 0, 2);
-      Database  scene_db = lazy.open(palette(), scene_log);
-      Hierarchy scene_level2;
+      Hierarchy                           scene_level2;
       const std::vector<scene::VoxelGrid> grids = {grid};
-      lazy.build(palette(), scene_db, &grids, scene_log, false, &scene_level2);
+      const Database                      scene_db =
+        build_levels("level2_scene.h5", "scene", &grids, &scene_level2);
       Hierarchy reread;
       Database::load("level2_scene.h5", &reread);
       std::cout << "a scene built on the complete file: its level-2 fits "
@@ -1198,18 +1211,11 @@ main()
         "lazy2.h5",
         "lazy2_all.h5",
         std::filesystem::copy_options::overwrite_existing);
-      std::ostringstream    log;
-      const DatabaseBuilder all =
-        builder("lazy2_all.h5", false, "all", 1, 0, 2);
-      Database db = all.open(palette(), log);
-      all.build(palette(), db, nullptr, log, false);
-      Hierarchy             complete, after;
-      const Database        built = Database::load("lazy2_all.h5", &complete);
-      const DatabaseBuilder lazy =
-        builder("lazy2_all.h5", false, "scene", 1, 0, 2);
-      Database                            again = lazy.open(palette(), log);
+      build_levels("lazy2_all.h5", "all", nullptr);
+      Hierarchy      complete, after;
+      const Database built = Database::load("lazy2_all.h5", &complete);
       const std::vector<scene::VoxelGrid> third = {random_grid(3)};
-      lazy.build(palette(), again, &third, log, false);
+      build_levels("lazy2_all.h5", "scene", &third);
       const Database reread = Database::load("lazy2_all.h5", &after);
       std::cout << "  a Scope = all build over lazy tables: blocks required "
                 << complete.required_blocks().size()
