@@ -1,0 +1,26 @@
+// The coarse models on the fine solver's 50 % compression of a layered
+// cube: at level 1 (also with the level-1 point offset 0.45, which softens
+// the element in bending) and a larger cube at level 2, each solved with
+// the ddfem, naive and average coarse models (the metamaterials fitted
+// lazily into a fresh database per case and level-1 offset).
+//
+// Every solve must converge with det F > 0 everywhere. The coarse models'
+// stiff and extreme cases are split over coarse_contrast.cc,
+// coarse_incompressible.cc, coarse_compression.cc and coarse_twist.cc, so
+// that each test stays well inside the time limit in a Debug build, where
+// the lazy fits take minutes.
+
+#include "coarse_cases.h"
+#include "layered_cube.h"
+
+int
+main(int argc, char **argv)
+{
+  dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  ddfem::testing::solve_coarse_cases(
+    {{"compression_50",
+      ddfem::testing::compressed_cube(4, 0.5),
+      {1},
+      {"default", "0.45"}},
+     {"compression_50_8", ddfem::testing::compressed_cube(8, 0.5), {2}}});
+}
