@@ -115,8 +115,13 @@ namespace ddfem::coarsening::hdf5
     return H5T_NATIVE_UINT8;
   }
 
-  /// Writes @p data as the dataset @p name of shape @p dims, creating
-  /// intermediate groups.
+  /**
+   * Writes @p data as the dataset @p name of shape @p dims, creating
+   * intermediate groups. A dataset with elements is stored in chunks of at
+   * most 1 MiB (whole rows), each with a Fletcher32 checksum, which HDF5
+   * verifies whenever it reads the chunk: a flipped bit in a parameter or a
+   * table fails the read instead of loading as another valid number.
+   */
   template <typename T>
   void
   write_dataset(const hid_t                 file,
@@ -128,14 +133,24 @@ namespace ddfem::coarsening::hdf5
                        H5Sclose);
     const Handle lcpl(H5Pcreate(H5P_LINK_CREATE), H5Pclose);
     H5Pset_create_intermediate_group(lcpl, 1);
-    const Handle set(H5Dcreate2(file,
-                                name.c_str(),
-                                native_type<T>(),
-                                space,
-                                lcpl,
-                                H5P_DEFAULT,
-                                H5P_DEFAULT),
-                     H5Dclose);
+    const Handle dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
+    if (!data.empty())
+      {
+        std::vector<hsize_t> chunk = dims;
+        hsize_t              row   = sizeof(T);
+        for (std::size_t d = 1; d < dims.size(); ++d)
+          row *= dims[d];
+        chunk[0] = std::clamp<hsize_t>((hsize_t(1) << 20) / row, 1, dims[0]);
+        AssertThrow(H5Pset_chunk(dcpl, chunk.size(), chunk.data()) >= 0 &&
+                      H5Pset_fletcher32(dcpl) >= 0,
+                    ExcMessage("Could not set up the checksums of the "
+                               "dataset " +
+                               name + "."));
+      }
+    const Handle set(
+      H5Dcreate2(
+        file, name.c_str(), native_type<T>(), space, lcpl, dcpl, H5P_DEFAULT),
+      H5Dclose);
     AssertThrow(set.valid() && (data.empty() || H5Dwrite(set,
                                                          native_type<T>(),
                                                          H5S_ALL,
@@ -172,14 +187,25 @@ namespace ddfem::coarsening::hdf5
           "has the dataset " + name + " with an unreadable shape");
     // The elements the dataset stores bound those of its shape, whose
     // product is checked factor by factor so that it cannot overflow. A
-    // filtered dataset may be compressed (h5repack -f GZIP): deflate stores
-    // at least one byte per 1032.
+    // dataset with a filter other than the checksum may be compressed
+    // (h5repack -f GZIP): deflate stores at least one byte per 1032.
     const Handle type(H5Dget_type(set), H5Tclose);
     const Handle creation(H5Dget_create_plist(set), H5Pclose);
-    const bool   filtered   = creation.valid() && H5Pget_nfilters(creation) > 0;
-    const std::size_t size  = type.valid() ? H5Tget_size(type) : 0;
-    const hsize_t     bytes = H5Dget_storage_size(set);
-    const hsize_t     most  = std::numeric_limits<hsize_t>::max();
+    const int    n_filters = creation.valid() ? H5Pget_nfilters(creation) : 0;
+    bool         filtered  = false;
+    for (int f = 0; f < n_filters; ++f)
+      {
+        unsigned int flags    = 0;
+        std::size_t  n_values = 0;
+        filtered =
+          filtered ||
+          H5Pget_filter2(
+            creation, f, &flags, &n_values, nullptr, 0, nullptr, nullptr) !=
+            H5Z_FILTER_FLETCHER32;
+      }
+    const std::size_t size   = type.valid() ? H5Tget_size(type) : 0;
+    const hsize_t     bytes  = H5Dget_storage_size(set);
+    const hsize_t     most   = std::numeric_limits<hsize_t>::max();
     hsize_t           stored = size > 0 ? bytes / size : 0;
     if (filtered)
       stored = stored > most / 1032 ? most : 1032 * stored;
@@ -221,7 +247,8 @@ namespace ddfem::coarsening::hdf5
                             H5S_ALL,
                             H5P_DEFAULT,
                             data.data()) >= 0,
-          "cannot read the dataset " + name + " (truncated file?)");
+          "cannot read the dataset " + name +
+            " (a truncated file, or corrupt data that fail their checksum?)");
     return data;
   }
 

@@ -1499,6 +1499,32 @@ main()
                          });
     expect_error("negative mu", [] { Database::load("negative_mu.h5"); });
     {
+      // A flipped bit in a stored shear modulus: still a valid, physical
+      // number (it changes by about 1e-14 of itself), caught by the checksum
+      // of the dataset's chunk.
+      std::filesystem::copy_file(
+        "small.h5",
+        "flipped_bit.h5",
+        std::filesystem::copy_options::overwrite_existing);
+      haddr_t     address = HADDR_UNDEF;
+      const hid_t file = H5Fopen("flipped_bit.h5", H5F_ACC_RDONLY, H5P_DEFAULT);
+      const hid_t set  = H5Dopen2(file, "entries/parameters", H5P_DEFAULT);
+      const hsize_t origin[3] = {0, 0, 0};
+      unsigned int  mask      = 0;
+      hsize_t       size      = 0;
+      H5Dget_chunk_info_by_coord(set, origin, &mask, &address, &size);
+      H5Dclose(set);
+      H5Fclose(file);
+      std::fstream data("flipped_bit.h5",
+                        std::ios::in | std::ios::out | std::ios::binary);
+      data.seekg(address + 1); // entry 0, point 0, mu: its second lowest byte
+      const char byte = data.get() ^ 0x01;
+      data.seekp(address + 1);
+      data.put(byte);
+    }
+    expect_error("a flipped bit in the parameters",
+                 [] { Database::load("flipped_bit.h5"); });
+    {
       // A dataset whose header claims far more elements than it stores.
       std::filesystem::copy_file(
         "small.h5",
