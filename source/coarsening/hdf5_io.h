@@ -117,10 +117,12 @@ namespace ddfem::coarsening::hdf5
 
   /**
    * Writes @p data as the dataset @p name of shape @p dims, creating
-   * intermediate groups. A dataset with elements is stored in chunks of at
-   * most 1 MiB (whole rows), each with a Fletcher32 checksum, which HDF5
-   * verifies whenever it reads the chunk: a flipped bit in a parameter or a
-   * table fails the read instead of loading as another valid number.
+   * intermediate groups. A dataset with elements is stored in chunks of
+   * whole rows, about 1 MiB each, each with a Fletcher32 checksum, which
+   * HDF5 verifies whenever it reads the chunk: a flipped bit in a parameter
+   * or a table fails the read instead of loading as another valid number.
+   * The dataset is closed here, which writes its chunks, so that a write
+   * that fails (a full disk) is an error naming it.
    */
   template <typename T>
   void
@@ -133,8 +135,13 @@ namespace ddfem::coarsening::hdf5
                        H5Sclose);
     const Handle lcpl(H5Pcreate(H5P_LINK_CREATE), H5Pclose);
     H5Pset_create_intermediate_group(lcpl, 1);
+    std::size_t n_elements = 1;
+    for (const hsize_t d : dims)
+      n_elements *= d;
+    Assert(n_elements == data.size(),
+           ExcDimensionMismatch(n_elements, data.size()));
     const Handle dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
-    if (!data.empty())
+    if (!dims.empty() && n_elements > 0)
       {
         std::vector<hsize_t> chunk = dims;
         hsize_t              row   = sizeof(T);
@@ -147,16 +154,18 @@ namespace ddfem::coarsening::hdf5
                                "dataset " +
                                name + "."));
       }
-    const Handle set(
+    Handle set(
       H5Dcreate2(
         file, name.c_str(), native_type<T>(), space, lcpl, dcpl, H5P_DEFAULT),
       H5Dclose);
-    AssertThrow(set.valid() && (data.empty() || H5Dwrite(set,
-                                                         native_type<T>(),
-                                                         H5S_ALL,
-                                                         H5S_ALL,
-                                                         H5P_DEFAULT,
-                                                         data.data()) >= 0),
+    AssertThrow(set.valid() &&
+                  (data.empty() || H5Dwrite(set,
+                                            native_type<T>(),
+                                            H5S_ALL,
+                                            H5S_ALL,
+                                            H5P_DEFAULT,
+                                            data.data()) >= 0) &&
+                  set.close_now(),
                 ExcMessage("Could not write the dataset " + name + "."));
   }
 
