@@ -7,6 +7,13 @@
 
 #include "../tests.h"
 
+// The driver of the coarse models' stiff and extreme cases. They are split
+// over coarse_contrast.cc, coarse_incompressible.cc, coarse_compression.cc
+// and coarse_twist.cc, so that each test stays well inside ctest's time
+// limit in a Debug build, where the lazy fits take minutes. A solve that
+// does not converge, or ends with det F <= 0 at a quadrature point or a
+// vertex, prints its error and a nonzero exit status.
+
 namespace ddfem::testing
 {
   /**

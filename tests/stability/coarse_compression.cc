@@ -3,12 +3,7 @@
 // the element in bending) and a larger cube at level 2, each solved with
 // the ddfem, naive and average coarse models (the metamaterials fitted
 // lazily into a fresh database per case and level-1 offset).
-//
-// Every solve must converge with det F > 0 everywhere. The coarse models'
-// stiff and extreme cases are split over coarse_contrast.cc,
-// coarse_incompressible.cc, coarse_compression.cc and coarse_twist.cc, so
-// that each test stays well inside the time limit in a Debug build, where
-// the lazy fits take minutes.
+// Every solve must converge with det F > 0 everywhere (coarse_cases.h).
 
 #include "coarse_cases.h"
 #include "layered_cube.h"

@@ -4,12 +4,7 @@
 // and at level 2, whose default point offset softens the element in bending
 // (the metamaterials fitted lazily into a fresh database per level-1
 // offset).
-//
-// Every solve must converge with det F > 0 everywhere. The coarse models'
-// stiff and extreme cases are split over coarse_contrast.cc,
-// coarse_incompressible.cc, coarse_compression.cc and coarse_twist.cc, so
-// that each test stays well inside the time limit in a Debug build, where
-// the lazy fits take minutes.
+// Every solve must converge with det F > 0 everywhere (coarse_cases.h).
 
 #include "coarse_cases.h"
 
