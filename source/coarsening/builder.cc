@@ -399,7 +399,7 @@ namespace ddfem::coarsening
     const FitResult       fit =
       coarse.fit(fitting.regularization, fitting.spring_regularization);
     entry.material = fit.material;
-    record_fit(fit, samples, entry);
+    record_fit(fit, entry);
     // The child fit solves the same problem where the offsets agree.
     entry.child_material = element.point_offset() == child_point_offset ?
                              coarse.parameters(fitting.child_regularization) :
@@ -448,28 +448,21 @@ namespace ddfem::coarsening
     const FitResult fit = fit_metamaterial(element, samples, prior, fitting);
     entry.key           = r;
     entry.material      = fit.material;
-    record_fit(fit, samples, entry);
+    record_fit(fit, entry);
     return entry;
   }
 
 
 
   void
-  DatabaseBuilder::record_fit(const FitResult           &fit,
-                              const std::vector<Sample> &samples,
-                              Entry                     &entry)
+  DatabaseBuilder::record_fit(const FitResult &fit, Entry &entry)
   {
     entry.median_error = fit.median_error;
     entry.max_error    = fit.max_error;
     entry.n_samples    = fit.n_fit + fit.n_held_out;
     entry.n_dropped += fit.n_rejected;
-    entry.min_strain = samples.empty() ? 0 : samples[0].strain;
-    entry.max_strain = entry.min_strain;
-    for (const Sample &s : samples)
-      {
-        entry.min_strain = std::min(entry.min_strain, s.strain);
-        entry.max_strain = std::max(entry.max_strain, s.strain);
-      }
+    entry.min_strain = fit.min_strain;
+    entry.max_strain = fit.max_strain;
   }
 
 

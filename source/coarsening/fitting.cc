@@ -306,6 +306,10 @@ namespace ddfem::coarsening
             ++n_rejected;
             continue;
           }
+        min_strain = held_out.empty() && fitted.empty() ?
+                       s.strain :
+                       std::min(min_strain, s.strain);
+        max_strain = std::max(max_strain, s.strain);
         if (settings.held_out_every > 0 &&
             s.pattern % settings.held_out_every == settings.held_out_every - 1)
           {
@@ -433,6 +437,8 @@ namespace ddfem::coarsening
     result.n_fit      = n_fit;
     result.n_held_out = n_held_out;
     result.n_rejected = n_rejected;
+    result.min_strain = min_strain;
+    result.max_strain = max_strain;
     std::vector<double> errors =
       relative_energy_errors(element, result.material, error_samples);
     if (!errors.empty())

@@ -180,10 +180,14 @@ main()
 
     // Two corner motions that invert the element (every corner through the
     // centre, det F = -1), one of a fitted pattern and one of a held-out
-    // pattern, are counted and change neither the fit nor its errors.
+    // pattern, are counted and change neither the fit nor its errors, nor
+    // the strain range (here a label of each sample).
     settings.held_out_every = 5;
     for (unsigned int s = 0; s < samples.size(); ++s)
-      samples[s].pattern = s;
+      {
+        samples[s].pattern = s;
+        samples[s].strain  = 0.01 * (1 + s % 7);
+      }
     const FitResult clean = fit_metamaterial(element, samples, prior, settings);
     std::vector<Sample> with_inverted = samples;
     for (const unsigned int pattern : {3u, 4u})
@@ -191,6 +195,7 @@ main()
         Sample inverted;
         inverted.pattern = pattern;
         inverted.energy  = samples[pattern].energy;
+        inverted.strain  = 1;
         for (unsigned int k = 0; k < 8; ++k)
           for (unsigned int d = 0; d < 3; ++d)
             inverted.corners[k][d] = ((k >> d) & 1) ? -1. : 1.;
@@ -205,6 +210,10 @@ main()
               << "); the same median and largest error: "
               << (dirty.median_error == clean.median_error &&
                   dirty.max_error == clean.max_error)
+              << ", strain range " << clean.min_strain << " to "
+              << clean.max_strain << ", the same: "
+              << (dirty.min_strain == clean.min_strain &&
+                  dirty.max_strain == clean.max_strain)
               << std::endl;
     testing::check_below("  parameter difference to the fit without them",
                          parameter_difference(dirty.material, clean.material),
@@ -214,10 +223,14 @@ main()
     std::vector<Sample> with_infinite = samples;
     with_infinite.push_back(samples[3]);
     with_infinite.back().energy = std::numeric_limits<double>::infinity();
+    with_infinite.back().strain = 1;
     const FitResult infinite =
       fit_metamaterial(element, with_infinite, prior, settings);
     std::cout << "with a sample of infinite energy: rejected "
-              << infinite.n_rejected << std::endl;
+              << infinite.n_rejected << ", the same strain range: "
+              << (infinite.min_strain == clean.min_strain &&
+                  infinite.max_strain == clean.max_strain)
+              << std::endl;
     testing::check_below("  parameter difference to the fit without it",
                          parameter_difference(infinite.material,
                                               clean.material),

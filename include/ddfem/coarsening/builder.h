@@ -217,11 +217,10 @@ namespace ddfem::coarsening
 
     /// Copies a fit's statistics into @p entry, whose n_dropped counts the
     /// sampler's failed solves: the samples the fit left out (the coarse
-    /// element inverts under them) join them.
+    /// element inverts under them) join them, and count in neither the
+    /// sample count nor the strain range.
     static void
-    record_fit(const FitResult           &fit,
-               const std::vector<Sample> &samples,
-               Entry                     &entry);
+    record_fit(const FitResult &fit, Entry &entry);
 
     /// The absolute path of the directory that holds the database file.
     std::string

@@ -56,7 +56,7 @@ namespace ddfem::coarsening
     Metamaterial child_material;
     /// Median and largest relative energy error on held-out samples.
     double median_error = 0, max_error = 0;
-    /// Range of the samples' largest principal stretch deviation.
+    /// Range of the kept samples' largest principal stretch deviation.
     double min_strain = 0, max_strain = 0;
     /// Samples kept (fitted or held out) and dropped (failed solves, or
     /// the coarse element inverts under their corner motion).

@@ -66,6 +66,9 @@ namespace ddfem::coarsening
     /// rejected from either because their energy is not finite and positive
     /// or the coarse element inverts (det F <= 0) under their corner motion.
     unsigned int n_fit = 0, n_held_out = 0, n_rejected = 0;
+    /// Smallest and largest Sample::strain of the samples fitted or held
+    /// out (0 if there are none); rejected samples do not count.
+    double min_strain = 0, max_strain = 0;
   };
 
   /**
@@ -139,6 +142,8 @@ namespace ddfem::coarsening
     /// or the fitted ones if none is held out.
     std::vector<Sample> error_samples;
     unsigned int        n_fit = 0, n_held_out = 0, n_rejected = 0;
+    /// The strain range of the samples fitted or held out.
+    double min_strain = 0, max_strain = 0;
   };
 
   /// MetamaterialFit(element, samples, prior, settings).fit() with the
