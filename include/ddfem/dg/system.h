@@ -263,8 +263,10 @@ namespace ddfem::dg
 
     /**
      * Solves K x = b (K the assembled matrix, b the load vector) into x,
-     * throwing ExcMessage if it cannot; if empty, solve() factorizes K with
-     * UMFPACK. The scene solver sets it to the scene's 'Linear solver'.
+     * throwing ExcMessage if it cannot, where solve() has no factor of the
+     * definiteness check (solves_with_check_factor()); if empty, solve()
+     * factorizes K with UMFPACK there. The scene solver sets it to the
+     * scene's 'Linear solver'.
      */
     std::function<void(const SparseMatrix<double> &K,
                        Vector<double>             &x,
