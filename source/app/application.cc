@@ -369,10 +369,11 @@ namespace ddfem::app
           }
         catch (...)
           {
-            // Best effort: the error to report is the first one.
+            // Best effort: the error to report is the first one. This run's
+            // parameters.prm goes (the run's input goes back) before the
+            // directories made for it are removed where empty.
             try
               {
-                remove_earlier_results(directory);
                 std::filesystem::remove(used_file, error);
                 if (input)
                   {
@@ -380,10 +381,10 @@ namespace ddfem::app
                     restored.stream() << *input;
                     restored.commit();
                   }
-                remove_empty_directories(made);
               }
             catch (...)
               {}
+            remove_failed_results(directory, made);
             throw;
           }
       }

@@ -54,6 +54,16 @@ namespace ddfem::app
         return grid_fit.n_vertices > 0;
       }
 
+      /// Whether the row is a reference of its state: a fine run that
+      /// reached the full load, which the errors and speedups are measured
+      /// against and the plot draws. A fine run that stopped before it is
+      /// none: the table has its time, the plot does not.
+      bool
+      is_reference() const
+      {
+        return level == 0 && result.statistics.converged;
+      }
+
       /// "fine", "fine-amg", "fine-direct" or "<method> L<level>".
       std::string
       label() const
@@ -297,11 +307,9 @@ namespace ddfem::app
       unsigned int             block  = 0;
       double                   lowest = 1e300, highest = 0;
       double                   fastest = 1e300, slowest = 0;
-      // A fine run that stopped before the full load is no reference: the
-      // table has its time, the plot does not.
+      // The fine runs drawn as lines: the first state's references.
       const auto is_fine_line = [&](const Row &r) {
-        return r.state == rows.front().state && r.level == 0 &&
-               r.result.statistics.converged;
+        return r.state == rows.front().state && r.is_reference();
       };
       for (const Row &r : rows)
         if (is_marker(r) || is_fine_line(r))
@@ -482,6 +490,22 @@ namespace ddfem::app
 
 
 
+  void
+  remove_failed_results(const std::string                        &directory,
+                        const std::vector<std::filesystem::path> &made)
+  {
+    // Best effort: the error to report is the run's.
+    try
+      {
+        remove_earlier_results(directory);
+        remove_empty_directories(made);
+      }
+    catch (...)
+      {}
+  }
+
+
+
   int
   Comparison::run(const ParameterHandler &prm,
                   scene::Scene           &scene,
@@ -619,15 +643,8 @@ namespace ddfem::app
       }
     catch (...)
       {
-        // Best effort: the error to report is the first one.
         if (!tables_written)
-          try
-            {
-              remove_earlier_results(directory);
-              remove_empty_directories(made_directories);
-            }
-          catch (...)
-            {}
+          remove_failed_results(directory, made_directories);
         throw;
       }
   }
@@ -689,8 +706,7 @@ namespace ddfem::app
                 made_directories.push_back(made);
             row.result        = model.solve(&writer);
             row.linear_solver = config.linear_solver->method();
-            if (reference == nullptr && config.level == 0 &&
-                row.result.statistics.converged)
+            if (reference == nullptr && row.is_reference())
               reference = &model;
             if (reference != nullptr && row.result.statistics.converged)
               row.error = report::vertex_error(scene.grid,
@@ -740,7 +756,7 @@ namespace ddfem::app
         // no reference.
         double fastest_fine = 0, direct_time = 0;
         for (std::size_t r = first_row; r < rows.size(); ++r)
-          if (rows[r].level == 0 && rows[r].result.statistics.converged)
+          if (rows[r].is_reference())
             {
               const double time = rows[r].result.wall_time;
               if (fastest_fine == 0 || time < fastest_fine)

@@ -41,6 +41,17 @@ namespace ddfem::app
   remove_earlier_results(const std::string &directory);
 
   /**
+   * Cleans up after a run that failed while writing its results to
+   * @p directory: removes them (remove_earlier_results(), which leaves
+   * parameters.prm to the caller), then those of the directories @p made
+   * for them (as create_directories() returned them) that are left empty.
+   * Best effort, it throws nothing: the error to report is the run's.
+   */
+  void
+  remove_failed_results(const std::string                        &directory,
+                        const std::vector<std::filesystem::path> &made);
+
+  /**
    * Run type "compare": error against run time (DDFEM paper, section 6).
    * Solves one scene in one process with the fine model (with the scene's
    * linear solver, with cg-amg if that is another one, and, up to a size
