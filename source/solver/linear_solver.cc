@@ -310,6 +310,16 @@ namespace ddfem::solver
     last_iterations    = 1;
     solves_with_factor = 1;
     cost_with_factor   = factorization_cost + 1;
+    // A positive definite tangent can still be too soft for its load in
+    // double precision: the solution overflows (UMFPACK's is checked alike).
+    // The factor goes too: as CG's preconditioner for the shifted tangent
+    // it would overflow again, which deal.II's debug library aborts on.
+    if (!all_finite(x))
+      {
+        cholesky.drop_factor();
+        throw Failure("the sparse Cholesky solve returned non-finite values "
+                      "(a load too large for the tangent?)");
+      }
     return iterations + 1;
   }
 

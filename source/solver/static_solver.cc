@@ -730,9 +730,11 @@ namespace ddfem::solver
         bool               descends          = true;
         // Why the tangent was shifted, then why the last shift failed.
         std::string why_shifted, why_failed;
+        // Whether the last solve succeeded (a failed one prints its reason).
+        bool solved = false;
         while (true)
           {
-            bool solved = false;
+            solved = false;
             try
               {
                 linear_iterations +=
@@ -784,7 +786,8 @@ namespace ddfem::solver
           ++statistics.regularized_iterations;
         if (!descends)
           {
-            pcout << "no descent direction found" << std::endl;
+            pcout << (solved ? ", " : "") << "no descent direction found"
+                  << std::endl;
             return false;
           }
         if (!on_boundary_values)
@@ -820,7 +823,7 @@ namespace ddfem::solver
         const double       noise =
           1e-14 * (stiffness_volume + std::abs(t * (external_force * u)));
         double alpha    = 1;
-        bool   accepted = false;
+        bool   accepted = false, admissible = false;
         for (unsigned int k = 0; k < 30; ++k, alpha *= 0.5)
           {
             trial = u;
@@ -828,7 +831,8 @@ namespace ddfem::solver
             const double energy_trial = energy(trial, t);
             if (!std::isfinite(energy_trial))
               continue;
-            accepted = !on_boundary_values ||
+            admissible = true;
+            accepted   = !on_boundary_values ||
                        energy_trial <= energy_now + 1e-4 * alpha * slope;
             if (!accepted && alpha * std::abs(slope) <= 1e3 * noise)
               {
@@ -842,12 +846,17 @@ namespace ddfem::solver
           }
         if (!accepted)
           {
-            newton_failure =
-              on_boundary_values ?
-                "the line search found no step along its direction that "
-                "lowers the energy" :
-                "every step toward the boundary values, down to 2^-29 of "
-                "it, made a cell inadmissible (det F <= 0)";
+            // Toward the boundary values any admissible step is accepted.
+            newton_failure = admissible ?
+                               "the line search found no step along its "
+                               "direction that lowers the energy" :
+                               std::string(on_boundary_values ?
+                                             "every step along the Newton "
+                                             "direction" :
+                                             "every step toward the boundary "
+                                             "values") +
+                                 ", down to 2^-29 of it, made a cell "
+                                 "inadmissible (det F <= 0)";
             pcout << ", line search failed" << std::endl;
             return false;
           }
