@@ -1277,27 +1277,30 @@ namespace ddfem::dg
 
   template <int dim>
   double
-  System<dim>::jump_norm(const Vector<double> &u) const
+  System<dim>::jump_norm(const Vector<double> &u,
+                         const Function<dim>  *exact) const
   {
-    // A shared DoF has the same value on both sides: FE_Q has no jumps
-    // (the loop below would measure traces).
-    if (is_continuous)
-      return 0;
+    Assert(exact == nullptr || exact->n_components == n_components,
+           ExcDimensionMismatch(exact->n_components, n_components));
     using Iterator = typename DoFHandler<dim>::active_cell_iterator;
     MeshWorker::ScratchData<dim> scratch(mapping,
                                          fe,
                                          quadrature,
                                          update_values,
                                          face_quadrature,
-                                         update_values | update_JxW_values);
-    double                       sum         = 0;
-    const auto                   face_worker = [&](const Iterator &,
+                                         update_values | update_JxW_values |
+                                           update_quadrature_points);
+    double                       sum = 0;
+    // Interior faces: the jump of u, which that of a continuous exact
+    // solution does not change.
+    const auto face_worker = [&](const Iterator &cell,
                                  const unsigned int,
-                                 const Iterator &,
+                                 const Iterator &ncell,
                                  const unsigned int,
                                  const FEInterfaceValues<dim> &fiv,
                                  double                       &c) {
       const auto &dofs = fiv.get_interface_dof_indices();
+      double      area = 0, jump_square = 0;
       for (unsigned int q = 0; q < fiv.n_quadrature_points; ++q)
         {
           Tensor<1, dim> jump;
@@ -1310,9 +1313,38 @@ namespace ddfem::dg
                 (side == 0 ? 1. : -1.) * u[dofs[i]] *
                 fiv.get_fe_face_values(side).shape_value(pair[side], q);
             }
-          c += jump.norm_square() * fiv.JxW(q);
+          jump_square += jump.norm_square() * fiv.JxW(q);
+          area += fiv.JxW(q);
         }
+      c += area * (1 / cell->measure() + 1 / ncell->measure()) * jump_square;
     };
+    // Boundary faces: the trace of u - exact.
+    const auto boundary_worker = [&](const Iterator               &cell,
+                                     const unsigned int            f,
+                                     MeshWorker::ScratchData<dim> &s,
+                                     double                       &c) {
+      const FEFaceValuesBase<dim> &fv = s.reinit(cell, f);
+      std::vector<Vector<double>>  values(fv.n_quadrature_points,
+                                         Vector<double>(n_components));
+      fv.get_function_values(u, values);
+      Vector<double> exact_value(n_components);
+      double         area = 0, trace_square = 0;
+      for (unsigned int q = 0; q < fv.n_quadrature_points; ++q)
+        {
+          exact->vector_value(fv.quadrature_point(q), exact_value);
+          values[q] -= exact_value;
+          trace_square += values[q].norm_sqr() * fv.JxW(q);
+          area += fv.JxW(q);
+        }
+      c += 2 * area / cell->measure() * trace_square;
+    };
+    // A shared DoF has the same value on both sides: FE_Q has no jumps (the
+    // face worker would measure traces).
+    const MeshWorker::AssembleFlags faces =
+      (is_continuous ? MeshWorker::assemble_nothing :
+                       MeshWorker::assemble_own_interior_faces_once) |
+      (exact != nullptr ? MeshWorker::assemble_boundary_faces :
+                          MeshWorker::assemble_nothing);
     double copy = 0;
     MeshWorker::mesh_loop(
       dof_handler.begin_active(),
@@ -1323,9 +1355,8 @@ namespace ddfem::dg
       [&](const double &c) { sum += c; },
       scratch,
       copy,
-      MeshWorker::assemble_own_cells |
-        MeshWorker::assemble_own_interior_faces_once,
-      {},
+      MeshWorker::assemble_own_cells | faces,
+      boundary_worker,
       interface_worker<dim, double>(face_worker));
     return std::sqrt(sum);
   }

@@ -233,10 +233,22 @@ namespace ddfem::dg
     std::vector<Tensor<2, dim>>
     rotations(const Vector<double> &u) const;
 
-    /// The L2 norm over all interior faces of the jump of @p u (0 for a
-    /// continuous element).
+    /**
+     * The jump seminorm J of u - @p exact (of @p u if @p exact is null):
+     * the square root of the sum over faces F of w_F ||[u - exact]||^2 on F,
+     * with w_F the weight of the penalty terms without eta and the
+     * material: |F| (1/|K| + 1/|K'|) on the face between cells K and K'
+     * (2/h on a uniform grid), where [.] is the jump and that of a
+     * continuous @p exact vanishes; and 2 |F| / |K| on a boundary face,
+     * where [.] is the trace, counted only with @p exact. With mu = 1 the
+     * error in the energy norm of the interior penalty method is then
+     * (|u - exact|_H1^2 + eta J^2)^(1/2). A continuous element has no
+     * jumps: only its boundary traces count. @p exact has as many
+     * components as the field.
+     */
     double
-    jump_norm(const Vector<double> &u) const;
+    jump_norm(const Vector<double> &u,
+              const Function<dim>  *exact = nullptr) const;
 
     /// Whether the element is continuous (FE_Q): no face terms.
     bool
