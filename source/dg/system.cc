@@ -1339,13 +1339,18 @@ namespace ddfem::dg
       c += 2 * area / cell->measure() * trace_square;
     };
     // A shared DoF has the same value on both sides: FE_Q has no jumps (the
-    // face worker would measure traces).
-    const MeshWorker::AssembleFlags faces =
-      (is_continuous ? MeshWorker::assemble_nothing :
-                       MeshWorker::assemble_own_interior_faces_once) |
-      (exact != nullptr ? MeshWorker::assemble_boundary_faces :
-                          MeshWorker::assemble_nothing);
-    double copy = 0;
+    // face worker would measure traces). mesh_loop wants a worker exactly
+    // for the faces worked on.
+    auto flags = MeshWorker::assemble_own_cells;
+    if (!is_continuous)
+      flags |= MeshWorker::assemble_own_interior_faces_once;
+    if (exact != nullptr)
+      flags |= MeshWorker::assemble_boundary_faces;
+    using BoundaryWorker = std::function<void(const Iterator &,
+                                              const unsigned int,
+                                              MeshWorker::ScratchData<dim> &,
+                                              double &)>;
+    double copy          = 0;
     MeshWorker::mesh_loop(
       dof_handler.begin_active(),
       dof_handler.end(),
@@ -1355,9 +1360,10 @@ namespace ddfem::dg
       [&](const double &c) { sum += c; },
       scratch,
       copy,
-      MeshWorker::assemble_own_cells | faces,
-      boundary_worker,
-      interface_worker<dim, double>(face_worker));
+      flags,
+      exact != nullptr ? BoundaryWorker(boundary_worker) : BoundaryWorker(),
+      is_continuous ? FaceWorker<dim, double>() :
+                      interface_worker<dim, double>(face_worker));
     return std::sqrt(sum);
   }
 

@@ -246,7 +246,8 @@ namespace ddfem::solver
       }
     if (!all_finite(x))
       throw Failure(
-        "the direct solver returned non-finite values (singular matrix)");
+        "the direct solver returned non-finite values (a singular matrix, or "
+        "a load too large for it?)");
     ++n_direct_solves;
     return 1;
   }
@@ -318,7 +319,8 @@ namespace ddfem::solver
       {
         cholesky.drop_factor();
         throw Failure("the sparse Cholesky solve returned non-finite values "
-                      "(a load too large for the tangent?)");
+                      "(a load too large for the tangent?)",
+                      iterations);
       }
     return iterations + 1;
   }

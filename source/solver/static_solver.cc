@@ -730,11 +730,11 @@ namespace ddfem::solver
         bool               descends          = true;
         // Why the tangent was shifted, then why the last shift failed.
         std::string why_shifted, why_failed;
-        // Whether the last solve succeeded (a failed one prints its reason).
-        bool solved = false;
+        // Whether a failed solve printed its reason on the log's line.
+        bool reason_printed = false;
         while (true)
           {
-            solved = false;
+            bool solved = false;
             try
               {
                 linear_iterations +=
@@ -753,8 +753,9 @@ namespace ddfem::solver
                 linear_iterations += failure.iterations;
                 why_failed =
                   "the linear solve failed: " + std::string(failure.what());
-                pcout << (shift == 0 ? "\n      " : "") << failure.what()
+                pcout << (reason_printed ? "" : "\n      ") << failure.what()
                       << "; ";
+                reason_printed = true;
               }
             if (solved && (!on_boundary_values || residual * du < 0))
               break;
@@ -786,8 +787,8 @@ namespace ddfem::solver
           ++statistics.regularized_iterations;
         if (!descends)
           {
-            pcout << (solved ? ", " : "") << "no descent direction found"
-                  << std::endl;
+            pcout << (reason_printed ? "" : ", ")
+                  << "no descent direction found" << std::endl;
             return false;
           }
         if (!on_boundary_values)

@@ -217,8 +217,9 @@ namespace ddfem::coarsening
 
     /// Copies a fit's statistics into @p entry, whose n_dropped counts the
     /// sampler's failed solves: the samples the fit left out (the coarse
-    /// element inverts under them) join them, and count in neither the
-    /// sample count nor the strain range.
+    /// element inverts under them, or their energy is not finite and
+    /// positive) join them, and count in neither the sample count nor the
+    /// strain range.
     static void
     record_fit(const FitResult &fit, Entry &entry);
 

@@ -58,8 +58,9 @@ namespace ddfem::coarsening
     double median_error = 0, max_error = 0;
     /// Range of the kept samples' largest principal stretch deviation.
     double min_strain = 0, max_strain = 0;
-    /// Samples kept (fitted or held out) and dropped (failed solves, or
-    /// the coarse element inverts under their corner motion).
+    /// Samples kept (fitted or held out) and dropped (failed solves, the
+    /// coarse element inverts under their corner motion, or an energy that
+    /// is not finite and positive).
     unsigned int n_samples = 0, n_dropped = 0;
   };
 

@@ -83,10 +83,13 @@ namespace ddfem::dg
    * on the whole boundary (weak for DG, strong for CG, whatever
    * DG/Dirichlet says; the linear formulation whatever DG/Formulation
    * says). For each method a
-   * ConvergenceTable of the L2 error, the broken H1 seminorm error and an
-   * estimate of the condition number of K (column "cond est": the Lanczos
-   * estimate of one unpreconditioned CG solve, with the load vector as its
-   * only right-hand side), with observed rates in h. The DG penalty
+   * ConvergenceTable of the L2 error, the broken H1 seminorm error, the
+   * jump seminorm error (System::jump_norm()) and an estimate of the
+   * condition number of K (column "cond est": the Lanczos estimate of one
+   * unpreconditioned CG solve, with the load vector as its only right-hand
+   * side), with observed rates in h. A grid whose definiteness check
+   * passed is solved with the check's Cholesky factor, the others with
+   * UMFPACK. The DG penalty
    * is that of subsection "DG" ('automatic' only without BZ methods,
    * see Parameters::check_penalty()); 'automatic' is settled on the coarsest
    * grid and kept on the finer ones (eq. 7 scales it with the mesh).
@@ -125,9 +128,9 @@ namespace ddfem::dg
 
     /**
      * Writes dg_convergence.gnuplot and runs gnuplot on it: per problem a
-     * PNG with the L2 and H1 errors of every method against the number of
-     * cells, log-log, and a panel with the condition number estimates of
-     * the methods that have a finite one (no panel if none has: gnuplot
+     * PNG with the L2, H1 and jump errors of every method against the
+     * number of DoFs, log-log, and a panel with the condition number estimates
+     * of the methods that have a finite one (no panel if none has: gnuplot
      * stops on a plot without a finite point). @p blocks describes the
      * data blocks of dg_convergence.dat in order.
      */

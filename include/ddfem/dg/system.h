@@ -240,9 +240,10 @@ namespace ddfem::dg
      * material: |F| (1/|K| + 1/|K'|) on the face between cells K and K'
      * (2/h on a uniform grid), where [.] is the jump and that of a
      * continuous @p exact vanishes; and 2 |F| / |K| on a boundary face,
-     * where [.] is the trace, counted only with @p exact. With mu = 1 the
-     * error in the energy norm of the interior penalty method is then
-     * (|u - exact|_H1^2 + eta J^2)^(1/2). A continuous element has no
+     * where [.] is the trace, counted only with @p exact (every boundary
+     * face, Dirichlet or not). With mu = 1 and Dirichlet data on the whole
+     * boundary, the error in the energy norm of the interior penalty method
+     * is then (|u - exact|_H1^2 + eta J^2)^(1/2). A continuous element has no
      * jumps: only its boundary traces count. @p exact has as many
      * components as the field.
      */
