@@ -209,6 +209,39 @@ namespace ddfem::dg
     }
 
     /// What MeshWorker::mesh_loop() calls on an interior face.
+    /**
+     * The penalty's weight of the interior face that @p fiv is
+     * reinitialized to, without eta: its area times the sum of the inverse
+     * volumes of its two cells @p cell and @p ncell, |F| (1/|K| + 1/|K'|)
+     * (eq. (7) of the DG paper).
+     */
+    template <int dim, typename Iterator>
+    double
+    interior_face_weight(const FEInterfaceValues<dim> &fiv,
+                         const Iterator               &cell,
+                         const Iterator               &ncell)
+    {
+      double area = 0;
+      for (unsigned int q = 0; q < fiv.n_quadrature_points; ++q)
+        area += fiv.JxW(q);
+      return area * (1 / cell->measure() + 1 / ncell->measure());
+    }
+
+    /**
+     * The penalty's weight of the face of @p cell that @p fv is
+     * reinitialized to, as a boundary face, without eta: 2 |F| / |K|, the
+     * interior weight with the cell's mirror image as its neighbour.
+     */
+    template <int dim, typename Iterator>
+    double
+    boundary_face_weight(const FEFaceValuesBase<dim> &fv, const Iterator &cell)
+    {
+      double area = 0;
+      for (unsigned int q = 0; q < fv.n_quadrature_points; ++q)
+        area += fv.JxW(q);
+      return 2 * area / cell->measure();
+    }
+
     template <int dim, typename CopyDataType>
     using FaceWorker =
       std::function<void(const typename DoFHandler<dim>::active_cell_iterator &,
@@ -534,11 +567,8 @@ namespace ddfem::dg
                                const std::vector<types::global_dof_index> &dofs,
                                FullMatrix<double> &matrix,
                                Vector<double>     &vector) {
-      const CellMaterial &m    = data.materials[cell->active_cell_index()];
-      double              area = 0;
-      for (unsigned int q = 0; q < fv.n_quadrature_points; ++q)
-        area += fv.JxW(q);
-      const double eta_f = 2 * eta * area / cell->measure();
+      const CellMaterial &m     = data.materials[cell->active_cell_index()];
+      const double        eta_f = eta * boundary_face_weight(fv, cell);
       // Nitsche's consistency and symmetry terms and their Dirichlet data
       // part, in the element's frame (warped with its rotation R if
       // corotated). The penalty term as if warped: its isotropic part
@@ -694,11 +724,7 @@ namespace ddfem::dg
          &data.materials[ncell->active_cell_index()]}};
       const double mu_f     = std::max(m[0]->mu, m[1]->mu);
       const double lambda_f = std::max({m[0]->lambda, m[1]->lambda, 0.});
-      double       area     = 0;
-      for (unsigned int q = 0; q < fiv.n_quadrature_points; ++q)
-        area += fiv.JxW(q);
-      const double eta_f =
-        eta * area * (1 / cell->measure() + 1 / ncell->measure());
+      const double eta_f    = eta * interior_face_weight(fiv, cell, ncell);
 
       // Side and local index of every interface dof (one side each: DG).
       std::vector<unsigned int>                side(n_if), local(n_if);
@@ -1299,8 +1325,8 @@ namespace ddfem::dg
                                  const unsigned int,
                                  const FEInterfaceValues<dim> &fiv,
                                  double                       &c) {
-      const auto &dofs = fiv.get_interface_dof_indices();
-      double      area = 0, jump_square = 0;
+      const auto &dofs        = fiv.get_interface_dof_indices();
+      double      jump_square = 0;
       for (unsigned int q = 0; q < fiv.n_quadrature_points; ++q)
         {
           Tensor<1, dim> jump;
@@ -1314,9 +1340,8 @@ namespace ddfem::dg
                 fiv.get_fe_face_values(side).shape_value(pair[side], q);
             }
           jump_square += jump.norm_square() * fiv.JxW(q);
-          area += fiv.JxW(q);
         }
-      c += area * (1 / cell->measure() + 1 / ncell->measure()) * jump_square;
+      c += interior_face_weight(fiv, cell, ncell) * jump_square;
     };
     // Boundary faces: the trace of u - exact.
     const auto boundary_worker = [&](const Iterator               &cell,
@@ -1328,15 +1353,14 @@ namespace ddfem::dg
                                          Vector<double>(n_components));
       fv.get_function_values(u, values);
       Vector<double> exact_value(n_components);
-      double         area = 0, trace_square = 0;
+      double         trace_square = 0;
       for (unsigned int q = 0; q < fv.n_quadrature_points; ++q)
         {
           exact->vector_value(fv.quadrature_point(q), exact_value);
           values[q] -= exact_value;
           trace_square += values[q].norm_sqr() * fv.JxW(q);
-          area += fv.JxW(q);
         }
-      c += 2 * area / cell->measure() * trace_square;
+      c += boundary_face_weight(fv, cell) * trace_square;
     };
     // A shared DoF has the same value on both sides: FE_Q has no jumps (the
     // face worker would measure traces). mesh_loop wants a worker exactly
