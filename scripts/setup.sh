@@ -45,9 +45,10 @@ build/ddfem prm/default.prm
 if [ "${1:-}" = "--test" ]; then
   (cd build && ctest -j2 --output-on-failure --no-tests=error)
   # The library and stability tests once more against deal.II's debug
-  # library, so that its internal assertions are checked too; the seven
-  # cheapest DG tests, about a minute in Debug (the rest take 1-3 minutes
-  # each; doc/dg.md says what the seven leave out), the metamaterial fit, the embedded
+  # library, so that its internal assertions are checked too; seven cheap
+  # DG tests, under a minute each in Debug but for corotated (3.5 min; the
+  # rest take up to 10 min and more; doc/dg.md says what the seven leave
+  # out), the metamaterial fit, the embedded
   # samples and the fitting threads' error handling. Not the thread-count
   # test, whose 19575-unknown solves check round-off, not assertions, nor
   # the known answers of every model (uniaxial compression, rigid
