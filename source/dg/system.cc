@@ -208,7 +208,6 @@ namespace ddfem::dg
       return U * VT;
     }
 
-    /// What MeshWorker::mesh_loop() calls on an interior face.
     /**
      * The penalty's weight of the interior face that @p fiv is
      * reinitialized to, without eta: its area times the sum of the inverse
@@ -242,6 +241,7 @@ namespace ddfem::dg
       return 2 * area / cell->measure();
     }
 
+    /// What MeshWorker::mesh_loop() calls on an interior face.
     template <int dim, typename CopyDataType>
     using FaceWorker =
       std::function<void(const typename DoFHandler<dim>::active_cell_iterator &,
