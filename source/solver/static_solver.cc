@@ -824,7 +824,7 @@ namespace ddfem::solver
         const double       noise =
           1e-14 * (stiffness_volume + std::abs(t * (external_force * u)));
         double alpha    = 1;
-        bool   accepted = false, admissible = false;
+        bool   accepted = false, admissible = false, by_residual = false;
         for (unsigned int k = 0; k < 30; ++k, alpha *= 0.5)
           {
             trial = u;
@@ -840,7 +840,8 @@ namespace ddfem::solver
                 Vector<double> trial_residual(n);
                 assemble(
                   trial, t, &trial_residual, nullptr, nullptr, nullptr, min_J);
-                accepted = free_residual_norm(trial_residual) < residual_norm;
+                accepted = by_residual =
+                  free_residual_norm(trial_residual) < residual_norm;
               }
             if (accepted)
               break;
@@ -861,7 +862,10 @@ namespace ddfem::solver
             pcout << ", line search failed" << std::endl;
             return false;
           }
-        pcout << ", step " << alpha << std::endl;
+        pcout << ", step " << alpha
+              << (by_residual ? " [energy at round-off, residual decreased]" :
+                                "")
+              << std::endl;
         u = trial;
       }
     pcout << std::endl
