@@ -111,6 +111,24 @@ namespace ddfem::testing
   }
 
   /**
+   * Parameter text of the boundary conditions of a box in uniaxial stress:
+   * its x-, y- and z- faces slide on their planes (Conditions 1 to 3), and
+   * Condition 4 of type @p type ("displacement" or "traction") acts on its
+   * z+ face with the value @p value.
+   */
+  inline std::string
+  uniaxial_conditions(const std::string &type, const std::string &value)
+  {
+    std::string text = "subsection Boundary conditions\n";
+    for (const std::string face : {"x-", "y-", "z-"})
+      text += "  subsection Condition " + std::to_string(face[0] - 'x' + 1) +
+              "\n    set Type = sliding\n    set Region = " + face +
+              "\n  end\n";
+    return text + "  subsection Condition 4\n    set Type = " + type +
+           "\n    set Region = z+\n    set Value = " + value + "\n  end\nend\n";
+  }
+
+  /**
    * Parameter text of a compare run ('Run type = compare') of scene
    * @p name: the cantilever() of @p grid voxels of @p voxel m, the traction
    * @p traction on its tip and a probe at @p probe ("x, y, z").

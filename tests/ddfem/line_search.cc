@@ -58,20 +58,14 @@ namespace
   solve_cube(const double T, const double tolerance, const double bound)
   {
     std::ostringstream prm;
+    std::ostringstream traction;
+    traction << std::setprecision(17) << "0; 0; " << T;
     prm << std::setprecision(17)
         << "subsection Geometry\n  set Grid size = 2, 2, 2\n"
            "  set Voxel size = 0.01\nend\n"
            "subsection Materials\n  set Palette = E=1e5 nu=0.3\nend\n"
-           "subsection Boundary conditions\n";
-    for (const std::string face : {"x-", "y-", "z-"})
-      prm << "  subsection Condition " << face[0] - 'x' + 1
-          << "\n    set Type = sliding\n    set Region = " << face
-          << "\n  end\n";
-    prm << "  subsection Condition 4\n    set Type = traction\n"
-           "    set Region = z+\n    set Value = 0; 0; "
-        << T
-        << "\n  end\nend\n"
-           "subsection Nonlinear solver\n  set Load steps = 1\n"
+        << testing::uniaxial_conditions("traction", traction.str())
+        << "subsection Nonlinear solver\n  set Load steps = 1\n"
            "  set Minimum load step = 1\n  set Newton tolerance = "
         << tolerance << "\nend\n"
         << "subsection Linear solver\n  set Type = direct\nend\n";

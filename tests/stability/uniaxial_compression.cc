@@ -40,24 +40,17 @@ namespace
   std::string
   cube(const double nu, const double c, const std::string &database)
   {
+    std::ostringstream lid;
+    lid << std::setprecision(17) << "free; free; -" << 0.08 * c;
     std::ostringstream text;
     text << std::setprecision(17)
          << "subsection Geometry\n  set Grid size = 8, 8, 8\n"
             "  set Voxel size = 0.01\n"
             "  set Probe points = 0.08, 0.08, 0.08; 0.03, 0.05, 0.02\nend\n"
             "subsection Materials\n  set Palette = E=1e5 nu="
-         << nu
-         << "\nend\n"
-            "subsection Boundary conditions\n";
-    for (const std::string face : {"x-", "y-", "z-"})
-      text << "  subsection Condition " << face[0] - 'x' + 1
-           << "\n    set Type = sliding\n    set Region = " << face
-           << "\n  end\n";
-    text << "  subsection Condition 4\n    set Type = displacement\n"
-            "    set Region = z+\n    set Value = free; free; -"
-         << 0.08 * c
-         << "\n  end\nend\n"
-            "subsection Nonlinear solver\n  set Load steps = 10\n"
+         << nu << "\nend\n"
+         << ddfem::testing::uniaxial_conditions("displacement", lid.str())
+         << "subsection Nonlinear solver\n  set Load steps = 10\n"
             "  set Newton tolerance = 1e-12\nend\n"
             "subsection Output\n  set Screen timings = false\n"
             "  set Write VTU = none\nend\n"
