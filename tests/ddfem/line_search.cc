@@ -1,6 +1,6 @@
 // Newton's line search where the energy is at round-off: near the solution
 // the decrease Armijo's condition asks of a step, 1e-4 a |R . du|, falls
-// below the round-off of the energy sum, so no step can show it. Within
+// below the round-off of the energy sum, which then decides the test. Within
 // 1e3 times that round-off a step is accepted instead if it lowers the
 // residual, and the log marks it. A cube of 2^3 voxels on three sliding
 // faces (x-, y-, z-) under a traction T on its z+ face is in uniaxial
