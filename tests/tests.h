@@ -120,7 +120,7 @@ namespace ddfem::testing
   uniaxial_conditions(const std::string &type, const std::string &value)
   {
     std::string text = "subsection Boundary conditions\n";
-    for (const std::string face : {"x-", "y-", "z-"})
+    for (const char *face : {"x-", "y-", "z-"})
       text += "  subsection Condition " + std::to_string(face[0] - 'x' + 1) +
               "\n    set Type = sliding\n    set Region = " + face +
               "\n  end\n";

@@ -824,7 +824,10 @@ namespace ddfem::solver
         const double       noise =
           1e-14 * (stiffness_volume + std::abs(t * (external_force * u)));
         double alpha    = 1;
-        bool   accepted = false, admissible = false, by_residual = false;
+        bool   accepted = false, admissible = false;
+        // Whether the residual test, not Armijo's, accepted the step (the
+        // log marks it).
+        bool by_residual = false;
         for (unsigned int k = 0; k < 30; ++k, alpha *= 0.5)
           {
             trial = u;
@@ -840,8 +843,9 @@ namespace ddfem::solver
                 Vector<double> trial_residual(n);
                 assemble(
                   trial, t, &trial_residual, nullptr, nullptr, nullptr, min_J);
-                accepted = by_residual =
+                by_residual =
                   free_residual_norm(trial_residual) < residual_norm;
+                accepted = by_residual;
               }
             if (accepted)
               break;
