@@ -118,9 +118,10 @@ namespace ddfem::coarsening::hdf5
   /**
    * Writes @p data as the dataset @p name of shape @p dims, creating
    * intermediate groups. A dataset with elements is stored in chunks of
-   * whole rows, about 1 MiB each, each with a Fletcher32 checksum, which
-   * HDF5 verifies whenever it reads the chunk: a flipped bit in a parameter
-   * or a table fails the read instead of loading as another valid number.
+   * whole rows, at most about 1 MiB each and equal up to a row, each with
+   * a Fletcher32 checksum, which HDF5 verifies whenever it reads the
+   * chunk: a flipped bit in a parameter or a table fails the read instead
+   * of loading as another valid number.
    * The dataset is closed here, which writes its chunks, so that a write
    * that fails (a full disk) is an error naming it.
    */
@@ -147,7 +148,13 @@ namespace ddfem::coarsening::hdf5
         hsize_t              row   = sizeof(T);
         for (std::size_t d = 1; d < dims.size(); ++d)
           row *= dims[d];
-        chunk[0] = std::clamp<hsize_t>((hsize_t(1) << 20) / row, 1, dims[0]);
+        // The rows spread evenly over the chunks: HDF5 stores the last
+        // chunk whole, however few rows of the dataset it holds (level 2's
+        // 1200 KiB of parameters took 2 MiB in chunks of 1 MiB).
+        const hsize_t most =
+          std::clamp<hsize_t>((hsize_t(1) << 20) / row, 1, dims[0]);
+        const hsize_t n_chunks = (dims[0] + most - 1) / most;
+        chunk[0]               = (dims[0] + n_chunks - 1) / n_chunks;
         AssertThrow(H5Pset_chunk(dcpl, chunk.size(), chunk.data()) >= 0 &&
                       H5Pset_fletcher32(dcpl) >= 0,
                     ExcMessage("Could not set up the checksums of the "

@@ -1528,6 +1528,39 @@ main()
     expect_error("a flipped bit in the parameters",
                  [] { Database::load("flipped_bit.h5"); });
     {
+      // The chunks of a dataset share its rows evenly: five materials give
+      // lookup tables of 5^8 = 390625 combinations, whose entries (1.5 MiB)
+      // in a chunk of 1 MiB and a second one half full took 2 MiB, since
+      // HDF5 stores a chunk whole.
+      const scene::Palette five =
+        palette("E=1e5 nu=0.45; E=2e5 nu=0.45; E=4e5 nu=0.45; "
+                "E=8e5 nu=0.45; E=1e6 nu=0.45");
+      std::filesystem::remove("five.h5");
+      std::ostringstream    log;
+      const DatabaseBuilder b  = builder("five.h5", false, "scene");
+      Database              db = b.open(five, log);
+      const std::vector<scene::VoxelGrid> grids = {
+        scene::VoxelGrid({{2, 2, 2}}, 0.01, 5)};
+      b.build(five, db, &grids, log, false);
+      const hid_t file = H5Fopen("five.h5", H5F_ACC_RDONLY, H5P_DEFAULT);
+      for (const std::string name : {"lookup/entry", "lookup/symmetry"})
+        {
+          const hid_t   set   = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
+          const hid_t   space = H5Dget_space(set);
+          const hid_t   type  = H5Dget_type(set);
+          const hsize_t bytes =
+            H5Sget_simple_extent_npoints(space) * H5Tget_size(type);
+          std::cout << name << ": " << H5Sget_simple_extent_npoints(space)
+                    << " elements, stored in at most 1 % more than their "
+                       "bytes: "
+                    << (H5Dget_storage_size(set) <= 1.01 * bytes) << std::endl;
+          H5Tclose(type);
+          H5Sclose(space);
+          H5Dclose(set);
+        }
+      H5Fclose(file);
+    }
+    {
       // A dataset whose header claims far more elements than it stores.
       std::filesystem::copy_file(
         "small.h5",
