@@ -117,13 +117,14 @@ namespace ddfem::coarsening::hdf5
 
   /**
    * Writes @p data as the dataset @p name of shape @p dims, creating
-   * intermediate groups. A dataset with elements is stored in chunks of
-   * whole rows, at most about 1 MiB each and equal up to a row, each with
-   * a Fletcher32 checksum, which HDF5 verifies whenever it reads the
-   * chunk: a flipped bit in a parameter or a table fails the read instead
-   * of loading as another valid number.
-   * The dataset is closed here, which writes its chunks, so that a write
-   * that fails (a full disk) is an error naming it.
+   * intermediate groups. A dataset with elements is stored in as few
+   * chunks of whole rows as keep each within about 1 MiB (one row if a row
+   * is larger), all of one size, so that the last lacks fewer rows than
+   * there are chunks; each has a Fletcher32 checksum, which HDF5 verifies
+   * whenever it reads the chunk: a flipped bit in a parameter or a table
+   * fails the read instead of loading as another valid number. The dataset
+   * is closed here, which writes its chunks, so that a write that fails (a
+   * full disk) is an error naming it.
    */
   template <typename T>
   void
