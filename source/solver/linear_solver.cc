@@ -8,6 +8,7 @@
 #include <ddfem/solver/linear_solver.h>
 #include <ddfem/solver/supports.h>
 
+#include <cmath>
 #include <new>
 #include <string>
 
@@ -15,8 +16,19 @@ namespace ddfem::solver
 {
   namespace
   {
+    // The smallest relative residual reduction a CG solve is asked for.
+    constexpr double smallest_reduction = 1e-12;
+
+    // The decades of residual reduction a CG solve with @p tolerance is
+    // asked for, at least one.
+    double
+    decades(const double tolerance)
+    {
+      return std::max(1., -std::log10(std::max(smallest_reduction, tolerance)));
+    }
+
     // CG from x = 0 until the residual is at most tolerance |b|, but not
-    // below 1e-12 |b|. Returns the iterations; throws
+    // below smallest_reduction |b|. Returns the iterations; throws
     // SolverControl::NoConvergence after max_iterations.
     template <typename Preconditioner>
     unsigned int
@@ -28,7 +40,8 @@ namespace ddfem::solver
                   const double                tolerance)
     {
       SolverControl            control(max_iterations,
-                            std::max(1e-12, tolerance) * b.l2_norm());
+                            std::max(smallest_reduction, tolerance) *
+                              b.l2_norm());
       SolverCG<Vector<double>> cg(control);
       x = 0;
       cg.solve(K, x, b, preconditioner);
@@ -149,7 +162,8 @@ namespace ddfem::solver
     degree = dof_handler.get_fe().degree;
     cholesky.clear();
     reset();
-    n_direct_solves = 0;
+    n_direct_solves    = 0;
+    n_multigrid_builds = 0;
     if (chosen != "cg-amg")
       return;
     AssertThrow(dof_handler.get_fe().has_support_points(),
@@ -201,9 +215,9 @@ namespace ddfem::solver
   void
   LinearSolver::reset()
   {
-    iterations_after_setup = 0;
-    direct_solves_left     = 0;
-    indefinite_factors     = 0;
+    rate_after_setup   = 0;
+    direct_solves_left = 0;
+    indefinite_factors = 0;
     cholesky.drop_factor();
   }
 
@@ -344,10 +358,13 @@ namespace ddfem::solver
       return solve_with_cholesky(K, x, b, forcing);
 
     // The multigrid hierarchy of an earlier tangent stays a good
-    // preconditioner while CG needs at most 1.5 times the iterations it
-    // needed right after the hierarchy was built.
-    const bool rebuild = (iterations_after_setup == 0 ||
-                          2 * last_iterations > 3 * iterations_after_setup);
+    // preconditioner while CG needs at most 1.5 times the iterations per
+    // decade of residual reduction it needed right after the hierarchy was
+    // built. Per decade, since inexact Newton asks its last solves for
+    // more decades than its first, which costs iterations with any
+    // preconditioner.
+    const bool rebuild =
+      (rate_after_setup == 0 || 2 * last_rate > 3 * rate_after_setup);
     if (rebuild)
       {
         TimerOutput::Scope scope(*timer, "factorization / preconditioner");
@@ -367,18 +384,20 @@ namespace ddfem::solver
         list.set("null space: dimension", 6);
         list.set("null space: vectors", rigid_body_modes.data());
         amg.initialize(trilinos_matrix, list);
+        ++n_multigrid_builds;
       }
 
+    const double reduction = std::min(forcing, tolerance);
     try
       {
         // Closed before a fallback to the direct solver times its own.
         TimerOutput::Scope scope(*timer, "linear solve");
-        last_iterations = solve_with_cg(
-          K, x, b, amg, max_iterations, std::min(forcing, tolerance));
+        last_iterations =
+          solve_with_cg(K, x, b, amg, max_iterations, reduction);
       }
     catch (const SolverControl::NoConvergence &failure)
       {
-        iterations_after_setup = 0;
+        rate_after_setup = 0;
         if (requested == "auto" && x.size() <= fallback_limit)
           return failure.last_step +
                  fall_back_to_direct(K, x, b, direct_solves_after_cg_failure);
@@ -391,8 +410,9 @@ namespace ddfem::solver
               " (an indefinite or ill-conditioned tangent?)",
           failure.last_step);
       }
+    last_rate = last_iterations / decades(reduction);
     if (rebuild)
-      iterations_after_setup = std::max(1u, last_iterations);
+      rate_after_setup = std::max(1u, last_iterations) / decades(reduction);
     return last_iterations;
   }
 } // namespace ddfem::solver

@@ -37,8 +37,8 @@ namespace ddfem::solver
    * - conjugate gradients preconditioned by Trilinos ML algebraic multigrid
    *   whose near null space are the six rigid body modes ('cg-amg'). The
    *   hierarchy is kept across Newton iterations and rebuilt only when CG
-   *   needs 1.5 times the iterations it needed right after the last
-   *   rebuild.
+   *   needs 1.5 times the iterations per decade of residual reduction it
+   *   needed right after the last rebuild.
    * 'auto' picks cg-cholesky for small systems and cg-amg for large ones.
    * In 'auto' mode, a cg-amg failure on a system of moderate size switches
    * to the direct solver for a few systems.
@@ -136,6 +136,13 @@ namespace ddfem::solver
       return n_direct_solves;
     }
 
+    /// The multigrid hierarchies cg-amg built since initialize().
+    unsigned int
+    multigrid_builds() const
+    {
+      return n_multigrid_builds;
+    }
+
   private:
     /// UMFPACK; throws Failure if the matrix is singular.
     unsigned int
@@ -183,18 +190,20 @@ namespace ddfem::solver
     /// cg-cholesky: factorizations in a row that found the tangent
     /// indefinite.
     unsigned int indefinite_factors = 0;
-    /// What direct_solves() returns.
-    unsigned int n_direct_solves = 0;
+    /// What direct_solves() and multigrid_builds() return.
+    unsigned int n_direct_solves = 0, n_multigrid_builds = 0;
     /// Polynomial degree of the element (for the AMG settings).
     unsigned int degree = 1;
     /// Receives the solver's timing sections.
     TimerOutput *timer = nullptr;
 
-    /// CG iterations of the first solve with the current multigrid
-    /// hierarchy (0: build a new one), and of the last solve (1 for the
-    /// exact solve with a new Cholesky factor).
-    unsigned int iterations_after_setup = 0;
-    unsigned int last_iterations        = 0;
+    /// CG iterations of the last solve (1 for the exact solve with a new
+    /// Cholesky factor).
+    unsigned int last_iterations = 0;
+    /// cg-amg: CG iterations per decade of residual reduction of the
+    /// first solve with the current multigrid hierarchy (0: build a new
+    /// one), and of the last solve.
+    double rate_after_setup = 0, last_rate = 0;
     /// cg-cholesky: the solves with the current factor, and their cost in
     /// CG iterations, its factorization included.
     unsigned int solves_with_factor = 0, cost_with_factor = 0;
