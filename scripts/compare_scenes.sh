@@ -13,7 +13,7 @@
 # prints the table of doc/coarsening.md and the targets each scene state
 # meets (scripts/compare_table.py) for the scenes with results, also into
 # output/compare/table.md, and exits with 1 if a run failed. Not part of the
-# tests: the whole set takes 12 to 35 minutes on a 2-core machine (seven
+# tests: the whole set takes 12 to 35 minutes on a 2-core machine (eight
 # queues of 11.8 to 34.5 minutes; the three slowest fitted the database, the
 # slowest of them on a day the host ran everything slower).
 #
