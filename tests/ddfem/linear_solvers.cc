@@ -23,8 +23,8 @@
 // 4. cg-amg builds its near null space on the deformed shape;
 // 5. cg-amg keeps its multigrid hierarchy while only the tolerance
 //    tightens (inexact Newton's last solves), and builds a new one after a
-//    solve that needed 1.5 times the iterations per decade of residual
-//    reduction of the first solve with it.
+//    solve that needed more than 1.5 times the iterations per decade of
+//    residual reduction of the first solve with it.
 
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/mapping_q1.h>
