@@ -410,9 +410,10 @@ namespace ddfem::solver
               " (an indefinite or ill-conditioned tangent?)",
           failure.last_step);
       }
-    last_rate = last_iterations / decades(reduction);
+    const double n_decades = decades(reduction);
+    last_rate              = last_iterations / n_decades;
     if (rebuild)
-      rate_after_setup = std::max(1u, last_iterations) / decades(reduction);
+      rate_after_setup = std::max(1u, last_iterations) / n_decades;
     return last_iterations;
   }
 } // namespace ddfem::solver
