@@ -76,6 +76,7 @@ namespace ddfem::app
     json["newton_iterations"]       = statistics.newton_iterations;
     json["linear_iterations"]       = statistics.linear_iterations;
     json["direct_solves"]           = statistics.direct_solves;
+    json["preconditioner_setups"]   = statistics.preconditioner_setups;
     json["regularized_iterations"]  = statistics.regularized_iterations;
     if (!statistics.converged)
       json["failure"] = statistics.failure;

@@ -162,8 +162,8 @@ namespace ddfem::solver
     degree = dof_handler.get_fe().degree;
     cholesky.clear();
     reset();
-    n_direct_solves    = 0;
-    n_multigrid_builds = 0;
+    n_direct_solves         = 0;
+    n_preconditioner_setups = 0;
     if (chosen != "cg-amg")
       return;
     AssertThrow(dof_handler.get_fe().has_support_points(),
@@ -308,6 +308,7 @@ namespace ddfem::solver
     {
       TimerOutput::Scope scope(*timer, "factorization / preconditioner");
       positive_definite = cholesky.factorize(K);
+      ++n_preconditioner_setups;
     }
     // An indefinite tangent (past a bifurcation, or in the first Newton
     // iterations after a large material edit). The next 1, 2, 4, then 8
@@ -384,7 +385,7 @@ namespace ddfem::solver
         list.set("null space: dimension", 6);
         list.set("null space: vectors", rigid_body_modes.data());
         amg.initialize(trilinos_matrix, list);
-        ++n_multigrid_builds;
+        ++n_preconditioner_setups;
       }
 
     const double reduction = std::min(forcing, tolerance);

@@ -727,7 +727,8 @@ namespace ddfem::solver
         double             shift             = 0;
         unsigned int       linear_iterations = 0;
         const unsigned int direct_solves     = linear_solver.direct_solves();
-        bool               descends          = true;
+        const unsigned int setups   = linear_solver.preconditioner_setups();
+        bool               descends = true;
         // Why the tangent was shifted, then why the last shift failed.
         std::string why_shifted, why_failed;
         // Whether a failed solve printed its reason on the log's line.
@@ -783,6 +784,8 @@ namespace ddfem::solver
         statistics.linear_iterations += linear_iterations;
         statistics.direct_solves +=
           linear_solver.direct_solves() - direct_solves;
+        statistics.preconditioner_setups +=
+          linear_solver.preconditioner_setups() - setups;
         if (shift > 0)
           ++statistics.regularized_iterations;
         if (!descends)

@@ -251,7 +251,8 @@ main(int argc, char **argv)
     std::cout << "  27 more indefinite systems: " << solve_indefinite(27)
               << std::endl;
     std::cout << "  systems UMFPACK solved so far: "
-              << linear_solver.direct_solves() << std::endl;
+              << linear_solver.direct_solves() << ", Cholesky factorizations: "
+              << linear_solver.preconditioner_setups() << std::endl;
     // Then K1 is factorized (the indefinite matrix left no factor), and
     // K0 is solved by CG with that factor.
     solve("then K1, Cholesky factor of K1", K1, 1e-12);
@@ -284,7 +285,8 @@ main(int argc, char **argv)
     // A factorization that succeeded ends the run of failures: the next
     // indefinite system is followed by one direct solve only.
     std::cout << "  4 indefinite systems after it: " << solve_indefinite(4)
-              << std::endl;
+              << ", Cholesky factorizations: "
+              << linear_solver.preconditioner_setups() << std::endl;
   }
 
   // auto above its direct solver limit is cg-amg; a CG that fails (here:
@@ -411,7 +413,7 @@ main(int argc, char **argv)
                                1);
           std::cout << "  to " << forcing << ": " << n
                     << " CG iterations, multigrid builds: "
-                    << linear_solver.multigrid_builds() << std::endl;
+                    << linear_solver.preconditioner_setups() << std::endl;
         }
       SparseMatrix<double> K_shifted(K_rest.get_sparsity_pattern());
       K_shifted.copy_from(K_rest);
@@ -422,7 +424,7 @@ main(int argc, char **argv)
           const unsigned int n = linear_solver.solve(K_shifted, x, b, 1e-10);
           std::cout << "  shifted tangent to 1e-10: " << n
                     << " CG iterations, multigrid builds: "
-                    << linear_solver.multigrid_builds() << std::endl;
+                    << linear_solver.preconditioner_setups() << std::endl;
         }
     }
   }

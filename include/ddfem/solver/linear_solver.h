@@ -136,11 +136,13 @@ namespace ddfem::solver
       return n_direct_solves;
     }
 
-    /// The multigrid hierarchies cg-amg built since initialize().
+    /// The preconditioners set up since initialize(): multigrid
+    /// hierarchies with the method cg-amg, Cholesky factorizations with
+    /// cg-cholesky (those that found the tangent indefinite included).
     unsigned int
-    multigrid_builds() const
+    preconditioner_setups() const
     {
-      return n_multigrid_builds;
+      return n_preconditioner_setups;
     }
 
   private:
@@ -190,8 +192,8 @@ namespace ddfem::solver
     /// cg-cholesky: factorizations in a row that found the tangent
     /// indefinite.
     unsigned int indefinite_factors = 0;
-    /// What direct_solves() and multigrid_builds() return.
-    unsigned int n_direct_solves = 0, n_multigrid_builds = 0;
+    /// What direct_solves() and preconditioner_setups() return.
+    unsigned int n_direct_solves = 0, n_preconditioner_setups = 0;
     /// Polynomial degree of the element (for the AMG settings).
     unsigned int degree = 1;
     /// Receives the solver's timing sections.

@@ -136,6 +136,10 @@ namespace ddfem::solver
       /// all of them with the direct solver, the fallbacks of the iterative
       /// solvers otherwise.
       unsigned int direct_solves = 0;
+      /// Preconditioners the iterative solver set up
+      /// (LinearSolver::preconditioner_setups()): multigrid hierarchies
+      /// for cg-amg, Cholesky factorizations for cg-cholesky.
+      unsigned int preconditioner_setups = 0;
       /// Newton iterations that needed a regularized tangent.
       unsigned int regularized_iterations = 0;
       /// Smallest det F at any quadrature point in the final state.
