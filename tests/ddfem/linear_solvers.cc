@@ -75,6 +75,26 @@ namespace
     for (unsigned int i = 0; i < n; ++i)
       K.diag_element(i) += 1e-3 * trace / n;
   }
+
+  /// A LinearSolver with the entries @p settings of its 'Linear solver'
+  /// subsection, initialized for the unknowns of @p dof_handler, and the
+  /// timer it reports to (which outlives it).
+  struct TimedSolver
+  {
+    TimedSolver(const std::string &settings, const DoFHandler<3> &dof_handler)
+      : timer(std::cout, TimerOutput::never, TimerOutput::wall_times)
+    {
+      ParameterHandler prm;
+      solver::LinearSolver::declare_parameters(prm);
+      prm.parse_input_from_string("subsection Linear solver\n" + settings +
+                                  "\nend\n");
+      linear_solver.parse_parameters(prm);
+      linear_solver.initialize(dof_handler, timer);
+    }
+
+    TimerOutput          timer;
+    solver::LinearSolver linear_solver;
+  };
 } // namespace
 
 
@@ -196,18 +216,12 @@ main(int argc, char **argv)
   std::cout << "cg-cholesky (Cholesky tolerance 1e-8, factorization cost 20)"
             << std::endl;
   {
-    ParameterHandler prm;
-    solver::LinearSolver::declare_parameters(prm);
-    prm.parse_input_from_string(R"(
-      subsection Linear solver
-        set Type = cg-cholesky
-        set Cholesky tolerance = 1e-8
-        set Cholesky factorization cost = 20
-      end)");
-    solver::LinearSolver linear_solver;
-    linear_solver.parse_parameters(prm);
-    TimerOutput timer(std::cout, TimerOutput::never, TimerOutput::wall_times);
-    linear_solver.initialize(problem.discretization->dof_handler, timer);
+    TimedSolver tested("set Type = cg-cholesky\n"
+                       "set Cholesky tolerance = 1e-8\n"
+                       "set Cholesky factorization cost = 20",
+                       problem.discretization->dof_handler);
+
+    solver::LinearSolver &linear_solver = tested.linear_solver;
     std::cout << "  method: " << linear_solver.method() << std::endl;
 
     const auto solve = [&](const std::string          &name,
@@ -234,8 +248,8 @@ main(int argc, char **argv)
     // go to UMFPACK at once (D); then a factorization is tried again (F:
     // the section "factorization / preconditioner" is entered twice, for
     // the factorization and for UMFPACK).
-    const auto factorization_calls = [&timer]() {
-      return timer.get_summary_data(
+    const auto factorization_calls = [&tested]() {
+      return tested.timer.get_summary_data(
         TimerOutput::n_calls)["factorization / preconditioner"];
     };
     const auto solve_indefinite = [&](const unsigned int n_systems) {
@@ -307,18 +321,12 @@ main(int argc, char **argv)
     shifted_tangent(large, 0, K);
     for (auto &v : b)
       v = uniform(random);
-    ParameterHandler prm;
-    solver::LinearSolver::declare_parameters(prm);
-    prm.parse_input_from_string(R"(
-      subsection Linear solver
-        set Type = auto
-        set Direct solver limit = 0
-        set Maximum iterations = 1
-      end)");
-    solver::LinearSolver linear_solver;
-    linear_solver.parse_parameters(prm);
-    TimerOutput timer(std::cout, TimerOutput::never, TimerOutput::wall_times);
-    linear_solver.initialize(large.discretization->dof_handler, timer);
+    TimedSolver tested("set Type = auto\n"
+                       "set Direct solver limit = 0\n"
+                       "set Maximum iterations = 1",
+                       large.discretization->dof_handler);
+
+    solver::LinearSolver &linear_solver = tested.linear_solver;
     std::cout << "  " << m << " unknowns, method: " << linear_solver.method()
               << ", iterations: " << linear_solver.solve(K, x, b)
               << " (CG's 1, then UMFPACK's 1), systems UMFPACK solved: "
@@ -364,19 +372,12 @@ main(int argc, char **argv)
     Vector<double> x(m), b(m);
     for (auto &v : b)
       v = uniform(random);
-    ParameterHandler prm;
-    solver::LinearSolver::declare_parameters(prm);
-    prm.parse_input_from_string(
-      "subsection Linear solver\n  set Type = cg-amg\n  set Tolerance = "
-      "1e-8\nend\n");
     const auto iterations = [&](const SparseMatrix<double> &K,
                                 const Vector<double>       *configuration) {
-      solver::LinearSolver linear_solver;
-      linear_solver.parse_parameters(prm);
-      TimerOutput timer(std::cout, TimerOutput::never, TimerOutput::wall_times);
-      linear_solver.initialize(dof_handler, timer);
+      TimedSolver        tested("set Type = cg-amg\nset Tolerance = 1e-8",
+                         dof_handler);
       const unsigned int n_iterations =
-        linear_solver.solve(K, x, b, 1, configuration);
+        tested.linear_solver.solve(K, x, b, 1, configuration);
       AssertThrow(relative_residual(K, x, b) < 1e-8, ExcInternalError());
       return n_iterations;
     };
@@ -397,14 +398,9 @@ main(int argc, char **argv)
     std::cout << "cg-amg's multigrid hierarchy as the tolerance tightens"
               << std::endl;
     {
-      ParameterHandler defaults;
-      solver::LinearSolver::declare_parameters(defaults);
-      defaults.parse_input_from_string(
-        "subsection Linear solver\n  set Type = cg-amg\nend\n");
-      solver::LinearSolver linear_solver;
-      linear_solver.parse_parameters(defaults);
-      TimerOutput timer(std::cout, TimerOutput::never, TimerOutput::wall_times);
-      linear_solver.initialize(dof_handler, timer);
+      TimedSolver tested("set Type = cg-amg", dof_handler);
+
+      solver::LinearSolver &linear_solver = tested.linear_solver;
       for (const double forcing : {1e-2, 1e-6, 1e-10})
         {
           const unsigned int n = linear_solver.solve(K_rest, x, b, forcing);
