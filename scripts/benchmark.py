@@ -5,8 +5,9 @@ Usage: scripts/benchmark.py [SCENE ...]   (default: every benchmark below)
 
 Each benchmark is a shipped prm file plus --set overrides. VTU output is
 switched off. The table (Markdown) shows grid, DoFs, linear solver, Newton
-iterations, time per Newton iteration, total time and peak memory, all read
-from each run's summary.json. It is a benchmark, not a test: timings depend
+iterations, preconditioner setups (multigrid hierarchies or Cholesky
+factorizations), time per Newton iteration, total time and peak memory, all
+read from each run's summary.json. It is a benchmark, not a test: timings depend
 on the machine and its load.
 """
 import json
@@ -76,9 +77,9 @@ def main():
             sys.exit("Error: build/ is not a Release build "
                      "(scripts/setup.sh makes one).")
     failed = []
-    print("| scene | grid | DoFs | solver | load steps | Newton its | s / Newton it "
-          "| total s | peak MB | reference s / it |")
-    print("|---|---|---|---|---|---|---|---|---|---|")
+    print("| scene | grid | DoFs | solver | load steps | Newton its | setups "
+          "| s / Newton it | total s | peak MB | reference s / it |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
     for name in names:
         s = run(name)
         ref = REFERENCE.get(name)
@@ -93,10 +94,11 @@ def main():
             status = " (exit code %d)" % s["exit_code"]
         if status:
             failed.append(name)
-        print("| %s%s | %s | %d | %s | %d | %d | %.3f | %.1f | %.0f | %s |" % (
+        print("| %s%s | %s | %d | %s | %d | %d | %d | %.3f | %.1f | %.0f | %s |" % (
             name, status,
             "x".join(str(n) for n in s["grid"]), s["dofs"], s["linear_solver"],
-            s["load_steps"], s["newton_iterations"], per_iteration,
+            s["load_steps"], s["newton_iterations"],
+            s["preconditioner_setups"], per_iteration,
             s["wall_time_s"], s["peak_memory_mb"], ref_text), flush=True)
     if failed:
         sys.exit(f"Error: benchmarks that failed: {', '.join(failed)}; see "
