@@ -92,7 +92,9 @@ namespace
       linear_solver.initialize(dof_handler, timer);
     }
 
-    TimerOutput          timer;
+    /// Receives the solver's timing sections.
+    TimerOutput timer;
+    /// The solver under test.
     solver::LinearSolver linear_solver;
   };
 } // namespace
@@ -264,6 +266,8 @@ main(int argc, char **argv)
     };
     std::cout << "  27 more indefinite systems: " << solve_indefinite(27)
               << std::endl;
+    // Factorized so far: K0, K2, and the indefinite matrix 5 times (each
+    // F, and once before the 27), which failed.
     std::cout << "  systems UMFPACK solved so far: "
               << linear_solver.direct_solves() << ", Cholesky factorizations: "
               << linear_solver.preconditioner_setups() << std::endl;
@@ -297,7 +301,8 @@ main(int argc, char **argv)
           K3,
           1e-12);
     // A factorization that succeeded ends the run of failures: the next
-    // indefinite system is followed by one direct solve only.
+    // indefinite system is followed by one direct solve only. Factorized
+    // since the 7 above: K1, K3, and the indefinite matrix twice.
     std::cout << "  4 indefinite systems after it: " << solve_indefinite(4)
               << ", Cholesky factorizations: "
               << linear_solver.preconditioner_setups() << std::endl;

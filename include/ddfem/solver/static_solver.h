@@ -138,7 +138,8 @@ namespace ddfem::solver
       unsigned int direct_solves = 0;
       /// Preconditioners the iterative solver set up
       /// (LinearSolver::preconditioner_setups()): multigrid hierarchies
-      /// for cg-amg, Cholesky factorizations for cg-cholesky.
+      /// for cg-amg, Cholesky factorizations for cg-cholesky (those that
+      /// found the tangent indefinite included).
       unsigned int preconditioner_setups = 0;
       /// Newton iterations that needed a regularized tangent.
       unsigned int regularized_iterations = 0;
