@@ -218,6 +218,7 @@ namespace ddfem::app
       ResultFile    result(file, "Output/Output directory");
       std::ostream &csv = result.stream();
       csv << "state,method,level,grid,cells,dofs,newton_iterations,"
+             "linear_iterations,direct_solves,preconditioner_setups,"
              "time_per_iteration_s,wall_time_s,coarsening_time_s,"
              "speedup_vs_fine,speedup_vs_fine_direct,mean_vertex_error,"
              "max_vertex_error,grid_fit_mean_vertex_error,"
@@ -229,6 +230,9 @@ namespace ddfem::app
           csv << r.state << ',' << r.method << ',' << r.level << ',' << r.grid
               << ',' << r.cells << ',' << r.dofs << ','
               << r.result.statistics.newton_iterations << ','
+              << r.result.statistics.linear_iterations << ','
+              << r.result.statistics.direct_solves << ','
+              << r.result.statistics.preconditioner_setups << ','
               << r.result.time_per_iteration() << ',' << r.result.wall_time
               << ',';
           // Empty fields where a value does not exist: a fine run has no

@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -293,18 +294,31 @@ main(int argc, char **argv)
   std::cout << "fine model failing: exit status " << status_failed << std::endl;
   std::ifstream failed_csv("compare_failed/comparison.csv");
   std::getline(failed_csv, header);
+  const std::vector<std::string> failed_names = split(header);
   for (std::string line; std::getline(failed_csv, line);)
     {
       const std::vector<std::string> fields = split(line);
-      std::cout << "  " << fields[1] << ": converged " << fields[18]
+      // The field of the column @p name (looked up by name, so that new
+      // columns do not shift it).
+      const auto field = [&](const std::string &name) -> const std::string & {
+        return fields.at(
+          std::find(failed_names.begin(), failed_names.end(), name) -
+          failed_names.begin());
+      };
+      const std::string &method  = field("method"),
+                        &speedup = field("speedup_vs_fine"),
+                        &error   = field("mean_vertex_error");
+      std::cout << "  " << method << ": converged " << field("converged")
                 << ", speedup_vs_fine '"
-                << (fields[1] == "fine-direct" ? fields[10] : "...") << "' ("
-                << (fields[10].empty() ? "empty" : "a number")
+                << (method == "fine-direct" ? speedup : "...") << "' ("
+                << (speedup.empty() ? "empty" : "a number")
                 << "), mean_vertex_error '"
-                << (fields[1] == "naive" ? "..." : fields[12]) << "' ("
-                << (fields[12].empty() ? "empty" : "a number")
+                << (method == "naive" ? "..." : error) << "' ("
+                << (error.empty() ? "empty" : "a number")
                 << "), grid_fit_lower_bound "
-                << (fields[16].empty() ? "empty" : "a number") << std::endl;
+                << (field("grid_fit_lower_bound").empty() ? "empty" :
+                                                            "a number")
+                << std::endl;
     }
   // The JSON has null where the CSV has empty fields, and the converged
   // runs' speedups divide the direct run's wall time by their own.
