@@ -647,14 +647,16 @@ namespace ddfem::app
       builder.parse_parameters(prm);
       const OutputSettings output(prm);
 
-      const auto           held     = builder.lock(scene.palette, out);
-      coarsening::Database database = builder.open(scene.palette, out);
-      const bool           all =
+      const auto            held = builder.lock(scene.palette, out);
+      coarsening::Hierarchy level2;
+      coarsening::Database  database = builder.open(scene.palette, level2, out);
+      const bool            all =
         builder.scope() == coarsening::DatabaseBuilder::Scope::all;
       const std::vector<scene::VoxelGrid> grids =
         all ? std::vector<scene::VoxelGrid>() : scene.states();
       builder.build(scene.palette,
                     database,
+                    level2,
                     all ? nullptr : &grids,
                     out,
                     output.screen_timings);

@@ -259,15 +259,18 @@ namespace ddfem::coarsening
 
 
   Database
-  DatabaseBuilder::open(const scene::Palette &palette, std::ostream &out) const
+  DatabaseBuilder::open(const scene::Palette &palette,
+                        Hierarchy            &level2,
+                        std::ostream         &out) const
   {
     check_input(palette);
     const DatabaseSettings settings = this->settings(palette);
 
     Database database(settings, palette.size());
+    level2 = Hierarchy();
     if (std::filesystem::exists(database_file))
       {
-        database = Database::load(database_file);
+        database = Database::load(database_file, &level2);
         AssertThrow(database.palette() == settings.palette,
                     ExcMessage("The metamaterial database '" + database_file +
                                "' was built for the palette [" +
@@ -650,10 +653,10 @@ namespace ddfem::coarsening
   void
   DatabaseBuilder::build(const scene::Palette                &palette,
                          Database                            &database,
+                         Hierarchy                           &level2,
                          const std::vector<scene::VoxelGrid> *scene_grids,
                          std::ostream                        &out,
-                         const bool                           show_progress,
-                         Hierarchy *level2_result) const
+                         const bool show_progress) const
   {
     Timer timer;
     // The scene's 4x4x4 blocks and their keys, for the level-2 tables. A
@@ -683,13 +686,10 @@ namespace ddfem::coarsening
             base_blocks = std::move(blocks);
         }
     const std::vector<Combination> todo = database.missing(wanted);
-    // The file's level 2, read (and checked) before any fit: a level-1
-    // build keeps it, since its tables and fits are keyed by combination
-    // and new level-1 entries leave them valid (a level-2 build renews
-    // tables that do not cover them).
-    Hierarchy level2;
-    if (std::filesystem::exists(database_file))
-      Database::load(database_file, &level2);
+    // The file's level 2 (open() read and checked it): a level-1 build
+    // keeps it, since its tables and fits are keyed by combination and new
+    // level-1 entries leave them valid (a level-2 build renews tables that
+    // do not cover them).
     // The entries open() recovered from the journal of a build killed
     // before its save are in @p database but perhaps not in the file: a
     // journal makes the build save, which retires it.
@@ -901,8 +901,6 @@ namespace ddfem::coarsening
               << (needed.empty() ? 0. : timer2.wall_time() / needed.size())
               << " s per representative)" << std::endl;
       }
-    if (level2_result != nullptr)
-      *level2_result = std::move(level2);
     if (show_progress)
       out << "  total time: " << timer.wall_time() << " s, file size: "
           << std::filesystem::file_size(database_file) / 1024. << " KiB"
@@ -923,8 +921,8 @@ namespace ddfem::coarsening
     lazy.run_scope         = Scope::scene;
     lazy.n_representatives = 0; // only a complete database is compressed
     const auto held        = lazy.lock(palette, out);
-    Database   database    = lazy.open(palette, out);
-    lazy.build(palette, database, &grids, out, false, &level2);
+    Database   database    = lazy.open(palette, level2, out);
+    lazy.build(palette, database, level2, &grids, out, false);
     return database;
   }
 

@@ -436,8 +436,9 @@ namespace
     smaller.builder.parse_parameters(smaller.prm);
     try
       {
-        std::ostringstream quiet;
-        smaller.builder.open(smaller.scene.palette, quiet);
+        std::ostringstream    quiet;
+        coarsening::Hierarchy level2;
+        smaller.builder.open(smaller.scene.palette, level2, quiet);
         std::cout << "  database of another offset: NO ERROR" << std::endl;
       }
     catch (const ExceptionBase &e)

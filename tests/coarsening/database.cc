@@ -78,12 +78,22 @@ namespace
     return p;
   }
 
+  /// The database of @p b for @p p, opened (DatabaseBuilder::open()); its
+  /// second level is read and checked, and dropped.
+  Database
+  open(const DatabaseBuilder &b, const scene::Palette &p, std::ostream &log)
+  {
+    Hierarchy level2;
+    return b.open(p, level2, log);
+  }
+
   Database
   build(const DatabaseBuilder &b, const scene::Palette &p)
   {
     std::ostringstream log;
-    Database           db = b.open(p, log);
-    b.build(p, db, nullptr, log, false);
+    Hierarchy          level2;
+    Database           db = b.open(p, level2, log);
+    b.build(p, db, level2, nullptr, log, false);
     return db;
   }
 
@@ -97,9 +107,12 @@ namespace
                Hierarchy                           *level2 = nullptr)
   {
     std::ostringstream    log;
-    const DatabaseBuilder b  = builder(file, false, scope, 1, 0, 2);
-    Database              db = b.open(palette(), log);
-    b.build(palette(), db, grids, log, false, level2);
+    const DatabaseBuilder b = builder(file, false, scope, 1, 0, 2);
+    Hierarchy             opened;
+    Database              db = b.open(palette(), opened, log);
+    b.build(palette(), db, opened, grids, log, false);
+    if (level2 != nullptr)
+      *level2 = std::move(opened);
     return db;
   }
 
@@ -307,11 +320,12 @@ main()
               << std::endl;
 
     std::ostringstream    log;
-    const DatabaseBuilder b       = builder("killed.h5", true);
-    Database              resumed = b.open(palette(), log);
+    const DatabaseBuilder b = builder("killed.h5", true);
+    Hierarchy             level2;
+    Database              resumed = b.open(palette(), level2, log);
     std::cout << "entries recovered = journaled: "
               << (resumed.entries().size() == journaled) << std::endl;
-    b.build(palette(), resumed, nullptr, log, false);
+    b.build(palette(), resumed, level2, nullptr, log, false);
     const Database full = build(builder("full.h5", true), palette());
     std::cout << "orbits of 2 materials + void: " << full.entries().size() + 1
               << std::endl;
@@ -371,11 +385,11 @@ main()
     }
     expect_error("journal with a record of a combination that is not its "
                  "orbit's representative",
-                 [&] { builder("forged.h5", true).open(palette(), log); });
+                 [&] { open(builder("forged.h5", true), palette(), log); });
     std::filesystem::remove("forged.h5.journal");
     std::filesystem::create_directory("forged.h5.journal");
     expect_error("journal that is a directory",
-                 [&] { builder("forged.h5", true).open(palette(), log); });
+                 [&] { open(builder("forged.h5", true), palette(), log); });
     std::filesystem::remove("forged.h5.journal");
     // A build killed while appending leaves a torn record; a resumed
     // build cuts it off, so the records it appends can be read.
@@ -504,7 +518,7 @@ main()
       << std::endl;
     expect_error("the file of seed 1 opened with seed 0", [&]() {
       std::ostringstream log;
-      builder("seed1.h5", true).open(palette(), log);
+      open(builder("seed1.h5", true), palette(), log);
     });
   }
 
@@ -896,10 +910,11 @@ main()
     std::filesystem::remove("lazy.h5");
     std::ostringstream    log;
     const DatabaseBuilder lazy = builder("lazy.h5", false, "scene");
-    Database              ldb  = lazy.open(palette(), log);
+    Hierarchy             level2;
+    Database              ldb = lazy.open(palette(), level2, log);
     const std::vector<scene::VoxelGrid> grids = {grid};
-    lazy.build(palette(), ldb, &grids, log, false);
-    Database again = lazy.open(palette(), log);
+    lazy.build(palette(), ldb, level2, &grids, log, false);
+    Database again = open(lazy, palette(), log);
     std::cout << "lazy build fitted "
               << Database::load("lazy.h5").entries().size()
               << " entries, a second run has "
@@ -917,16 +932,18 @@ main()
       scene::VoxelGrid edited      = grid;
       edited(1, 0, 0)              = 2;
       const DatabaseBuilder linked = builder("link.h5", false, "scene");
-      Database              shared = linked.open(palette(), log);
+      Hierarchy             level2;
+      Database              shared = linked.open(palette(), level2, log);
       const std::vector<scene::VoxelGrid> edited_grids = {edited};
-      linked.build(palette(), shared, &edited_grids, log, false);
+      linked.build(palette(), shared, level2, &edited_grids, log, false);
       // A link made before the shared file's first build dangles; the
       // build creates the file it names.
       std::filesystem::remove("link_first.h5");
       std::filesystem::create_symlink("shared/first.h5", "link_first.h5");
       const DatabaseBuilder first = builder("link_first.h5", false, "scene");
-      Database              fresh = first.open(palette(), log);
-      first.build(palette(), fresh, &edited_grids, log, false);
+      Hierarchy             fresh_level2;
+      Database              fresh = first.open(palette(), fresh_level2, log);
+      first.build(palette(), fresh, fresh_level2, &edited_grids, log, false);
       std::cout << "  through a dangling link: still a link "
                 << std::filesystem::is_symlink("link_first.h5")
                 << ", the file it names has "
@@ -957,9 +974,10 @@ main()
     std::cout << "Second level" << std::endl;
     std::filesystem::remove("level2.h5");
     std::ostringstream    log;
-    const DatabaseBuilder b  = builder("level2.h5", false, "all", 2, 0, 2);
-    Database              db = b.open(palette(), log);
-    b.build(palette(), db, nullptr, log, false);
+    const DatabaseBuilder b = builder("level2.h5", false, "all", 2, 0, 2);
+    Hierarchy             built;
+    Database              db = b.open(palette(), built, log);
+    b.build(palette(), db, built, nullptr, log, false);
     Hierarchy      level2;
     const Database loaded = Database::load("level2.h5", &level2);
     std::cout << "representatives: " << level2.n_representatives()
@@ -1110,10 +1128,10 @@ main()
                                  const std::vector<scene::VoxelGrid> &grids,
                                  const bool with_void = false) {
       std::ostringstream    log;
-      const DatabaseBuilder b  = builder(file, with_void, "scene", 1, 0, 2);
-      Database              db = b.open(palette(), log);
+      const DatabaseBuilder b = builder(file, with_void, "scene", 1, 0, 2);
       Hierarchy             level2;
-      b.build(palette(), db, &grids, log, false, &level2);
+      Database              db = b.open(palette(), level2, log);
+      b.build(palette(), db, level2, &grids, log, false);
       std::vector<Metamaterial> result;
       bool                      exact = true;
       for (const auto &grid : grids)
@@ -1184,10 +1202,11 @@ main()
       Hierarchy             before, after;
       const Database        old = Database::load("lazy2.h5", &before);
       std::ostringstream    log;
-      const DatabaseBuilder b  = builder("lazy2.h5", false, "scene", 1, 0, 1);
-      Database              db = b.open(palette(), log);
+      const DatabaseBuilder b = builder("lazy2.h5", false, "scene", 1, 0, 1);
+      Hierarchy             level2;
+      Database              db = b.open(palette(), level2, log);
       const std::vector<scene::VoxelGrid> grids = {grid};
-      b.build(palette(), db, &grids, log, false);
+      b.build(palette(), db, level2, &grids, log, false);
       const Database extended = Database::load("lazy2.h5", &after);
       bool           kept     = !before.empty() && !after.empty() &&
                   after.entries.size() == before.entries.size() &&
@@ -1238,9 +1257,10 @@ main()
       std::ostringstream    log;
       const DatabaseBuilder b =
         builder("lazy2_over.h5", false, "scene", 1, 0, 2);
-      Database                            db    = b.open(palette(), log);
+      Hierarchy                           level2;
+      Database                            db = b.open(palette(), level2, log);
       const std::vector<scene::VoxelGrid> grids = {grid};
-      b.build(palette(), db, &grids, log, false);
+      b.build(palette(), db, level2, &grids, log, false);
       std::istringstream lines(log.str());
       for (std::string line; std::getline(lines, line);)
         if (line.find("distinct 4x4x4 blocks") != std::string::npos)
@@ -1299,8 +1319,9 @@ main()
     std::ostringstream    log;
     const scene::Palette  one = palette("E=1e5 nu=0.45");
     const DatabaseBuilder b   = builder("one.h5", false, "all", 2, 0, 2, 100);
-    Database              db  = b.open(one, log);
-    b.build(one, db, nullptr, log, false);
+    Hierarchy             built;
+    Database              db = b.open(one, built, log);
+    b.build(one, db, built, nullptr, log, false);
     Hierarchy                  level2;
     const Database             loaded = Database::load("one.h5", &level2);
     std::array<Combination, 8> block;
@@ -1536,11 +1557,12 @@ main()
         palette("E=1e5 nu=0.45; E=2e5 nu=0.45; E=4e5 nu=0.45; "
                 "E=8e5 nu=0.45; E=1e6 nu=0.45");
       std::filesystem::remove("five.h5");
-      const DatabaseBuilder b  = builder("five.h5", false, "scene");
-      Database              db = b.open(five, log);
+      const DatabaseBuilder b = builder("five.h5", false, "scene");
+      Hierarchy             level2;
+      Database              db                  = b.open(five, level2, log);
       const std::vector<scene::VoxelGrid> grids = {
         scene::VoxelGrid({{2, 2, 2}}, 0.01, 5)};
-      b.build(five, db, &grids, log, false);
+      b.build(five, db, level2, &grids, log, false);
       const hid_t file = H5Fopen("five.h5", H5F_ACC_RDONLY, H5P_DEFAULT);
       for (const std::string name : {"lookup/entry", "lookup/symmetry"})
         {
@@ -1670,31 +1692,34 @@ main()
             Database::load("bad_level2.h5", &level2);
           });
         }
-      // A level-1 build keeps the file's level 2: it stops before any fit
-      // (it would fit every combination the lazy file lacks).
+      // A level-1 build keeps the file's level 2: opening the file checks
+      // it, so the build stops before any fit (it would fit every
+      // combination the lazy file lacks).
       expect_error("level-1 build of a file with a damaged level 2", [] {
         std::ostringstream    log;
-        const DatabaseBuilder b  = builder("bad_level2.h5", false);
-        Database              db = b.open(palette(), log);
-        b.build(palette(), db, nullptr, log, false);
+        const DatabaseBuilder b = builder("bad_level2.h5", false);
+        Hierarchy             level2;
+        Database              db = b.open(palette(), level2, log);
+        b.build(palette(), db, level2, nullptr, log, false);
       });
       std::cout << "  fits journaled: "
                 << std::filesystem::exists("bad_level2.h5.journal")
                 << std::endl;
     }
     expect_error("other palette", [&log] {
-      builder("small.h5", false)
-        .open(palette("E=1e5 nu=0.45; E=2e6 nu=0.45"), log);
+      open(builder("small.h5", false),
+           palette("E=1e5 nu=0.45; E=2e6 nu=0.45"),
+           log);
     });
     expect_error("other settings",
-                 [&log] { builder("small.h5", true).open(palette(), log); });
+                 [&log] { open(builder("small.h5", true), palette(), log); });
     // The offset attribute disagrees with the settings it was fitted with:
     // new entries would be fitted for the attribute's offset.
     edited_copy("small.h5",
                 "other_offset.h5",
                 {{"coarse point offset", "0.5"}});
     expect_error("offset attribute other than its settings'", [&log] {
-      builder("other_offset.h5", false).open(palette(), log);
+      open(builder("other_offset.h5", false), palette(), log);
     });
     // The difference names a changed value, a flag and a setting that one
     // fingerprint leaves at its default.

@@ -116,17 +116,21 @@ namespace ddfem::coarsening
     /**
      * After check_input(), loads the database for @p palette from
      * Database/File, or starts an empty one if there is none, and adds what the
-     * file's journal holds. Throws ExcMessage if the file was built for another
+     * file's journal holds; the file's second level goes to @p level2 (empty
+     * if it has none). Throws ExcMessage if the file was built for another
      * palette or with other settings, or fails the checks of
-     * Database::load(). Reads only: call it under lock() if
+     * Database::load(), at either level. Reads only: call it under lock() if
      * build() follows.
      */
     Database
-    open(const scene::Palette &palette, std::ostream &out) const;
+    open(const scene::Palette &palette,
+         Hierarchy            &level2,
+         std::ostream         &out) const;
 
     /**
      * Fits the missing orbit representatives of every combination (or, if
-     * @p scene_grids is given, of their 2x2x2 blocks) into @p database, in
+     * @p scene_grids is given, of their 2x2x2 blocks) into @p database, which
+     * with @p level2 is what open() read (under the same lock()), in
      * parallel and journaled, compresses if asked, saves to Database/File; with
      * Levels = 2 then builds the staged level-2 tables and fits the
      * level-2 representatives (all, or those of @p scene_grids' 4x4x4
@@ -136,23 +140,23 @@ namespace ddfem::coarsening
      * journal is left by a build killed before its save (its entries are
      * saved; open() recovers the level-1 ones); the journals are removed
      * once it is. A level-1 build keeps the file's level 2 (unless
-     * it compresses). With Levels = 2 the level-2 tables and entries end up
-     * in @p level2_result if given. Level-2 tables are built anew if they
+     * it compresses). On return @p level2 holds the level 2 the file has
+     * (with Levels = 2, the tables and entries built). Level-2 tables are
+     * built anew if they
      * do not know a combination the build covers (built before lazy builds
      * extended level 1) or were not built with @p scene_grids' 4x4x4 blocks
      * required; the new tables require those and the earlier ones, and
      * keep the fits of compositions they still represent. With Levels = 2,
      * a grid of @p scene_grids whose size is not a multiple of 4 is an
-     * error before anything is fitted. So, at either level, is a file
-     * whose level 2 fails the checks of Database::load().
+     * error before anything is fitted.
      */
     void
     build(const scene::Palette                &palette,
           Database                            &database,
+          Hierarchy                           &level2,
           const std::vector<scene::VoxelGrid> *scene_grids,
           std::ostream                        &out,
-          const bool                           show_progress,
-          Hierarchy                           *level2_result = nullptr) const;
+          const bool                           show_progress) const;
 
     /**
      * Lazy mode for a coarse simulation at coarsening @p level (1 or 2):
