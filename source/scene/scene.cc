@@ -269,26 +269,43 @@ namespace ddfem::scene
           }
     AssertThrow(!blocks.empty(), no_solid_voxel(grid));
 
-    // Number only the vertices solid blocks use.
-    const auto vertex_index =
-      [&](unsigned int i, unsigned int j, unsigned int k) {
-        return i + (m[0] + 1) * (j + static_cast<std::size_t>(m[1] + 1) * k);
-      };
-    std::vector<unsigned int> new_index((m[0] + 1) * (m[1] + 1) *
-                                          static_cast<std::size_t>(m[2] + 1),
-                                        numbers::invalid_unsigned_int);
-    std::vector<Point<3>>     vertices;
-    std::vector<CellData<3>>  cells(blocks.size());
+    // Number only the vertices solid blocks use, in the order the blocks
+    // first touch them. The blocks come plane by plane (K slowest), so the
+    // numbers are kept for the two vertex planes K and K + 1 of the
+    // current blocks only, not for every vertex of the grid (four bytes per
+    // voxel, most of them void in a sparse scene).
+    const std::size_t         plane = (m[0] + 1) * std::size_t(m[1] + 1);
+    std::vector<unsigned int> lower(plane, numbers::invalid_unsigned_int),
+      upper(plane, numbers::invalid_unsigned_int);
+    unsigned int          lower_K = blocks.front() / (std::size_t(m[0]) * m[1]);
+    std::vector<Point<3>> vertices;
+    std::vector<CellData<3>> cells(blocks.size());
     for (std::size_t c = 0; c < blocks.size(); ++c)
       {
         const std::size_t  B = blocks[c];
         const unsigned int I = B % m[0], J = (B / m[0]) % m[1],
                            K = B / (static_cast<std::size_t>(m[0]) * m[1]);
+        if (K != lower_K)
+          {
+            // The next plane of blocks shares its lower vertex plane with
+            // the last one; blocks beyond a void plane share none.
+            if (K == lower_K + 1)
+              lower.swap(upper);
+            else
+              std::fill(lower.begin(),
+                        lower.end(),
+                        numbers::invalid_unsigned_int);
+            std::fill(upper.begin(),
+                      upper.end(),
+                      numbers::invalid_unsigned_int);
+            lower_K = K;
+          }
         for (unsigned int v = 0; v < 8; ++v)
           {
             const unsigned int i = I + (v & 1), j = J + ((v >> 1) & 1),
                                k = K + ((v >> 2) & 1);
-            unsigned int &index  = new_index[vertex_index(i, j, k)];
+            unsigned int &index =
+              (k == K ? lower : upper)[i + (m[0] + 1) * std::size_t(j)];
             if (index == numbers::invalid_unsigned_int)
               {
                 index = vertices.size();
