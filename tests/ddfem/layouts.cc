@@ -15,6 +15,7 @@
 #include <array>
 #include <cstdint>
 #include <fstream>
+#include <set>
 
 #include "../tests.h"
 
@@ -363,28 +364,50 @@ main()
              {false})
     << " voxels" << std::endl;
 
-  // Voxel meshes of the sphere scene: fine and one level coarser.
+  // Voxel meshes of the sphere scene, fine and one level coarser, and of
+  // three slabs of 8 x 8 x 2 voxels at z = 0, 4 and 6 voxels: at level 1
+  // the first two are a void plane of blocks apart, the last two touch.
+  // Every vertex of every cell is its block's corner, and no two vertices
+  // coincide (make_voxel_mesh numbers them two vertex planes at a time).
   const auto sphere =
     make_scene("set Material = 0\nset Shapes = sphere 0.04 0.04 0.04 0.025 : 1")
       .grid;
-  for (const unsigned int level : {0u, 1u})
-    {
-      Triangulation<3>   tria;
-      const auto         blocks  = scene::make_voxel_mesh(sphere, level, tria);
-      const double       H       = 0.01 * (1u << level);
-      const unsigned int m       = 8 >> level;
-      bool               ordered = true;
-      for (const auto &cell : tria.active_cell_iterators())
-        {
-          const std::size_t b = blocks[cell->active_cell_index()];
-          const Point<3>    center(((b % m) + 0.5) * H,
-                                (((b / m) % m) + 0.5) * H,
-                                ((b / (m * m)) + 0.5) * H);
-          ordered = ordered && cell->center().distance(center) < 1e-12;
-        }
-      std::cout << "sphere mesh at level " << level << ": "
-                << tria.n_active_cells() << " cells, " << tria.n_vertices()
-                << " vertices, cells match their blocks: " << ordered
-                << std::endl;
-    }
+  scene::VoxelGrid slabs({{8, 8, 8}}, 0.01, 0);
+  for (unsigned int k : {0u, 1u, 4u, 5u, 6u, 7u})
+    for (unsigned int j = 0; j < 8; ++j)
+      for (unsigned int i = 0; i < 8; ++i)
+        slabs(i, j, k) = 2;
+  for (const auto &[name, grid] :
+       {std::pair<std::string, const scene::VoxelGrid &>("sphere", sphere),
+        std::pair<std::string, const scene::VoxelGrid &>("slabs", slabs)})
+    for (const unsigned int level : {0u, 1u})
+      {
+        Triangulation<3>   tria;
+        const auto         blocks  = scene::make_voxel_mesh(grid, level, tria);
+        const double       H       = 0.01 * (1u << level);
+        const unsigned int m       = 8 >> level;
+        bool               ordered = true;
+        for (const auto &cell : tria.active_cell_iterators())
+          {
+            const std::size_t b = blocks[cell->active_cell_index()];
+            const Point<3>    corner((b % m) * H,
+                                  ((b / m) % m) * H,
+                                  (b / (m * m)) * H);
+            for (unsigned int v = 0; v < 8; ++v)
+              ordered = ordered &&
+                        cell->vertex(v).distance(
+                          corner + Point<3>(v & 1, (v >> 1) & 1, (v >> 2) & 1) *
+                                     H) < 1e-12;
+          }
+        std::set<std::array<long, 3>> distinct;
+        for (const Point<3> &p : tria.get_vertices())
+          distinct.insert({{std::lround(p[0] / 0.01),
+                            std::lround(p[1] / 0.01),
+                            std::lround(p[2] / 0.01)}});
+        std::cout << name << " mesh at level " << level << ": "
+                  << tria.n_active_cells() << " cells, " << tria.n_vertices()
+                  << " vertices (" << distinct.size()
+                  << " places), cells match their blocks: " << ordered
+                  << std::endl;
+      }
 }
