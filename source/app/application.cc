@@ -314,7 +314,8 @@ namespace ddfem::app
        * other than a regular file is in the way of summary.json,
        * parameters.prm or the VTU files of @p n_states scene states (0: a
        * DG run's solution.vtu only), or of an earlier run's results that
-       * write_output() removes (check_earlier_results()).
+       * write_output() removes, or if Database/File is one of these
+       * (check_earlier_results()).
        */
       void
       check_output(const unsigned int n_states) const
@@ -322,7 +323,9 @@ namespace ddfem::app
         check_writable_in(directory,
                           {"parameters.prm"},
                           "Output/Output directory");
-        check_earlier_results(directory, vtu);
+        check_earlier_results(directory,
+                              vtu,
+                              method == "ddfem" ? database.file() : "");
         vtu.check_writable(directory, n_states);
       }
 

@@ -474,11 +474,41 @@ namespace ddfem::app
 
   void
   check_earlier_results(const std::string       &directory,
-                        const report::VtuWriter &vtu)
+                        const report::VtuWriter &vtu,
+                        const std::string       &database_file)
   {
     check_writable_in(directory, result_files, "Output/Output directory");
-    for (const std::string &d : all_model_directories(directory))
+    std::vector<std::string> directories = all_model_directories(directory);
+    for (const std::string &d : directories)
       vtu.check_writable(d, 0);
+    if (database_file.empty())
+      return;
+    // A result's name (or its temporary's) in one of these directories.
+    namespace fs = std::filesystem;
+    std::error_code error;
+    const fs::path  file =
+      fs::weakly_canonical(fs::absolute(database_file), error);
+    const std::string        name  = file.filename().string();
+    std::vector<std::string> names = result_files;
+    names.push_back("parameters.prm");
+    const bool result_name =
+      report::VtuWriter::is_vtu_file(name) ||
+      std::any_of(names.begin(), names.end(), [&](const std::string &n) {
+        return name == n || name == ResultFile::partial_name(n);
+      });
+    directories.push_back(directory);
+    for (const std::string &d : directories)
+      AssertThrow(!result_name ||
+                    fs::weakly_canonical(fs::absolute(d), error) !=
+                      file.parent_path(),
+                  ExcMessage("Database/File = '" + database_file +
+                             "' is a result file of Output/Output directory "
+                             "= '" +
+                             directory +
+                             "': this run would overwrite the database with "
+                             "its results, or remove it as an earlier run's. "
+                             "Name the database otherwise, or keep it in "
+                             "another directory."));
   }
 
 
@@ -582,7 +612,15 @@ namespace ddfem::app
                     configurations.end(),
                     [](const Configuration &c) { return c.level > 0; }))
       report::check_gnuplot("compare");
-    check_earlier_results(directory, vtu);
+    check_earlier_results(directory,
+                          vtu,
+                          std::any_of(configurations.begin(),
+                                      configurations.end(),
+                                      [](const Configuration &c) {
+                                        return c.name == "ddfem";
+                                      }) ?
+                            database.file() :
+                            "");
     vtu.check_writable(directory, 0);
     for (const Configuration &config : configurations)
       {

@@ -205,33 +205,32 @@ namespace ddfem::report
       return name == "solution" ||
              (name.rfind("edit-", 0) == 0 && is_number(name.substr(5)));
     }
-
-    /// Whether @p name is NAME.pvd, NAME.vtu or NAME-<digits>.vtu of a
-    /// scene state NAME (any number of steps: cut increments add steps),
-    /// or the temporary file of one that a killed run left.
-    bool
-    is_vtu_file(const std::string &name)
-    {
-      std::string       file    = name;
-      const std::string partial = ResultFile::partial_name("");
-      if (file.size() > partial.size() &&
-          file.compare(file.size() - partial.size(), partial.size(), partial) ==
-            0)
-        file.resize(file.size() - partial.size());
-      if (file.size() < 4)
-        return false;
-      const std::string stem      = file.substr(0, file.size() - 4),
-                        extension = file.substr(file.size() - 4);
-      if (extension != ".pvd" && extension != ".vtu")
-        return false;
-      if (is_state_name(stem))
-        return true;
-      const std::size_t dash = stem.rfind('-');
-      return extension == ".vtu" && dash != std::string::npos &&
-             is_number(stem.substr(dash + 1)) &&
-             is_state_name(stem.substr(0, dash));
-    }
   } // namespace
+
+
+
+  bool
+  VtuWriter::is_vtu_file(const std::string &name)
+  {
+    std::string       file    = name;
+    const std::string partial = ResultFile::partial_name("");
+    if (file.size() > partial.size() &&
+        file.compare(file.size() - partial.size(), partial.size(), partial) ==
+          0)
+      file.resize(file.size() - partial.size());
+    if (file.size() < 4)
+      return false;
+    const std::string stem      = file.substr(0, file.size() - 4),
+                      extension = file.substr(file.size() - 4);
+    if (extension != ".pvd" && extension != ".vtu")
+      return false;
+    if (is_state_name(stem))
+      return true;
+    const std::size_t dash = stem.rfind('-');
+    return extension == ".vtu" && dash != std::string::npos &&
+           is_number(stem.substr(dash + 1)) &&
+           is_state_name(stem.substr(0, dash));
+  }
 
 
 

@@ -618,6 +618,24 @@ main(int argc, char **argv)
             "Method=ddfem",
             "--set",
             "Database/File=out_database_file_is_a_directory/"});
+  // Database/File named as a result of the run (summary.json, a VTU file
+  // of a model's directory in a comparison): the results would overwrite
+  // it, or the next run would remove it as an earlier run's.
+  run_case("database_file_is_a_result",
+           cantilever,
+           {"--set",
+            "Method=ddfem",
+            "--set",
+            "Database/File=out_database_file_is_a_result/summary.json"});
+  run_case("database_file_is_a_compare_result",
+           cantilever,
+           {"--set",
+            "Run type=compare",
+            "--set",
+            "Comparison/Levels=1",
+            "--set",
+            "Database/File=out_database_file_is_a_compare_result/ddfem-L1/"
+            "solution-0002.vtu"});
   run_case("newton_tolerance_one",
            cantilever,
            {"--set", "Nonlinear solver/Newton tolerance=1"});

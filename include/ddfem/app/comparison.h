@@ -25,11 +25,15 @@ namespace ddfem::app
    * Throws ExcMessage naming Output/Output directory before anything is
    * solved if remove_earlier_results() could not remove what it removes
    * from @p directory (VTU files of the directory itself aside, which each
-   * run type checks with its own states).
+   * run type checks with its own states); and naming Database/File if
+   * @p database_file (empty: the run uses no database) is a result file
+   * that a run writes there or removes as an earlier run's, which would
+   * overwrite or delete the database.
    */
   void
   check_earlier_results(const std::string       &directory,
-                        const report::VtuWriter &vtu);
+                        const report::VtuWriter &vtu,
+                        const std::string       &database_file);
 
   /**
    * Removes what an earlier simulation or comparison left in the output

@@ -87,6 +87,13 @@ namespace ddfem::coarsening
       return run_scope;
     }
 
+    /// Database/File, as given.
+    const std::string &
+    file() const
+    {
+      return database_file;
+    }
+
     /// The settings a build for @p palette uses.
     DatabaseSettings
     settings(const scene::Palette &palette) const;

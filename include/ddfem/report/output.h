@@ -131,6 +131,14 @@ namespace ddfem::report
     remove_earlier(const std::string &directory);
 
     /**
+     * Whether a file named @p name (no directory) is one that write()
+     * writes or remove_earlier() removes: NAME.pvd, NAME.vtu or
+     * NAME-<step>.vtu of a scene state NAME, or the temporary of one.
+     */
+    static bool
+    is_vtu_file(const std::string &name);
+
+    /**
      * Writes the state @p u with @p fields at load step @p step and load
      * factor @p t, if the "Write VTU" setting asks for it (@p last tells
      * whether this is the final state).
