@@ -378,14 +378,17 @@ namespace ddfem::scene
                   parse_point(split_list(prm.get("Axis"), ',', where + "/Axis"),
                               where + "/Axis");
                 // Scaled by its largest component first, so that its length
-                // neither overflows (1e200) nor underflows (1e-200).
+                // neither overflows (1e200) nor underflows (1e-200). Divided
+                // component by component: Tensor's /= multiplies by the
+                // inverse, which overflows for a subnormal component (1e-310).
                 double largest = 0;
                 for (unsigned int d = 0; d < 3; ++d)
                   largest = std::max(largest, std::abs(condition.axis[d]));
                 AssertThrow(largest > 0,
                             ExcMessage(where +
                                        "/Axis must not be the zero vector."));
-                condition.axis /= largest;
+                for (unsigned int d = 0; d < 3; ++d)
+                  condition.axis[d] = condition.axis[d] / largest;
                 condition.axis /= condition.axis.norm();
                 condition.angle = prm.get_double("Angle") * numbers::PI / 180.;
                 condition.constrained.assign(3, true);

@@ -296,8 +296,10 @@ namespace
    * exactly; the energy vanishes, as it must for a frame-indifferent
    * material. Newton works to 1e-12 here: at the default 1e-8 the nodal
    * error is where Newton stopped, 4e-9 with one BLAS's round-off and below
-   * 1e-10 with another. The axis is given in units of 1e-200, whose
-   * length would underflow if it were not scaled first.
+   * 1e-10 with another. The axis is given in subnormal units of 1e-310,
+   * whose length would underflow if it were not scaled first, and whose
+   * inverse overflows (scaled by Tensor's /=, which multiplies by the
+   * inverse, it held nothing: every displacement came out 0).
    */
   void
   rigid_rotation()
@@ -305,7 +307,7 @@ namespace
     testing::Problem problem(
       testing::cantilever("2, 6, 3", "0; 0; 0") + testing::layers("0.01", "y") +
       "subsection Boundary conditions\n subsection Condition 1\n"
-      "  set Type = rotation\n  set Axis = 1e-200, 2e-200, 2e-200\n"
+      "  set Type = rotation\n  set Axis = 1e-310, 2e-310, 2e-310\n"
       "  set Angle = 150\n"
       " end\n subsection Condition 2\n  set Type = none\n end\nend\n"
       "subsection Nonlinear solver\n set Load steps = 6\n"
