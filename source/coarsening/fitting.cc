@@ -13,28 +13,29 @@ namespace ddfem::coarsening
     prm.enter_subsection("Fitting");
     prm.declare_entry("Regularization",
                       "0.01",
-                      Patterns::Double(0),
+                      Patterns::Double(0, max_regularization),
                       "Weight lambda of the regularization toward the fine "
                       "parameters (paper eq. 4; the paper uses 0.01). The "
                       "energy residuals are relative and the parameters are "
                       "measured in units of the block's largest fine shear "
                       "modulus, so the weight is dimensionless.");
-    prm.declare_entry("Spring regularization",
-                      "same",
-                      Patterns::Anything(),
-                      "The weight of the springs' C in a level-1 entry's "
-                      "fit, toward their fine value 0: 'same' (Regularization, "
-                      "as the paper weighs every parameter alike) or a "
-                      "number >= 0, with which Regularization weighs only mu "
-                      "and lambda. With 0 the springs are free: without void "
-                      "the median held-out error falls from 7.3 % to 5.1 %, "
-                      "and a laminate's springs reach its stiffness along the "
-                      "layers. The child fits and level 2 keep their own "
-                      "weights. See doc/metamaterial_database.md, 'Free "
-                      "springs'.");
+    prm.declare_entry(
+      "Spring regularization",
+      "same",
+      Patterns::Anything(),
+      "The weight of the springs' C in a level-1 entry's "
+      "fit, toward their fine value 0: 'same' (Regularization, "
+      "as the paper weighs every parameter alike) or a "
+      "number from 0 to 1e6, with which Regularization weighs only mu "
+      "and lambda. With 0 the springs are free: without void "
+      "the median held-out error falls from 7.3 % to 5.1 %, "
+      "and a laminate's springs reach its stiffness along the "
+      "layers. The child fits and level 2 keep their own "
+      "weights. See doc/metamaterial_database.md, 'Free "
+      "springs'.");
     prm.declare_entry("Child regularization",
                       "1e-4",
-                      Patterns::Double(0),
+                      Patterns::Double(0, max_regularization),
                       "The weight of a second fit of every level-1 entry, "
                       "from the same samples: the model of the block that "
                       "the second level (Levels = 2) samples and clusters. "
@@ -110,11 +111,14 @@ namespace ddfem::coarsening
         spring_regularization =
           parse_number(spring_text,
                        "Database/Fitting/Spring regularization (expected "
-                       "'same' or a number >= 0)");
-        AssertThrow(*spring_regularization >= 0,
+                       "'same' or a number from 0 to 1e6)");
+        AssertThrow(*spring_regularization >= 0 &&
+                      *spring_regularization <= max_regularization,
                     ExcMessage("Database/Fitting/Spring regularization = " +
                                spring_text +
-                               ": expected 'same' or a number >= 0."));
+                               ": expected 'same' or a number from 0 to 1e6 "
+                               "(at 1e6 the springs are already held at "
+                               "0)."));
       }
     AssertThrow(held_out_every != 1,
                 ExcMessage("Database/Fitting/Held-out every must be 0 (none "

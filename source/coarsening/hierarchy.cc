@@ -42,7 +42,7 @@ namespace ddfem::coarsening
     prm.declare_entry(
       "Regularization",
       "1",
-      Patterns::Double(0),
+      Patterns::Double(0, max_regularization),
       "Weight of the regularization of the 64-point fits toward the "
       "children's records (Database/Fitting/Regularization is the "
       "level-1 weight). A 64-point fit has 192 parameters; with less weight it makes the "

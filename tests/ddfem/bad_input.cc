@@ -335,6 +335,14 @@ main(int argc, char **argv)
             "Method=ddfem",
             "--set",
             "Database/Fitting/Spring regularization=-1"});
+  // A weight of 1e305 overflowed the least-squares solver: every fit
+  // collapsed, was saved, and the coarse solve failed.
+  run_case("huge_regularization",
+           cantilever,
+           {"--set",
+            "Method=ddfem",
+            "--set",
+            "Database/Fitting/Regularization=1e305"});
   run_case("held_out_beyond_patterns",
            cantilever,
            {"--set",

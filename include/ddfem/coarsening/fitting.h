@@ -16,6 +16,16 @@ namespace ddfem::coarsening
   using namespace dealii;
 
   /**
+   * The largest regularization weight a fit accepts (Database/Fitting/
+   * Regularization, Spring regularization, Child regularization and
+   * Database/Level 2/Regularization). At 1e6 a fit is already the fine
+   * parameters, the naive element: the default scene's ddfem probe equals
+   * naive's to five digits. Far larger weights overflowed the least-squares
+   * solver (at 1e305 every fit collapsed).
+   */
+  constexpr double max_regularization = 1e6;
+
+  /**
    * Settings of the metamaterial fit (paper eq. 4). Declared in the prm
    * subsection "Fitting".
    */
