@@ -531,20 +531,47 @@ namespace ddfem::scene
               "radius' of a fiber's axis (check 'Helix radius' "
               "against the grid's cross-section): the fibers "
               "would be empty."));
-        // So would layers thinner than a voxel, or more materials than the
-        // grid has layers.
+        // A skin or fibers that cover every voxel leave none of the base
+        // material: the part is all skin or fiber.
+        AssertThrow(
+          (type != "skin" && type != "fibers") || painted_id == material ||
+            std::count(grid.data().begin(), grid.data().end(), material) > 0,
+          ExcMessage(
+            (type == "skin" ?
+               "Layout/Skin/Thickness = " + format_number(skin_thickness) +
+                 " m covers every voxel" :
+               "Layout/Fibers: the fibers of 'Fiber radius' = " +
+                 format_number(fiber_radius) + " m cover every voxel") +
+            ", so no voxel keeps Layout/Material = " +
+            std::to_string(material) +
+            ". For a part of one material use Layout/Type = uniform; "
+            "otherwise make the " +
+            (type == "skin" ? "skin thinner." : "fibers thinner.")));
+        // Layers thinner than a voxel would be sampled at the voxel
+        // centers, not resolved: each voxel takes the layer at its center.
+        // Thicker layers each hold a voxel center, unless the grid holds
+        // fewer layers than 'Materials' lists.
         if (type == "layers")
-          for (const MaterialId m : layer_materials)
-            AssertThrow(
-              std::count(grid.data().begin(), grid.data().end(), m) > 0,
-              ExcMessage("Layout/Layers: material " + std::to_string(m) +
-                         " of 'Materials' lies at no voxel center: the "
-                         "layers of 'Thickness' = " +
-                         format_number(layer_thickness) +
-                         " m are thinner than a voxel (" +
-                         format_number(grid.voxel_size()) +
-                         " m), or the grid holds fewer layers than "
-                         "'Materials' lists."));
+          {
+            AssertThrow(layer_thickness >= grid.voxel_size() * (1 - 1e-12),
+                        ExcMessage("Layout/Layers/Thickness = " +
+                                   format_number(layer_thickness) +
+                                   " m is thinner than a voxel "
+                                   "(Geometry/Voxel size = " +
+                                   format_number(grid.voxel_size()) +
+                                   " m): each voxel would take the layer at "
+                                   "its center, and the layers would not be "
+                                   "resolved. Give layers of at least one "
+                                   "voxel."));
+            for (const MaterialId m : layer_materials)
+              AssertThrow(
+                std::count(grid.data().begin(), grid.data().end(), m) > 0,
+                ExcMessage("Layout/Layers: material " + std::to_string(m) +
+                           " of 'Materials' lies at no voxel center: the "
+                           "grid holds fewer layers of 'Thickness' = " +
+                           format_number(layer_thickness) +
+                           " m than 'Materials' lists."));
+          }
       }
 
     paint(shapes, grid);

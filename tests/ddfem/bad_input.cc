@@ -276,7 +276,8 @@ main(int argc, char **argv)
             "--set",
             "Boundary conditions/Condition 2/Angle=1e308"});
   // Layouts that would paint nothing: a box given in voxel indices instead
-  // of meters, and a skin thinner than half a voxel.
+  // of meters, layers thinner than a voxel, and a skin thinner than half a
+  // voxel.
   run_case("shape_outside_grid",
            cantilever +
              "subsection Layout\n  set Shapes = box 1 1 1 2 2 2 : 2\n"
@@ -285,6 +286,21 @@ main(int argc, char **argv)
            cantilever + "subsection Layout\n  set Type = layers\n"
                         "  subsection Layers\n    set Materials = 1, 2\n"
                         "    set Thickness = 0.005\n  end\nend\n");
+  // Layers of half a voxel whose three materials each land on a voxel
+  // center (ran before as one-voxel layers in another order), and a skin
+  // or fibers that cover every voxel, leaving none of Layout/Material.
+  run_case("layers_thinner_than_a_voxel_every_material_landing",
+           cantilever + "subsection Layout\n  set Type = layers\n"
+                        "  subsection Layers\n    set Materials = 1, 2, 3\n"
+                        "    set Thickness = 0.005\n  end\nend\n");
+  run_case("skin_covering_every_voxel",
+           cantilever + "subsection Layout\n  set Type = skin\n"
+                        "  subsection Skin\n    set Thickness = 0.01\n  end\n"
+                        "end\n");
+  run_case("fibers_covering_every_voxel",
+           cantilever + "subsection Layout\n  set Type = fibers\n"
+                        "  subsection Fibers\n    set Fiber radius = 1\n"
+                        "  end\nend\n");
   run_case("skin_thinner_than_half_a_voxel",
            cantilever + "subsection Layout\n  set Type = skin\n"
                         "  subsection Skin\n    set Thickness = 0.004\n  end\n"
