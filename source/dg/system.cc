@@ -1032,7 +1032,10 @@ namespace ddfem::dg
                       "rigid motions). Use a larger penalty" +
                       (parameters.flux == Parameters::Flux::babuska_zlamal ?
                          std::string(".") :
-                         std::string(" or 'automatic'.")) +
+                         std::string(", or 'automatic' where the run allows "
+                                     "it (not in Run type = dg cost, which "
+                                     "compares with the Babuska-Zlamal "
+                                     "flux).")) +
                       limits.str()));
         return d;
       }
