@@ -103,7 +103,8 @@ namespace ddfem::scene
         "Thickness",
         "0.01",
         Patterns::Double(0),
-        "Thickness of one layer (m); should be a multiple of the voxel size.");
+        "Thickness of one layer (m): at least the voxel size, and best a "
+        "multiple of it.");
       prm.declare_entry(
         "Materials",
         "1, 3",
