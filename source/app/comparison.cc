@@ -483,24 +483,30 @@ namespace ddfem::app
       vtu.check_writable(d, 0);
     if (database_file.empty())
       return;
-    // A result's name (or its temporary's) in one of these directories.
-    namespace fs = std::filesystem;
-    std::error_code error;
-    const fs::path  file =
-      fs::weakly_canonical(fs::absolute(database_file), error);
-    const std::string        name  = file.filename().string();
-    std::vector<std::string> names = result_files;
-    names.push_back("parameters.prm");
-    const bool result_name =
-      report::VtuWriter::is_vtu_file(name) ||
-      std::any_of(names.begin(), names.end(), [&](const std::string &n) {
-        return name == n || name == ResultFile::partial_name(n);
-      });
+    // The file and the directory it lies in, as far as they exist with
+    // their links followed (lexically, where that fails).
+    namespace fs       = std::filesystem;
+    const auto resolve = [](const std::string &path) {
+      std::error_code error;
+      const fs::path resolved = fs::weakly_canonical(fs::absolute(path), error);
+      return error ? fs::absolute(path).lexically_normal() : resolved;
+    };
+    const fs::path    file   = resolve(database_file);
+    const std::string name   = file.filename().string();
+    const auto        is_one = [&name](const std::string &result) {
+      return name == result || name == ResultFile::partial_name(result);
+    };
+    // Runs write summary.json, parameters.prm and the comparison's tables
+    // (or their temporaries) in the output directory, and VTU files there
+    // and in every model's directory.
+    const bool result_here =
+      is_one("parameters.prm") ||
+      std::any_of(result_files.begin(), result_files.end(), is_one);
+    const bool vtu_name = report::VtuWriter::is_vtu_file(name);
     directories.push_back(directory);
     for (const std::string &d : directories)
-      AssertThrow(!result_name ||
-                    fs::weakly_canonical(fs::absolute(d), error) !=
-                      file.parent_path(),
+      AssertThrow(!(vtu_name || (result_here && d == directory)) ||
+                    resolve(d) != file.parent_path(),
                   ExcMessage("Database/File = '" + database_file +
                              "' is a result file of Output/Output directory "
                              "= '" +

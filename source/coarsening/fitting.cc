@@ -105,6 +105,8 @@ namespace ddfem::coarsening
     held_out_every                = prm.get_integer("Held-out every");
     laminate_springs              = prm.get_bool("Laminate springs");
     prm.leave_subsection();
+    static_assert(max_regularization == 1e6,
+                  "The messages and documentation name the bound 1e6.");
     spring_regularization.reset();
     if (spring_text != "same")
       {
@@ -116,9 +118,8 @@ namespace ddfem::coarsening
                       *spring_regularization <= max_regularization,
                     ExcMessage("Database/Fitting/Spring regularization = " +
                                spring_text +
-                               ": expected 'same' or a number from 0 to 1e6 "
-                               "(at 1e6 the springs are already held at "
-                               "0)."));
+                               ": expected 'same' or a number from 0 to "
+                               "1e6."));
       }
     AssertThrow(held_out_every != 1,
                 ExcMessage("Database/Fitting/Held-out every must be 0 (none "

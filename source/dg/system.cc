@@ -1032,10 +1032,10 @@ namespace ddfem::dg
                       "rigid motions). Use a larger penalty" +
                       (parameters.flux == Parameters::Flux::babuska_zlamal ?
                          std::string(".") :
-                         std::string(", or 'automatic' where the run allows "
-                                     "it (not in Run type = dg cost, which "
-                                     "compares with the Babuska-Zlamal "
-                                     "flux).")) +
+                         std::string(", or 'automatic' if no method of the "
+                                     "run uses the Babuska-Zlamal flux (Run "
+                                     "type = dg cost always compares with "
+                                     "it).")) +
                       limits.str()));
         return d;
       }

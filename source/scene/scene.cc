@@ -272,8 +272,8 @@ namespace ddfem::scene
     // Number only the vertices solid blocks use, in the order the blocks
     // first touch them. The blocks come plane by plane (K slowest), so the
     // numbers are kept for the two vertex planes K and K + 1 of the
-    // current blocks only, not for every vertex of the grid (four bytes per
-    // voxel, most of them void in a sparse scene).
+    // current blocks only, not for every vertex of the block grid (four
+    // bytes each, most of them in void in a sparse scene).
     const std::size_t         plane = (m[0] + 1) * std::size_t(m[1] + 1);
     std::vector<unsigned int> lower(plane, numbers::invalid_unsigned_int),
       upper(plane, numbers::invalid_unsigned_int);

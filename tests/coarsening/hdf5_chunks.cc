@@ -5,8 +5,9 @@
 // only with hundreds of entries, which no test builds. Here datasets of
 // rank 1, 2 and 3 are written and read back directly:
 // - the chunks hold whole rows, at most 1 MiB each (one row if a row is
-//   larger), and share the rows evenly, so the dataset takes at most 1 %
-//   more than its bytes;
+//   larger), and share the rows evenly, so that they store at most one row
+//   per chunk beyond the data: here, as for every dataset of the database
+//   files (rows of at most 3 KiB), under 1 % more than its bytes;
 // - what is read back is what was written, bit for bit;
 // - a flipped bit in the last chunk fails the read (its Fletcher32
 //   checksum), not only one in the first;

@@ -87,7 +87,8 @@ namespace ddfem::coarsening
       return run_scope;
     }
 
-    /// Database/File, as given.
+    /// Database/File with its symbolic links followed: the file that
+    /// saves replace.
     const std::string &
     file() const
     {
@@ -169,9 +170,9 @@ namespace ddfem::coarsening
      * Lazy mode for a coarse simulation at coarsening @p level (1 or 2):
      * locks (lock()) and opens the database, fits the metamaterials the blocks
      * of @p grids (the states of a scene) need at that level if they are
-     * missing (appending them to the file), and returns the database, with the
-     * level-2 tables and entries in
-     * @p level2 at level 2.
+     * missing (appending them to the file), and returns the database, with
+     * the level 2 the file has in @p level2 (at level 2, the tables and
+     * entries that the blocks of @p grids need).
      */
     Database
     prepare(const scene::Palette                &palette,
