@@ -250,6 +250,30 @@ namespace ddfem::coarsening
     check_input(palette);
     const std::filesystem::path file = std::filesystem::weakly_canonical(
       std::filesystem::absolute(database_file));
+    // Before anything is fitted: the file, its journals and their
+    // temporaries must be regular files or missing. A directory there
+    // failed only at the save, and a named pipe made the read wait forever.
+    // Only looked at, so that no file is made or removed before the lock.
+    for (const std::string suffix : {"",
+                                     ".partial",
+                                     ".journal",
+                                     ".journal.partial",
+                                     ".level2.journal",
+                                     ".level2.journal.partial"})
+      {
+        const std::filesystem::path path = file.string() + suffix;
+        std::error_code             error;
+        AssertThrow(!std::filesystem::exists(path, error) ||
+                      std::filesystem::is_regular_file(path, error),
+                    ExcMessage("Database/File = " + database_file + ": \"" +
+                               path.string() +
+                               "\", which a build reads or writes, is a " +
+                               (std::filesystem::is_directory(path, error) ?
+                                  "directory" :
+                                  "file that is not a regular file (a named "
+                                  "pipe, a device or a socket)") +
+                               ". Remove it, or use another Database/File."));
+      }
     create_directories(file.parent_path().string(), "Database/File");
     return std::make_unique<FileLock>(file.string() + ".lock",
                                       "Database/File",

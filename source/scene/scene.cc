@@ -177,8 +177,9 @@ namespace ddfem::scene
                              " is not divisible by " + std::to_string(b) +
                              ", the block size of coarsening level " +
                              std::to_string(level) +
-                             " (asked for by Coarsening levels, or in a "
-                             "compare run by Comparison/Levels)."));
+                             " (asked for by Coarsening levels, by "
+                             "Comparison/Levels in a compare run, or by "
+                             "Database/Levels in a database run)."));
   }
 
 

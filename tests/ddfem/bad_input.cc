@@ -6,6 +6,7 @@
 #include <ddfem/app/application.h>
 #include <nlohmann/json.hpp>
 #include <sys/resource.h>
+#include <sys/stat.h>
 
 #include <csignal>
 #include <cstdlib>
@@ -642,6 +643,21 @@ main(int argc, char **argv)
             "Method=ddfem",
             "--set",
             "Database/File=out_database_file_is_a_directory/"});
+  // Database/File, or the temporary it is saved under, is not a regular
+  // file: a named pipe made the read wait forever, a directory failed only
+  // at the save, after the fits.
+  std::filesystem::remove("named_pipe.h5");
+  AssertThrow(mkfifo("named_pipe.h5", 0600) == 0,
+              dealii::ExcMessage("cannot make a named pipe"));
+  run_case("database_file_is_a_named_pipe",
+           cantilever,
+           {"--set", "Method=ddfem", "--set", "Database/File=named_pipe.h5"});
+  std::filesystem::remove_all("partial_in_the_way.h5.partial");
+  std::filesystem::create_directory("partial_in_the_way.h5.partial");
+  run_case(
+    "database_temporary_is_a_directory",
+    cantilever,
+    {"--set", "Method=ddfem", "--set", "Database/File=partial_in_the_way.h5"});
   // Database/File named as a result of the run (summary.json, a VTU file
   // of a model's directory in a comparison): the results would overwrite
   // it, or the next run would remove it as an earlier run's.
