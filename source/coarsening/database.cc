@@ -291,11 +291,11 @@ namespace ddfem::coarsening
     dataset_length(const hid_t file, const std::string &name)
     {
       check(H5Lexists(file, name.c_str(), H5P_DEFAULT) > 0,
-            "has no dataset " + name);
+            "has no dataset '" + name + "'");
       const Handle set(H5Dopen2(file, name.c_str(), H5P_DEFAULT), H5Dclose);
-      check(set.valid(), "cannot open the dataset " + name);
+      check(set.valid(), "cannot open the dataset '" + name + "'");
       const std::vector<hsize_t> shape = dataset_shape(set, name);
-      check(!shape.empty(), "has an empty-shaped dataset " + name);
+      check(!shape.empty(), "has an empty-shaped dataset '" + name + "'");
       return shape[0];
     }
 

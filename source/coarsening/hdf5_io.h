@@ -159,8 +159,8 @@ namespace ddfem::coarsening::hdf5
         AssertThrow(H5Pset_chunk(dcpl, chunk.size(), chunk.data()) >= 0 &&
                       H5Pset_fletcher32(dcpl) >= 0,
                     ExcMessage("Could not set up the checksums of the "
-                               "dataset " +
-                               name + "."));
+                               "dataset '" +
+                               name + "'."));
       }
     Handle set(
       H5Dcreate2(
@@ -174,7 +174,7 @@ namespace ddfem::coarsening::hdf5
                                             H5P_DEFAULT,
                                             data.data()) >= 0) &&
                   set.close_now(),
-                ExcMessage("Could not write the dataset " + name + "."));
+                ExcMessage("Could not write the dataset '" + name + "'."));
   }
 
   /// The extents @p extents as text ("3 x 8 x 6").
@@ -198,10 +198,10 @@ namespace ddfem::coarsening::hdf5
     const Handle space(H5Dget_space(set), H5Sclose);
     const int    rank = space.valid() ? H5Sget_simple_extent_ndims(space) : -1;
     check(rank >= 0 && rank <= H5S_MAX_RANK,
-          "has the dataset " + name + " with an unreadable shape");
+          "has the dataset '" + name + "' with an unreadable shape");
     std::vector<hsize_t> shape(rank);
     check(H5Sget_simple_extent_dims(space, shape.data(), nullptr) == rank,
-          "has the dataset " + name + " with an unreadable shape");
+          "has the dataset '" + name + "' with an unreadable shape");
     // The elements the dataset stores bound those of its shape, whose
     // product is checked factor by factor so that it cannot overflow. A
     // dataset with a filter other than the checksum may be compressed
@@ -230,7 +230,7 @@ namespace ddfem::coarsening::hdf5
     for (const hsize_t d : shape)
       {
         check(d == 0 || n <= stored / d,
-              "has the dataset " + name + " of shape " + describe(shape) +
+              "has the dataset '" + name + "' of shape " + describe(shape) +
                 ", more elements than the " + std::to_string(bytes) +
                 " bytes it stores can hold (corrupt file" +
                 (filtered ? ", or compressed beyond gzip's ratio?)" : "?)"));
@@ -247,12 +247,12 @@ namespace ddfem::coarsening::hdf5
                const std::vector<hsize_t> &dims)
   {
     check(H5Lexists(file, name.c_str(), H5P_DEFAULT) > 0,
-          "has no dataset " + name);
+          "has no dataset '" + name + "'");
     const Handle set(H5Dopen2(file, name.c_str(), H5P_DEFAULT), H5Dclose);
-    check(set.valid(), "cannot open the dataset " + name);
+    check(set.valid(), "cannot open the dataset '" + name + "'");
     const std::vector<hsize_t> shape = dataset_shape(set, name);
     check(shape == dims,
-          "has the dataset " + name + " of shape " + describe(shape) +
+          "has the dataset '" + name + "' of shape " + describe(shape) +
             " instead of " + describe(dims));
     std::size_t n = 1;
     for (const auto d : dims)
@@ -264,7 +264,7 @@ namespace ddfem::coarsening::hdf5
                             H5S_ALL,
                             H5P_DEFAULT,
                             data.data()) >= 0,
-          "cannot read the dataset " + name +
+          "cannot read the dataset '" + name + "'" +
             " (a truncated file, or corrupt data that fail their checksum?)");
     return data;
   }
@@ -283,7 +283,7 @@ namespace ddfem::coarsening::hdf5
       H5Aclose);
     AssertThrow(attribute.valid() &&
                   H5Awrite(attribute, type, value.c_str()) >= 0,
-                ExcMessage("Could not write the attribute " + name + "."));
+                ExcMessage("Could not write the attribute '" + name + "'."));
   }
 
   /// Reads the string attribute @p name (FileProblem if missing or not a
@@ -295,7 +295,7 @@ namespace ddfem::coarsening::hdf5
     const Handle attribute(H5Aopen(file, name.c_str(), H5P_DEFAULT), H5Aclose);
     const Handle type(H5Aget_type(attribute), H5Tclose);
     check(attribute.valid() && H5Tget_class(type) == H5T_STRING,
-          "has an attribute " + name + " that is not a string");
+          "has an attribute '" + name + "' that is not a string");
     std::string  value(H5Tget_size(type), '\0');
     const Handle memory(H5Tcopy(H5T_C_S1), H5Tclose);
     H5Tset_size(memory, value.size());
