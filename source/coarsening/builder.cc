@@ -254,19 +254,13 @@ namespace ddfem::coarsening
     // temporaries must be regular files or missing. A directory there
     // failed only at the save, and a named pipe made the read wait forever.
     // Only looked at, so that no file is made or removed before the lock.
-    for (const std::string suffix : {"",
-                                     ".partial",
-                                     ".journal",
-                                     ".journal.partial",
-                                     ".level2.journal",
-                                     ".level2.journal.partial"})
+    for (const std::string &path : database_files(file.string()))
       {
-        const std::filesystem::path path = file.string() + suffix;
-        std::error_code             error;
+        std::error_code error;
         AssertThrow(!std::filesystem::exists(path, error) ||
                       std::filesystem::is_regular_file(path, error),
                     ExcMessage("Database/File = " + database_file + ": \"" +
-                               path.string() +
+                               path +
                                "\", which a build reads or writes, is a " +
                                (std::filesystem::is_directory(path, error) ?
                                   "directory" :
@@ -792,7 +786,7 @@ namespace ddfem::coarsening
     // Compression changes the level-1 models level 2 was sampled from.
     if (compressed_now)
       level2 = Hierarchy();
-    const std::string level2_journal = database_file + ".level2";
+    const std::string level2_journal = level2_journal_base(database_file);
     const std::string level2_fingerprint =
       database.fingerprint() + " | " + hierarchy.fingerprint();
     if (levels == 2)

@@ -498,7 +498,7 @@ namespace ddfem::coarsening
   Database::save(const std::string &file, const Hierarchy *level2) const
   {
     H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); // our messages only
-    const std::string temporary = file + ".partial";
+    const std::string temporary = ResultFile::partial_name(file);
     // The file is written under another name and replaces the old one only
     // once HDF5 has closed it without error: a full disk leaves the old
     // file and no partial one.
@@ -952,12 +952,6 @@ namespace ddfem::coarsening
       return fnv1a(values.data(), values.size() * sizeof(double));
     }
 
-    std::string
-    journal_name(const std::string &database_file)
-    {
-      return database_file + ".journal";
-    }
-
     /// The message for a journal file that cannot be written.
     std::string
     cannot_write(const std::string &journal)
@@ -1081,13 +1075,13 @@ namespace ddfem::coarsening
   Journal::Journal(const std::string &database_file,
                    const std::string &fingerprint,
                    const std::size_t  n_keys)
-    : name(journal_name(database_file))
+    : name(file_name(database_file))
   {
     // A new journal gets its header under another name first: a reader
     // (or a build killed meanwhile) never sees half a header.
     if (!std::filesystem::exists(name))
       {
-        const std::string partial = name + ".partial";
+        const std::string partial = ResultFile::partial_name(name);
         std::FILE        *header  = std::fopen(partial.c_str(), "wb");
         AssertThrow(header != nullptr, ExcMessage(cannot_write(partial)));
         const std::uint64_t length = fingerprint.size();
@@ -1179,7 +1173,7 @@ namespace ddfem::coarsening
                 const std::size_t  n_keys)
   {
     std::uintmax_t valid_end;
-    return read_journal(journal_name(database_file),
+    return read_journal(file_name(database_file),
                         fingerprint,
                         n_keys,
                         valid_end);
@@ -1190,7 +1184,7 @@ namespace ddfem::coarsening
   void
   Journal::remove(const std::string &database_file)
   {
-    std::filesystem::remove(journal_name(database_file));
+    std::filesystem::remove(file_name(database_file));
   }
 
 
@@ -1198,6 +1192,38 @@ namespace ddfem::coarsening
   bool
   Journal::exists(const std::string &database_file)
   {
-    return std::filesystem::exists(journal_name(database_file));
+    return std::filesystem::exists(file_name(database_file));
+  }
+
+
+
+  std::string
+  Journal::file_name(const std::string &database_file)
+  {
+    return database_file + ".journal";
+  }
+
+
+
+  std::string
+  level2_journal_base(const std::string &database_file)
+  {
+    return database_file + ".level2";
+  }
+
+
+
+  std::vector<std::string>
+  database_files(const std::string &database_file)
+  {
+    const std::string level1 = Journal::file_name(database_file);
+    const std::string level2 =
+      Journal::file_name(level2_journal_base(database_file));
+    return {database_file,
+            ResultFile::partial_name(database_file),
+            level1,
+            ResultFile::partial_name(level1),
+            level2,
+            ResultFile::partial_name(level2)};
   }
 } // namespace ddfem::coarsening

@@ -432,6 +432,10 @@ namespace ddfem::coarsening
     static bool
     exists(const std::string &database_file);
 
+    /// The journal of @p database_file: its name plus ".journal".
+    static std::string
+    file_name(const std::string &database_file);
+
   private:
     /// The journal's file name.
     std::string name;
@@ -440,6 +444,23 @@ namespace ddfem::coarsening
     /// The journal's size up to its last complete record.
     std::uintmax_t valid_end;
   };
+
+  /**
+   * The name whose Journal holds the second level's fits of the database
+   * @p database_file: a journal of their own, since their keys index the
+   * second level's tables.
+   */
+  std::string
+  level2_journal_base(const std::string &database_file);
+
+  /**
+   * Every file a build of the database @p database_file reads or writes
+   * besides its lock: the file, the temporary Database::save() writes it
+   * under first, the journals of both levels and the temporaries their
+   * headers are written under first.
+   */
+  std::vector<std::string>
+  database_files(const std::string &database_file);
 } // namespace ddfem::coarsening
 
 #endif
