@@ -345,9 +345,8 @@ namespace ddfem::app
                    const std::function<int()> &write_results) const
       {
         const std::string used_file = directory + "/parameters.prm";
+        const std::string used_path = resolved_path(used_file).string();
         std::error_code   error;
-        const std::string used_path =
-          std::filesystem::weakly_canonical(used_file, error).string();
         std::optional<std::string> input;
         if (std::find(inputs.begin(), inputs.end(), used_path) != inputs.end())
           {
@@ -716,7 +715,7 @@ namespace ddfem::app
     {
       namespace fs = std::filesystem;
       std::error_code   error;
-      const std::string path = fs::weakly_canonical(file, error).string();
+      const std::string path = resolved_path(file).string();
       for (std::size_t i = 0; i < chain.size(); ++i)
         if (chain[i].second == path)
           {

@@ -483,17 +483,10 @@ namespace ddfem::app
       vtu.check_writable(d, 0);
     if (database_file.empty())
       return;
-    // The file and the directory it lies in, as far as they exist with
-    // their links followed (lexically, where that fails).
-    namespace fs       = std::filesystem;
-    const auto resolve = [](const std::string &path) {
-      std::error_code error;
-      const fs::path resolved = fs::weakly_canonical(fs::absolute(path), error);
-      return error ? fs::absolute(path).lexically_normal() : resolved;
-    };
-    const fs::path    file   = resolve(database_file);
-    const std::string name   = file.filename().string();
-    const auto        is_one = [&name](const std::string &result) {
+    // The file and the directory it lies in, with their links followed.
+    const std::filesystem::path file   = resolved_path(database_file);
+    const std::string           name   = file.filename().string();
+    const auto                  is_one = [&name](const std::string &result) {
       return name == result || name == ResultFile::partial_name(result);
     };
     // Runs write summary.json, parameters.prm and the comparison's tables
@@ -506,7 +499,7 @@ namespace ddfem::app
     directories.push_back(directory);
     for (const std::string &d : directories)
       AssertThrow(!(vtu_name || (result_here && d == directory)) ||
-                    resolve(d) != file.parent_path(),
+                    resolved_path(d) != file.parent_path(),
                   ExcMessage("Database/File = '" + database_file +
                              "' is a result file of Output/Output directory "
                              "= '" +

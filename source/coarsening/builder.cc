@@ -208,9 +208,11 @@ namespace ddfem::coarsening
                              " < 0 (nu < 0). Metamaterials are fitted with "
                              "lambda >= 0, so Method = ddfem and Run type = "
                              "database need nu >= 0 (lambda >= 0)."));
+    // (A path that cannot be followed is check_creatable()'s to report.)
+    std::error_code error;
     AssertThrow(
       !std::filesystem::path(database_file).filename().empty() &&
-        !std::filesystem::is_directory(database_file),
+        !std::filesystem::is_directory(database_file, error),
       ExcMessage(
         "Database/File = '" + database_file +
         "' is a directory; give the name of a file "
@@ -248,8 +250,7 @@ namespace ddfem::coarsening
   DatabaseBuilder::lock(const scene::Palette &palette, std::ostream &out) const
   {
     check_input(palette);
-    const std::filesystem::path file = std::filesystem::weakly_canonical(
-      std::filesystem::absolute(database_file));
+    const std::filesystem::path file = resolved_path(database_file);
     // Before anything is fitted: the file, its journals and their
     // temporaries must be regular files or missing. A directory there
     // failed only at the save, and a named pipe made the read wait forever.

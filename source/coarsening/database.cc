@@ -584,9 +584,12 @@ namespace ddfem::coarsening
   {
     H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); // our messages only
     const std::string where = "The metamaterial database file '" + file + "' ";
-    AssertThrow(std::filesystem::exists(file),
-                ExcMessage(where + "does not exist."));
-    AssertThrow(!std::filesystem::is_directory(file),
+    std::error_code   error;
+    AssertThrow(std::filesystem::exists(file, error),
+                ExcMessage(
+                  where + (error ? "cannot be found: " + error.message() + "." :
+                                   "does not exist.")));
+    AssertThrow(!std::filesystem::is_directory(file, error),
                 ExcMessage(where + "is a directory, not a file."));
     // A file that cannot be read (permissions, say) is not a corrupt one,
     // which a user might delete.

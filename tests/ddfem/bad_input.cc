@@ -629,6 +629,12 @@ main(int argc, char **argv)
   run_case("database_link_loop",
            cantilever,
            {"--set", "Method=ddfem", "--set", "Database/File=link_loop_a.h5"});
+  // ... and in a directory of its path, which reported the file system's
+  // own exception without the parameter's name.
+  run_case(
+    "database_directory_link_loop",
+    cantilever,
+    {"--set", "Method=ddfem", "--set", "Database/File=link_loop_a.h5/db.h5"});
   run_case("ddfem_quadratic",
            cantilever,
            {"--set",

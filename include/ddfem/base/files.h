@@ -42,7 +42,8 @@ namespace ddfem
       for (const auto &part : std::filesystem::path(path))
         {
           partial /= part;
-          if (!std::filesystem::exists(partial, error) &&
+          const bool exists = std::filesystem::exists(partial, error);
+          if (!exists && !error &&
               std::filesystem::create_directory(partial, error))
             made.push_back(partial);
           if (error)
@@ -253,6 +254,25 @@ namespace ddfem
   {
     for (const std::string &file : files)
       remove_earlier(directory + "/" + file, where);
+  }
+
+  /**
+   * The absolute path of @p path with the symbolic links of its existing
+   * part followed (std::filesystem::weakly_canonical()), or lexically
+   * normal where they cannot be followed (a directory that may not be
+   * searched): for telling whether two names are one file. Never throws.
+   */
+  inline std::filesystem::path
+  resolved_path(const std::string &path)
+  {
+    std::error_code             error;
+    const std::filesystem::path absolute =
+      std::filesystem::absolute(path, error);
+    if (error)
+      return std::filesystem::path(path).lexically_normal();
+    const std::filesystem::path resolved =
+      std::filesystem::weakly_canonical(absolute, error);
+    return error ? absolute.lexically_normal() : resolved;
   }
 
   /// The extension of the file name @p file in lower case (".stl").
