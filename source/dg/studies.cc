@@ -499,7 +499,7 @@ namespace ddfem::dg
           std::vector<Result> results;
           dat << "# " << problem << ", " << method.name
               << "\n# cells dofs L2 H1 condition_estimate jump\n";
-          blocks.push_back({problem, method.name, false});
+          blocks.push_back({problem, method.name, 1e300, 0, 1e300, 0});
           for (unsigned int l = lo; l <= hi; ++l)
             {
               Result r;
@@ -533,7 +533,16 @@ namespace ddfem::dg
               table.add_value("H1", r.h1);
               table.add_value("jump", r.jump);
               table.add_value("cond est", r.condition);
-              blocks.back().has_condition |= std::isfinite(r.condition);
+              Block &block   = blocks.back();
+              block.min_dofs = std::min<double>(block.min_dofs, r.dofs);
+              block.max_dofs = std::max<double>(block.max_dofs, r.dofs);
+              if (std::isfinite(r.condition))
+                {
+                  block.min_condition =
+                    std::min(block.min_condition, r.condition);
+                  block.max_condition =
+                    std::max(block.max_condition, r.condition);
+                }
               csv << problem << ',' << method.name << ',' << r.cells << ','
                   << r.dofs << ',' << r.l2 << ',' << r.h1 << ',' << r.jump
                   << ',' << r.condition << ',' << r.eta << '\n';
@@ -609,23 +618,49 @@ namespace ddfem::dg
       if (std::find(problems.begin(), problems.end(), block.problem) ==
           problems.end())
         problems.push_back(block.problem);
+    // A log axis that holds one value (one grid; one condition estimate)
+    // spans the decade around it, so that both ends are labelled: gnuplot
+    // would warn of an empty range.
+    const auto range = [](const double lo, const double hi) {
+      if (lo < hi)
+        return std::string("[*:*]");
+      int low = std::floor(std::log10(lo)), high = std::ceil(std::log10(hi));
+      if (low == high)
+        --low, ++high;
+      return "[1e" + std::to_string(low) + ":1e" + std::to_string(high) + "]";
+    };
     for (const std::string &problem : problems)
       {
         images.push_back(plot_file(problem));
-        // Panels: y label and the data columns drawn in it.
-        std::vector<std::pair<std::string, std::string>> panels = {
-          {"error", "346"}};
-        if (std::any_of(blocks.begin(), blocks.end(), [&](const Block &b) {
-              return b.problem == problem && b.has_condition;
-            }))
-          panels.emplace_back("condition number estimate", "5");
+        double min_dofs = 1e300, max_dofs = 0;
+        double min_condition = 1e300, max_condition = 0;
+        for (const Block &b : blocks)
+          if (b.problem == problem)
+            {
+              min_dofs      = std::min(min_dofs, b.min_dofs);
+              max_dofs      = std::max(max_dofs, b.max_dofs);
+              min_condition = std::min(min_condition, b.min_condition);
+              max_condition = std::max(max_condition, b.max_condition);
+            }
+        script << "set xrange " << range(min_dofs, max_dofs) << "\n";
+        // Panels: y label, the data columns drawn in it and its y range.
+        struct Panel
+        {
+          std::string ylabel, columns, yrange;
+        };
+        std::vector<Panel> panels = {{"error", "346", "[*:*]"}};
+        if (min_condition <= max_condition)
+          panels.push_back({"condition number estimate",
+                            "5",
+                            range(min_condition, max_condition)});
         script << "set terminal pngcairo size " << 750 * panels.size()
                << ",500\nset output '" << images.back() << "'\n"
                << "set multiplot layout 1," << panels.size() << " title '"
                << problem << "'\n";
-        for (const auto &[ylabel, columns] : panels)
+        for (const auto &[ylabel, columns, yrange] : panels)
           {
-            script << "set ylabel '" << ylabel << "'\nplot ";
+            script << "set ylabel '" << ylabel << "'\nset yrange " << yrange
+                   << "\nplot ";
             // A method has the same marker and colour in every panel and
             // figure: its place in the study's list of methods.
             unsigned int series = 0;
@@ -634,7 +669,7 @@ namespace ddfem::dg
               if (blocks[b].problem == problem)
                 {
                   for (const char column : columns)
-                    if (column != '5' || blocks[b].has_condition)
+                    if (column != '5' || blocks[b].has_condition())
                       {
                         script << (first ? "" : ", \\\n     ")
                                << "'dg_convergence.dat' index " << b

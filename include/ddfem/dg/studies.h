@@ -122,8 +122,18 @@ namespace ddfem::dg
       std::string problem;
       /// "CG Q1", "BZ quad", ...
       std::string method;
+      /// The fewest and most DoFs of its grids.
+      double min_dofs, max_dofs;
+      /// The smallest and largest of its finite condition number estimates
+      /// (smallest > largest: none is finite).
+      double min_condition, max_condition;
+
       /// Whether any of its condition number estimates is finite.
-      bool has_condition;
+      bool
+      has_condition() const
+      {
+        return min_condition <= max_condition;
+      }
     };
 
     /**
@@ -131,8 +141,9 @@ namespace ddfem::dg
      * PNG with the L2, H1 and jump errors of every method against the
      * number of DoFs, log-log, and a panel with the condition number estimates
      * of the methods that have a finite one (no panel if none has: gnuplot
-     * stops on a plot without a finite point). @p blocks describes the
-     * data blocks of dg_convergence.dat in order.
+     * stops on a plot without a finite point). An axis that would hold one
+     * value (one grid) spans the decade around it. @p blocks
+     * describes the data blocks of dg_convergence.dat in order.
      */
     static void
     plot(const std::string &directory, const std::vector<Block> &blocks);
