@@ -47,13 +47,39 @@ namespace ddfem::app
       "nested subsections are separated by '/'. --print-parameters lists\n"
       "every parameter with its documentation and default.\n";
 
+    /// Whether @p c is a control character other than white space, which
+    /// a parameter file, being text, does not hold.
+    bool
+    is_control_character(const char c)
+    {
+      return std::iscntrl(static_cast<unsigned char>(c)) &&
+             !std::isspace(static_cast<unsigned char>(c));
+    }
+
+    /// The first control character of @p text (is_control_character())
+    /// in hexadecimal ("0x01"), or "" if it has none.
+    std::string
+    first_control_character(const std::string &text)
+    {
+      const auto c =
+        std::find_if(text.begin(), text.end(), is_control_character);
+      if (c == text.end())
+        return "";
+      std::ostringstream code;
+      code << "0x" << std::hex << std::setw(2) << std::setfill('0')
+           << int(static_cast<unsigned char>(*c));
+      return code.str();
+    }
+
     /// Whether a parameter file can hold @p value: no line break, no '#'
-    /// (which starts a comment), no final '\' (which continues the line).
+    /// (which starts a comment), no final '\' (which continues the line),
+    /// no control character.
     bool
     fits_in_parameter_file(const std::string &value)
     {
       return value.find_first_of("\n\r#") == std::string::npos &&
-             (value.empty() || value.back() != '\\');
+             (value.empty() || value.back() != '\\') &&
+             std::none_of(value.begin(), value.end(), is_control_character);
     }
 
 
@@ -113,8 +139,9 @@ namespace ddfem::app
                           ExcMessage(
                             "In parameter file \"" + prm_file + "\": " + path +
                             name +
-                            " holds a line break or '#', or ends in '\\', "
-                            "which the run's parameters.prm could not hold "
+                            " holds a line break, '#' or a control "
+                            "character, or ends in '\\', which the run's "
+                            "parameters.prm could not hold "
                             "(a rerun from it would read another value)."));
         };
       nlohmann::json values;
@@ -195,6 +222,16 @@ namespace ddfem::app
       AssertThrow(text.find_first_of("\n\r") == std::string::npos,
                   ExcMessage("--set \"" + text +
                              "\": a value must not contain a line break."));
+      // (Named, not echoed: the terminal would take it as a command.)
+      const std::string control = first_control_character(text);
+      const std::string shown =
+        first_control_character(text.substr(0, equal)).empty() ?
+          text.substr(0, equal) + "=..." :
+          "...";
+      AssertThrow(control.empty(),
+                  ExcMessage("--set \"" + shown +
+                             "\": it holds the control character " + control +
+                             ", which a parameter file cannot hold."));
       AssertThrow(fits_in_parameter_file(value),
                   ExcMessage("--set \"" + text +
                              "\": a value must not contain '#' or end in "
@@ -757,9 +794,19 @@ namespace ddfem::app
                                chain,
                                read);
       };
-      std::string line, statement;
+      std::string  line, statement;
+      unsigned int number = 0;
       while (std::getline(input, line))
         {
+          // ParameterHandler would echo a binary file's bytes in its
+          // message.
+          ++number;
+          const std::string control = first_control_character(line);
+          AssertThrow(control.empty(),
+                      ExcMessage("\"" + file + "\" is not a text file: line " +
+                                 std::to_string(number) +
+                                 " holds the control character " + control +
+                                 "."));
           line = Utilities::trim(line);
           if (!line.empty() && line.back() == '\\')
             {

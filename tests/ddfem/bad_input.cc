@@ -268,6 +268,17 @@ main(int argc, char **argv)
   }
   std::ofstream("include_other.inc") << "include include_each_other.prm\n";
   run_case("include_each_other", "include include_other.inc\n" + cantilever);
+  // A binary file as the parameter file, or included by it: ParameterHandler
+  // echoed its bytes in the message.
+  {
+    const std::string bytes("\x7f"
+                            "ELF\x02\x01\x01\0\0\n",
+                            10);
+    std::ofstream("binary.prm", std::ios::binary) << bytes;
+    report_run("binary_parameter_file", {"binary.prm"});
+    std::ofstream("binary.inc", std::ios::binary) << "# a comment\n" << bytes;
+    run_case("binary_include", "include binary.inc\n" + cantilever);
+  }
   // 1e308 degrees overflowed to an infinite angle in radians, whose NaN
   // boundary values the Newton solver took as reached.
   run_case("rotation_angle",
@@ -323,6 +334,13 @@ main(int argc, char **argv)
   // Nor could a '#' or a final '\\' be read back from parameters.prm.
   run_case("hash_in_override", cantilever, {"--set", "Scene name=Run #3"});
   run_case("backslash_in_override", cantilever, {"--set", "Scene name=a\\"});
+  // ... nor a control character, which the check of parameter files
+  // refuses.
+  run_case("control_character_in_override",
+           cantilever,
+           {"--set",
+            "Scene name=a\x01"
+            "b"});
   // JSON results need UTF-8 text: a Latin-1 scene name, given or taken
   // from the parameter file's name, is an error before anything runs.
   run_case("latin1_scene_name",
