@@ -750,8 +750,6 @@ namespace ddfem::app
       std::vector<std::pair<std::string, std::string>> &chain,
       std::vector<std::string>                         &read)
     {
-      namespace fs = std::filesystem;
-      std::error_code   error;
       const std::string path = resolved_path(file).string();
       for (std::size_t i = 0; i < chain.size(); ++i)
         if (chain[i].second == path)
@@ -763,10 +761,12 @@ namespace ddfem::app
                         ExcMessage("its include statements form a cycle: " +
                                    cycle + "\"" + file + "\" again."));
           }
-      // ParameterHandler would read nothing from a directory.
-      AssertThrow(chain.empty() || !fs::is_directory(file, error),
+      // ParameterHandler would read nothing from a directory, and forever
+      // from /dev/zero; a named pipe would wait for a writer.
+      const std::string kind = non_regular_kind(file);
+      AssertThrow(chain.empty() || kind.empty(),
                   ExcMessage("\"" + chain.back().first + "\" includes \"" +
-                             file + "\", which is a directory."));
+                             file + "\", which is " + kind + "."));
       std::ifstream input(file);
       if (!input)
         return; // ParameterHandler reports it
@@ -977,12 +977,12 @@ namespace ddfem::app
                                "\": the parameter file comes first.\n" +
                                usage));
         const std::string prm_file = arguments[0];
-        std::error_code   error;
-        const bool directory = std::filesystem::is_directory(prm_file, error);
-        AssertThrow(!directory && std::ifstream(prm_file).good(),
+        // (Checked before it is opened: a named pipe would wait there.)
+        const std::string kind = non_regular_kind(prm_file);
+        AssertThrow(kind.empty() && std::ifstream(prm_file).good(),
                     ExcMessage("Cannot read the parameter file \"" + prm_file +
                                "\"" +
-                               (directory ? ": it is a directory." : ".")));
+                               (kind.empty() ? "." : ": it is " + kind + ".")));
         std::vector<std::string> input_files;
         try
           {

@@ -257,16 +257,11 @@ namespace ddfem::coarsening
     // Only looked at, so that no file is made or removed before the lock.
     for (const std::string &path : database_files(file.string()))
       {
-        std::error_code error;
-        AssertThrow(!std::filesystem::exists(path, error) ||
-                      std::filesystem::is_regular_file(path, error),
+        const std::string kind = non_regular_kind(path);
+        AssertThrow(kind.empty(),
                     ExcMessage("Database/File = " + database_file + ": \"" +
-                               path +
-                               "\", which a build reads or writes, is a " +
-                               (std::filesystem::is_directory(path, error) ?
-                                  "directory" :
-                                  "file that is not a regular file (a named "
-                                  "pipe, a device or a socket)") +
+                               path + "\", which a build reads or writes, is " +
+                               kind +
                                ". Remove it, or use another Database/File."));
       }
     create_directories(file.parent_path().string(), "Database/File");

@@ -108,9 +108,14 @@ namespace ddfem::scene
                      const std::string       &file,
                      const std::ios::openmode mode = std::ios::in)
     {
+      // (Checked before it is opened: a named pipe would wait there, and
+      // /dev/zero be read until memory runs out.)
+      const std::string kind = non_regular_kind(filename);
+      AssertThrow(kind.empty(),
+                  ExcMessage(file + ": cannot be read: it is " + kind + "."));
       std::ifstream in(filename, mode);
       const auto    path = std::filesystem::path(filename);
-      AssertThrow(in && !std::filesystem::is_directory(path),
+      AssertThrow(in,
                   ExcMessage(file + ": cannot be opened for reading" +
                              (path.is_relative() ?
                                 " (a relative name is read from the working "

@@ -715,13 +715,26 @@ main(int argc, char **argv)
               << "\n"
               << std::endl;
   }
+  // A parameter file that is not a regular file: a directory gave nothing
+  // to read, a named pipe (here) waited for a writer forever, and so did an
+  // included one; /dev/zero was read until memory ran out.
   std::filesystem::create_directories("directory.prm");
-  {
-    std::ostringstream out, err;
-    const int          code = app::run({"directory.prm"}, out, err);
-    std::cout << "* parameter_file_is_a_directory: exit code " << code << "\n  "
-              << err.str() << std::endl;
-  }
+  std::filesystem::remove("named_pipe.prm");
+  AssertThrow(mkfifo("named_pipe.prm", 0600) == 0,
+              dealii::ExcMessage("cannot make a named pipe"));
+  for (const auto &[name, file] :
+       {std::pair("parameter_file_is_a_directory", "directory.prm"),
+        std::pair("parameter_file_is_a_named_pipe", "named_pipe.prm")})
+    {
+      std::ostringstream out, err;
+      const int          code = app::run({file}, out, err);
+      std::cout << "* " << name << ": exit code " << code << "\n  " << err.str()
+                << std::endl;
+    }
+  run_case("include_named_pipe", "include named_pipe.prm\n" + cantilever);
+  std::filesystem::remove("device.stl");
+  std::filesystem::create_symlink("/dev/zero", "device.stl");
+  run_case("mesh_file_is_a_device", from_surface_mesh("device.stl"));
   // Command lines: an option where the parameter file belongs, --set
   // without its value, and --help with an argument.
   std::ofstream("command_line.prm") << cantilever;

@@ -147,6 +147,39 @@ namespace ddfem
   };
 
   /**
+   * What @p path is if it exists and is not a regular file, with its links
+   * followed: "a directory", "a named pipe", "a device", "a socket" (or "a
+   * file that is not a regular file"); "" if it is a regular file or does
+   * not exist. Reading such a file fails late, never ends (/dev/zero) or
+   * waits for a writer forever (a named pipe).
+   */
+  inline std::string
+  non_regular_kind(const std::string &path)
+  {
+    std::error_code                  error;
+    const std::filesystem::file_type type =
+      std::filesystem::status(path, error).type();
+    switch (type)
+      {
+        case std::filesystem::file_type::regular:
+        case std::filesystem::file_type::not_found:
+        case std::filesystem::file_type::none: // status() failed
+          return "";
+        case std::filesystem::file_type::directory:
+          return "a directory";
+        case std::filesystem::file_type::fifo:
+          return "a named pipe";
+        case std::filesystem::file_type::block:
+        case std::filesystem::file_type::character:
+          return "a device";
+        case std::filesystem::file_type::socket:
+          return "a socket";
+        default:
+          return "a file that is not a regular file";
+      }
+  }
+
+  /**
    * Throws like create_directories() if the directory @p path could not be
    * made. To find out it makes the missing directories of the path one by
    * one and removes them again (only those it made, only while empty), so
@@ -180,15 +213,13 @@ namespace ddfem
                                          path.parent_path(),
                                        error))
       return;
-    const std::string partial = ResultFile::partial_name(file);
-    AssertThrow(!std::filesystem::exists(partial, error) ||
-                  std::filesystem::is_regular_file(partial, error),
+    const std::string partial      = ResultFile::partial_name(file);
+    const std::string partial_kind = non_regular_kind(partial);
+    AssertThrow(partial_kind.empty(),
                 dealii::ExcMessage("Cannot write \"" + file + "\" (" + where +
-                                   "): something other than a regular file "
-                                   "is in the way of \"" +
-                                   partial +
-                                   "\", which it is written under "
-                                   "first."));
+                                   "): " + partial_kind +
+                                   " is in the way of \"" + partial +
+                                   "\", which it is written under first."));
     const bool        existed = std::filesystem::exists(path, error);
     const std::string directory =
       path.parent_path().empty() ? "." : path.parent_path().string();
@@ -197,12 +228,10 @@ namespace ddfem
                                    "): its directory is not "
                                    "writable, so the file of an "
                                    "earlier run cannot be removed."));
-    AssertThrow(!existed || std::filesystem::is_regular_file(path, error),
+    const std::string kind = non_regular_kind(file);
+    AssertThrow(kind.empty(),
                 dealii::ExcMessage("Cannot write \"" + file + "\" (" + where +
-                                   "): a " +
-                                   (std::filesystem::is_directory(path, error) ?
-                                      "directory" :
-                                      "file that is not a regular file") +
+                                   "): " + kind +
                                    " of that name is in the way."));
     if (existed)
       return;
