@@ -13,6 +13,7 @@
 #include <deal.II/base/timer.h>
 
 #include <ddfem/app/application.h>
+#include <ddfem/coarsening/database.h>
 #include <ddfem/scene/scene.h>
 #include <ddfem/solver/discretization.h>
 #include <ddfem/solver/linear_solver.h>
@@ -354,14 +355,15 @@ namespace ddfem::testing
 
   /**
    * Removes the database file @p file and the build journals of its two
-   * levels that an earlier run of the test (killed, or timed out) may have
-   * left: a build would resume from them.
+   * levels, and their temporaries (coarsening::database_files()), that an
+   * earlier run of the test (killed, or timed out) may have left: a build
+   * would resume from them.
    */
   inline void
   remove_database(const std::string &file)
   {
-    for (const std::string suffix : {"", ".journal", ".level2.journal"})
-      std::filesystem::remove(file + suffix);
+    for (const std::string &name : coarsening::database_files(file))
+      std::filesystem::remove(name);
   }
 
   /// Prints "name: below bound" if @p value < @p bound, else "FAILED" with

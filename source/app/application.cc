@@ -72,12 +72,13 @@ namespace ddfem::app
     }
 
     /// Whether a parameter file can hold @p value: no line break, no '#'
-    /// (which starts a comment), no final '\' (which continues the line),
-    /// no control character.
+    /// (which starts a comment), no tab (which ParameterHandler reads as a
+    /// space), no final '\' (which continues the line), no control
+    /// character.
     bool
     fits_in_parameter_file(const std::string &value)
     {
-      return value.find_first_of("\n\r#") == std::string::npos &&
+      return value.find_first_of("\n\r\t#") == std::string::npos &&
              (value.empty() || value.back() != '\\') &&
              std::none_of(value.begin(), value.end(), is_control_character);
     }
@@ -134,15 +135,22 @@ namespace ddfem::app
             if (value.is_object())
               check(value, path + name + "/");
             else
-              AssertThrow(!value.is_string() ||
-                            fits_in_parameter_file(value.get<std::string>()),
-                          ExcMessage(
-                            "In parameter file \"" + prm_file + "\": " + path +
-                            name +
-                            " holds a line break, '#' or a control "
-                            "character, or ends in '\\', which the run's "
-                            "parameters.prm could not hold "
-                            "(a rerun from it would read another value)."));
+              {
+                const std::string text =
+                  value.is_string() ? value.get<std::string>() : "";
+                const std::string control = first_control_character(text);
+                AssertThrow(fits_in_parameter_file(text),
+                            ExcMessage(
+                              "In parameter file \"" + prm_file +
+                              "\": " + path + name + " holds " +
+                              (control.empty() ?
+                                 "a line break, '#' or a tab, or ends in "
+                                 "'\\'," :
+                                 "the control character " + control + ",") +
+                              " which the run's parameters.prm could not "
+                              "hold (a rerun from it would read another "
+                              "value)."));
+              }
         };
       nlohmann::json values;
       try
@@ -208,6 +216,17 @@ namespace ddfem::app
     apply_override(ParameterHandler &prm, const std::string &text)
     {
       const auto equal = text.find('=');
+      // First, as no message may echo it: the terminal would take it as a
+      // command. The parameter is named where its name has none.
+      const std::string control = first_control_character(text);
+      const std::string shown =
+        first_control_character(text.substr(0, equal)).empty() ?
+          text.substr(0, equal) + "=..." :
+          "...";
+      AssertThrow(control.empty(),
+                  ExcMessage("--set \"" + shown +
+                             "\": it holds the control character " + control +
+                             ", which a parameter file cannot hold."));
       AssertThrow(equal != std::string::npos,
                   ExcMessage("--set \"" + text +
                              "\": expected \"Subsection/Name=value\"."));
@@ -222,20 +241,11 @@ namespace ddfem::app
       AssertThrow(text.find_first_of("\n\r") == std::string::npos,
                   ExcMessage("--set \"" + text +
                              "\": a value must not contain a line break."));
-      // (Named, not echoed: the terminal would take it as a command.)
-      const std::string control = first_control_character(text);
-      const std::string shown =
-        first_control_character(text.substr(0, equal)).empty() ?
-          text.substr(0, equal) + "=..." :
-          "...";
-      AssertThrow(control.empty(),
-                  ExcMessage("--set \"" + shown +
-                             "\": it holds the control character " + control +
-                             ", which a parameter file cannot hold."));
       AssertThrow(fits_in_parameter_file(value),
                   ExcMessage("--set \"" + text +
-                             "\": a value must not contain '#' or end in "
-                             "'\\', which a parameter file cannot hold."));
+                             "\": a value must not contain '#' or a tab, or "
+                             "end in '\\', which a parameter file cannot "
+                             "hold."));
       // A misspelt subsection or parameter is named as such (deal.II would
       // create the misspelt subsection and then report a missing entry).
       const std::string name     = text.substr(0, equal);
@@ -303,7 +313,7 @@ namespace ddfem::app
 
       /**
        * Reads the run's settings from @p prm, read from @p prm_file, which
-       * with the files it includes are @p input_files (canonical paths).
+       * with the files it includes are @p input_files (resolved_path()).
        */
       void
       parse_parameters(ParameterHandler               &prm,
@@ -653,7 +663,7 @@ namespace ddfem::app
 
       ConditionalOStream pcout;
       std::ostream      &err;
-      /// The parameter file and the files it includes (canonical paths).
+      /// The parameter file and the files it includes (resolved_path()).
       std::vector<std::string>         inputs;
       std::string                      scene_name, method, directory;
       unsigned int                     degree, level;
@@ -739,9 +749,9 @@ namespace ddfem::app
      * followed as ParameterHandler follows them (paths as written, from the
      * working directory; an included file is read as PRM text whatever its
      * name), lead back to a file of @p chain, the files that include it
-     * (each as written and as a canonical path). ParameterHandler would
+     * (each as written and as resolved_path() gives it). ParameterHandler would
      * recurse until the stack overflows. A top-level XML or JSON file has
-     * no include statements. Adds the canonical path of every file read to
+     * no include statements. Adds the resolved path of every file read to
      * @p read.
      */
     void
@@ -799,9 +809,10 @@ namespace ddfem::app
       while (std::getline(input, line))
         {
           // ParameterHandler would echo a binary file's bytes in its
-          // message.
+          // message (not those of a comment, which it drops).
           ++number;
-          const std::string control = first_control_character(line);
+          const std::string control =
+            first_control_character(line.substr(0, line.find('#')));
           AssertThrow(control.empty(),
                       ExcMessage("\"" + file + "\" is not a text file: line " +
                                  std::to_string(number) +

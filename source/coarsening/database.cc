@@ -589,8 +589,9 @@ namespace ddfem::coarsening
                 ExcMessage(
                   where + (error ? "cannot be found: " + error.message() + "." :
                                    "does not exist.")));
-    AssertThrow(!std::filesystem::is_directory(file, error),
-                ExcMessage(where + "is a directory, not a file."));
+    const std::string kind = non_regular_kind(file);
+    AssertThrow(kind.empty(),
+                ExcMessage(where + "is " + kind + ", not a regular file."));
     // A file that cannot be read (permissions, say) is not a corrupt one,
     // which a user might delete.
     if (std::FILE *probe = std::fopen(file.c_str(), "rb"))

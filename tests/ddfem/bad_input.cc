@@ -268,6 +268,21 @@ main(int argc, char **argv)
   }
   std::ofstream("include_other.inc") << "include include_each_other.prm\n";
   run_case("include_each_other", "include include_other.inc\n" + cantilever);
+  // What a text file may hold, and runs: CRLF line ends, a form feed,
+  // UTF-8, and a control character in a comment (ParameterHandler drops
+  // comments, and a DOS file may end in ^Z).
+  {
+    std::string text = "# Ma\xc3\x9f"
+                       "e in m \x1a\n\f\n" +
+                       cantilever +
+                       "subsection Output\n  set Output directory = "
+                       "out_text_file_that_runs\nend\n";
+    for (std::size_t at = 0; (at = text.find('\n', at)) != std::string::npos;
+         at += 2)
+      text.insert(at, "\r");
+    std::ofstream("text_file_that_runs.prm", std::ios::binary) << text;
+    report_run("text_file_that_runs", {"text_file_that_runs.prm"});
+  }
   // A binary file as the parameter file, or included by it: ParameterHandler
   // echoed its bytes in the message.
   {
@@ -336,6 +351,15 @@ main(int argc, char **argv)
   run_case("backslash_in_override", cantilever, {"--set", "Scene name=a\\"});
   // ... nor a control character, which the check of parameter files
   // refuses.
+  // A tab, which a parameter file reads as a space, and a control
+  // character before the '=' of an argument without a value: no message
+  // echoes it.
+  run_case("tab_in_override", cantilever, {"--set", "Scene name=a\tb"});
+  run_case("control_character_in_override_name",
+           cantilever,
+           {"--set",
+            "Scene\x1b"
+            "name"});
   run_case("control_character_in_override",
            cantilever,
            {"--set",

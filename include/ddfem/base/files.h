@@ -149,9 +149,10 @@ namespace ddfem
   /**
    * What @p path is if it exists and is not a regular file, with its links
    * followed: "a directory", "a named pipe", "a device", "a socket" (or "a
-   * file that is not a regular file"); "" if it is a regular file or does
-   * not exist. Reading such a file fails late, never ends (/dev/zero) or
-   * waits for a writer forever (a named pipe).
+   * file that is not a regular file"); "" if it is a regular file, does
+   * not exist, or cannot be looked at (no permission, a loop of links:
+   * opening it reports that). Reading such a file fails late, never ends
+   * (/dev/zero) or waits for a writer forever (a named pipe).
    */
   inline std::string
   non_regular_kind(const std::string &path)

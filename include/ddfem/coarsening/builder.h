@@ -111,14 +111,15 @@ namespace ddfem::coarsening
 
     /**
      * After check_input(), locks Database/File for this process until the
-     * returned object is destroyed: a FileLock on the canonical path of
-     * Database/File + ".lock", whose directory is made if missing. Hold it from
-     * open() to the end of build(): two ddfem processes that use the same
-     * file then take turns instead of overwriting each other's entries.
-     * Waits, with a message on @p out, while another process holds it.
-     * prepare() takes it itself. Throws ExcMessage naming Database/File
-     * first if something other than a regular file (a directory, a named
-     * pipe) is in the way of the file, its journals or their temporaries.
+     * returned object is destroyed: a FileLock on the resolved path
+     * (resolved_path()) of Database/File + ".lock", whose directory is made if
+     * missing. Hold it from open() to the end of build(): two ddfem processes
+     * that use the same file then take turns instead of overwriting each
+     * other's entries. Waits, with a message on @p out, while another process
+     * holds it. prepare() takes it itself. Throws ExcMessage naming
+     * Database/File first if something other than a regular file (a directory,
+     * a named pipe) is in the way of the file, its journals or their
+     * temporaries.
      */
     std::unique_ptr<FileLock>
     lock(const scene::Palette &palette, std::ostream &out) const;
