@@ -982,12 +982,11 @@ namespace ddfem::coarsening
                  std::uintmax_t    &valid_end)
     {
       std::vector<Entry> entries;
-      valid_end = 0;
-      std::error_code error;
-      AssertThrow(!std::filesystem::is_directory(name, error),
-                  ExcMessage("The build journal " + name +
-                             " is a directory. Remove it or choose another "
-                             "Database/File."));
+      valid_end              = 0;
+      const std::string kind = non_regular_kind(name);
+      AssertThrow(kind.empty(),
+                  ExcMessage("The build journal " + name + " is " + kind +
+                             ". Remove it or choose another Database/File."));
       std::FILE *in = std::fopen(name.c_str(), "rb");
       if (in == nullptr)
         return entries;

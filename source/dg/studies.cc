@@ -499,7 +499,7 @@ namespace ddfem::dg
           std::vector<Result> results;
           dat << "# " << problem << ", " << method.name
               << "\n# cells dofs L2 H1 condition_estimate jump\n";
-          blocks.push_back({problem, method.name, 1e300, 0, 1e300, 0});
+          blocks.push_back({problem, method.name, {}, {}});
           for (unsigned int l = lo; l <= hi; ++l)
             {
               Result r;
@@ -533,16 +533,9 @@ namespace ddfem::dg
               table.add_value("H1", r.h1);
               table.add_value("jump", r.jump);
               table.add_value("cond est", r.condition);
-              Block &block   = blocks.back();
-              block.min_dofs = std::min<double>(block.min_dofs, r.dofs);
-              block.max_dofs = std::max<double>(block.max_dofs, r.dofs);
+              blocks.back().dofs.add(r.dofs);
               if (std::isfinite(r.condition))
-                {
-                  block.min_condition =
-                    std::min(block.min_condition, r.condition);
-                  block.max_condition =
-                    std::max(block.max_condition, r.condition);
-                }
+                blocks.back().condition.add(r.condition);
               csv << problem << ',' << method.name << ',' << r.cells << ','
                   << r.dofs << ',' << r.l2 << ',' << r.h1 << ',' << r.jump
                   << ',' << r.condition << ',' << r.eta << '\n';
@@ -621,10 +614,11 @@ namespace ddfem::dg
     // A log axis that holds one value (one grid; one condition estimate)
     // spans the decade around it, so that both ends are labelled: gnuplot
     // would warn of an empty range.
-    const auto range = [](const double lo, const double hi) {
-      if (lo < hi)
+    const auto range = [](const Extent &values) {
+      if (values.lo < values.hi)
         return std::string("[*:*]");
-      int low = std::floor(std::log10(lo)), high = std::ceil(std::log10(hi));
+      int low  = std::floor(std::log10(values.lo)),
+          high = std::ceil(std::log10(values.hi));
       if (low == high)
         --low, ++high;
       return "[1e" + std::to_string(low) + ":1e" + std::to_string(high) + "]";
@@ -632,27 +626,23 @@ namespace ddfem::dg
     for (const std::string &problem : problems)
       {
         images.push_back(plot_file(problem));
-        double min_dofs = 1e300, max_dofs = 0;
-        double min_condition = 1e300, max_condition = 0;
+        Extent dofs, condition;
         for (const Block &b : blocks)
           if (b.problem == problem)
             {
-              min_dofs      = std::min(min_dofs, b.min_dofs);
-              max_dofs      = std::max(max_dofs, b.max_dofs);
-              min_condition = std::min(min_condition, b.min_condition);
-              max_condition = std::max(max_condition, b.max_condition);
+              dofs.add(b.dofs);
+              condition.add(b.condition);
             }
-        script << "set xrange " << range(min_dofs, max_dofs) << "\n";
+        script << "set xrange " << range(dofs) << "\n";
         // Panels: y label, the data columns drawn in it and its y range.
         struct Panel
         {
           std::string ylabel, columns, yrange;
         };
         std::vector<Panel> panels = {{"error", "346", "[*:*]"}};
-        if (min_condition <= max_condition)
-          panels.push_back({"condition number estimate",
-                            "5",
-                            range(min_condition, max_condition)});
+        if (!condition.empty())
+          panels.push_back(
+            {"condition number estimate", "5", range(condition)});
         script << "set terminal pngcairo size " << 750 * panels.size()
                << ",500\nset output '" << images.back() << "'\n"
                << "set multiplot layout 1," << panels.size() << " title '"
@@ -669,7 +659,7 @@ namespace ddfem::dg
               if (blocks[b].problem == problem)
                 {
                   for (const char column : columns)
-                    if (column != '5' || blocks[b].has_condition())
+                    if (column != '5' || !blocks[b].condition.empty())
                       {
                         script << (first ? "" : ", \\\n     ")
                                << "'dg_convergence.dat' index " << b

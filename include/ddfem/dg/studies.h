@@ -6,6 +6,7 @@
 
 #include <ddfem/dg/parameters.h>
 
+#include <algorithm>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -115,6 +116,35 @@ namespace ddfem::dg
     run(const std::string &directory, std::ostream &out) const;
 
   private:
+    /// The smallest and largest of some values (none: lo > hi).
+    struct Extent
+    {
+      double lo = 1e300, hi = -1e300;
+
+      /// Widens it to take @p value.
+      void
+      add(const double value)
+      {
+        lo = std::min(lo, value);
+        hi = std::max(hi, value);
+      }
+
+      /// Widens it to take @p other.
+      void
+      add(const Extent &other)
+      {
+        lo = std::min(lo, other.lo);
+        hi = std::max(hi, other.hi);
+      }
+
+      /// Whether it holds any value.
+      bool
+      empty() const
+      {
+        return lo > hi;
+      }
+    };
+
     /// One data block of dg_convergence.dat: a problem and a method.
     struct Block
     {
@@ -122,18 +152,8 @@ namespace ddfem::dg
       std::string problem;
       /// "CG Q1", "BZ quad", ...
       std::string method;
-      /// The fewest and most DoFs of its grids.
-      double min_dofs, max_dofs;
-      /// The smallest and largest of its finite condition number estimates
-      /// (smallest > largest: none is finite).
-      double min_condition, max_condition;
-
-      /// Whether any of its condition number estimates is finite.
-      bool
-      has_condition() const
-      {
-        return min_condition <= max_condition;
-      }
+      /// The DoFs of its grids, and its finite condition number estimates.
+      Extent dofs, condition;
     };
 
     /**
