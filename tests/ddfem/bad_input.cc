@@ -759,6 +759,10 @@ main(int argc, char **argv)
   std::filesystem::remove("device.stl");
   std::filesystem::create_symlink("/dev/zero", "device.stl");
   run_case("mesh_file_is_a_device", from_surface_mesh("device.stl"));
+  std::filesystem::remove("named_pipe.txt");
+  AssertThrow(mkfifo("named_pipe.txt", 0600) == 0,
+              dealii::ExcMessage("cannot make a named pipe"));
+  run_case("voxel_file_is_a_named_pipe", from_voxel_file("named_pipe.txt"));
   // Command lines: an option where the parameter file belongs, --set
   // without its value, and --help with an argument.
   std::ofstream("command_line.prm") << cantilever;

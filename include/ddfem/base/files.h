@@ -17,12 +17,21 @@ namespace ddfem
 {
   namespace internal
   {
-    /// "Cannot create the directory ..." for @p path from parameter @p where.
+    /**
+     * "Cannot create the directory ..." for @p path from parameter
+     * @p where, or, where @p error says that a component's symbolic links
+     * form a loop (found before anything is made), that the path cannot
+     * be followed.
+     */
     inline dealii::ExcMessage
     directory_error(const std::string     &path,
                     const std::string     &where,
                     const std::error_code &error)
     {
+      if (error == std::errc::too_many_symbolic_link_levels)
+        return dealii::ExcMessage("The directory \"" + path + "\" (" + where +
+                                  ") cannot be reached: symbolic links on "
+                                  "its path form a loop.");
       return dealii::ExcMessage(
         "Cannot create the directory \"" + path + "\" (" + where + ")" +
         (error ? ": " + error.message() : std::string()) + ".");
