@@ -227,18 +227,18 @@ namespace ddfem::dg
     }
 
     /**
-     * The penalty's weight of the face of @p cell that @p fv is
-     * reinitialized to, as a boundary face, without eta: 2 |F| / |K|, the
-     * interior weight with the cell's mirror image as its neighbour.
+     * The penalty's weight of face @p face_no of @p cell as a boundary
+     * face, without eta: 2 |F| / |K|, the interior weight with the cell's
+     * mirror image as its neighbour. |F| is the whole face, also where
+     * the cell is the coarse side of a hanging interior face held by
+     * Nitsche's terms (the subface's area would weaken the penalty there
+     * by the number of subfaces).
      */
-    template <int dim, typename Iterator>
+    template <typename Iterator>
     double
-    boundary_face_weight(const FEFaceValuesBase<dim> &fv, const Iterator &cell)
+    boundary_face_weight(const Iterator &cell, const unsigned int face_no)
     {
-      double area = 0;
-      for (unsigned int q = 0; q < fv.n_quadrature_points; ++q)
-        area += fv.JxW(q);
-      return 2 * area / cell->measure();
+      return 2 * cell->face(face_no)->measure() / cell->measure();
     }
 
     /// What MeshWorker::mesh_loop() calls on an interior face.
@@ -557,18 +557,20 @@ namespace ddfem::dg
         c.matrix.add(1., A);
     };
 
-    // Nitsche's terms on the face of @p cell that @p fv is reinitialized
-    // to: a boundary face, or one side of an interior face inside a
-    // Dirichlet region (ProblemData::dirichlet_inside). Added to @p matrix
-    // and @p vector, whose rows are the cell's dofs @p dofs.
+    // Nitsche's terms on face @p face_no of @p cell, to which @p fv is
+    // reinitialized (or to a subface of it): a boundary face, or one side
+    // of an interior face inside a Dirichlet region
+    // (ProblemData::dirichlet_inside). Added to @p matrix and @p vector,
+    // whose rows are the cell's dofs @p dofs.
     const auto add_nitsche = [&](
-                               const Iterator                             &cell,
-                               const FEFaceValuesBase<dim>                &fv,
+                               const Iterator              &cell,
+                               const unsigned int           face_no,
+                               const FEFaceValuesBase<dim> &fv,
                                const std::vector<types::global_dof_index> &dofs,
                                FullMatrix<double> &matrix,
                                Vector<double>     &vector) {
       const CellMaterial &m     = data.materials[cell->active_cell_index()];
-      const double        eta_f = eta * boundary_face_weight(fv, cell);
+      const double        eta_f = eta * boundary_face_weight(cell, face_no);
       // Nitsche's consistency and symmetry terms and their Dirichlet data
       // part, in the element's frame (warped with its rotation R if
       // corotated). The penalty term as if warped: its isotropic part
@@ -677,7 +679,7 @@ namespace ddfem::dg
                                fv.shape_value(i, q) * fv.JxW(q);
             }
         }
-      add_nitsche(cell, fv, c.dofs, c.matrix, c.vector);
+      add_nitsche(cell, face_no, fv, c.dofs, c.matrix, c.vector);
     };
 
     const auto face_worker = [&](const Iterator               &cell,
@@ -712,6 +714,7 @@ namespace ddfem::dg
           held_side.matrix.reinit(n, n);
           held_side.vector.reinit(n);
           add_nitsche(k,
+                      side == 0 ? f : nf,
                       fiv.get_fe_face_values(side),
                       held_side.dofs,
                       held_side.matrix,
@@ -1363,7 +1366,7 @@ namespace ddfem::dg
           values[q] -= exact_value;
           trace_square += values[q].norm_sqr() * fv.JxW(q);
         }
-      c += boundary_face_weight(fv, cell) * trace_square;
+      c += boundary_face_weight(cell, f) * trace_square;
     };
     // A shared DoF has the same value on both sides: FE_Q has no jumps (the
     // face worker would measure traces). mesh_loop wants a worker exactly
