@@ -1,3 +1,5 @@
+#include <deal.II/lac/lapack_full_matrix.h>
+
 #include <ddfem/base/parsing.h>
 #include <ddfem/base/statistics.h>
 #include <ddfem/coarsening/fitting.h>
@@ -27,11 +29,13 @@ namespace ddfem::coarsening
       "fit, toward their fine value 0: 'same' (Regularization, "
       "as the paper weighs every parameter alike) or a "
       "number from 0 to 1e6, with which Regularization weighs only mu "
-      "and lambda. With 0 the springs are free: without void "
+      "and lambda. With 1e-6 the springs are nearly free: without void "
       "the median held-out error falls from 7.3 % to 5.1 %, "
       "and a laminate's springs reach its stiffness along the "
-      "layers. The child fits and level 2 keep their own "
-      "weights. See doc/metamaterial_database.md, 'Free "
+      "layers. 0 is refused where the samples do not determine "
+      "every spring (embedded samples add up the springs of points "
+      "that share a direction). The child fits and level 2 keep their "
+      "own weights. See doc/metamaterial_database.md, 'Free "
       "springs'.");
     prm.declare_entry("Child regularization",
                       "1e-4",
@@ -226,6 +230,29 @@ namespace ddfem::coarsening
 
 
 
+  bool
+  determines_unknowns(const FullMatrix<double> &A)
+  {
+    const unsigned int  m = A.m();
+    std::vector<double> d(m);
+    for (unsigned int a = 0; a < m; ++a)
+      {
+        if (!(A(a, a) > 0))
+          return false;
+        d[a] = 1 / std::sqrt(A(a, a));
+      }
+    LAPACKFullMatrix<double> S(m, m);
+    for (unsigned int a = 0; a < m; ++a)
+      for (unsigned int b = 0; b < m; ++b)
+        S(a, b) = d[a] * A(a, b) * d[b];
+    S.compute_svd();
+    // Singular values in decreasing order; the largest is at least 1 (the
+    // unit diagonal's mean).
+    return S.singular_value(m - 1) > 1e-12 * S.singular_value(0);
+  }
+
+
+
   std::vector<double>
   relative_energy_errors(const CoarseElement       &element,
                          const Metamaterial        &m,
@@ -404,6 +431,25 @@ namespace ddfem::coarsening
           A(a, a) += weight;
           b(a) += weight * (fine[t] - lower[q][t]) / scale[t];
         }
+    // Enough samples may still fix only combinations of the unknowns:
+    // embedded samples move the corners affinely, so every point sees the
+    // same deformation and only the sums of the points' moduli count. The
+    // solver would then split them arbitrarily (stiff children soft) and
+    // report a fit without error.
+    AssertThrow(!unregularized || determines_unknowns(A),
+                ExcMessage("A metamaterial fit without regularization has " +
+                           std::to_string(n_fit) +
+                           " samples that fix only combinations of its " +
+                           std::to_string(unknowns.size()) +
+                           " unknowns, not each one (embedded samples, for "
+                           "one, deform every point alike). Give the "
+                           "regularization weights (Database/Fitting/"
+                           "Regularization, Spring regularization and Child "
+                           "regularization, Database/Level 2/"
+                           "Regularization) values above 0 (1e-6 leaves "
+                           "the parameters nearly free), or sample mixed "
+                           "blocks with force patterns (Database/Sampling/"
+                           "Embedded fraction = 0)."));
 
     const Vector<double> x = nonnegative_least_squares(A, b);
     AssertThrow(all_finite(x),

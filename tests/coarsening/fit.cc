@@ -29,7 +29,10 @@
 //    mirror images have other spring lines but the same energy under
 //    homogeneous deformations;
 // 7. the bounded least-squares solver agrees with the enumeration of all
-//    active sets on random problems.
+//    active sets on random problems;
+// 8. a fit without regularization is refused where its samples do not
+//    determine every unknown: too few, or affine corner motions, which
+//    fix only the sums of the points' moduli (determines_unknowns()).
 
 #include <ddfem/base/exceptions.h>
 #include <ddfem/coarsening/block_sampler.h>
@@ -261,6 +264,43 @@ main()
         std::cout << "three samples, no regularization: " << message_of(e)
                   << std::endl;
       }
+    // Nor can samples that move the corners affinely, however many: every
+    // point sees the same F, so they fix only the sums of the points' mu
+    // and lambda (the fit split them arbitrarily, without an error). The
+    // same samples with the weight 0.01 determine the fit.
+    std::vector<Sample> affine;
+    for (unsigned int s = 0; s < 200; ++s)
+      {
+        Tensor<2, 3> H;
+        for (unsigned int i = 0; i < 3; ++i)
+          for (unsigned int j = 0; j < 3; ++j)
+            H[i][j] = 0.05 * normal(rng);
+        Sample sample;
+        sample.pattern = s;
+        for (unsigned int k = 0; k < 8; ++k)
+          sample.corners[k] =
+            H * Tensor<1, 3>(
+                  {double(k & 1), double((k >> 1) & 1), double((k >> 2) & 1)});
+        if (element.energy(sample.corners, exact, sample.energy))
+          affine.push_back(sample);
+      }
+    try
+      {
+        fit_metamaterial(element, affine, prior, settings);
+        std::cout << affine.size()
+                  << " affine samples, no regularization: NO ERROR"
+                  << std::endl;
+      }
+    catch (const ExceptionBase &e)
+      {
+        std::cout << affine.size()
+                  << " affine samples, no regularization: " << message_of(e)
+                  << std::endl;
+      }
+    settings.regularization = 0.01;
+    std::cout << "  with regularization 0.01: fitted "
+              << fit_metamaterial(element, affine, prior, settings).n_fit
+              << " samples" << std::endl;
   }
 
   // The paper's force patterns on a free block; embedded samples are

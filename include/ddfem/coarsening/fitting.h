@@ -174,6 +174,17 @@ namespace ddfem::coarsening
                             const Vector<double>     &g);
 
   /**
+   * Whether the symmetric positive semidefinite matrix @p A of a fit's
+   * normal equations (regularization included) determines every unknown:
+   * false if a diagonal entry is not positive, or if the smallest singular
+   * value of A scaled to a unit diagonal is at most 1e-12 times its
+   * largest, where round-off cannot tell it from 0 (samples that fix only
+   * combinations of the unknowns).
+   */
+  bool
+  determines_unknowns(const FullMatrix<double> &A);
+
+  /**
    * Relative energy errors |E(m; u_s) - E_s| / E_s of metamaterial @p m on
    * @p samples (samples that invert the coarse element are skipped).
    */
