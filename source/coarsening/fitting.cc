@@ -171,6 +171,10 @@ namespace ddfem::coarsening
     // the method ends after finitely many.
     const unsigned int max_passes = 3 * n + 10;
     bool               optimal    = false;
+    // Variables freed without moving x: their gradient was round-off (the
+    // passive solve went below their bound at once), so freeing them again
+    // would repeat the pass. Skipped until x moves.
+    std::vector<bool> stalled(n, false);
     for (unsigned int outer = 0; outer < max_passes && !optimal; ++outer)
       {
         // Gradient of the objective's negative: w = g - H x.
@@ -180,7 +184,7 @@ namespace ddfem::coarsening
         unsigned int best   = n;
         double       best_w = tolerance;
         for (unsigned int j = 0; j < n; ++j)
-          if (!passive[j] && w(j) > best_w)
+          if (!passive[j] && !stalled[j] && w(j) > best_w)
             {
               best   = j;
               best_w = w(j);
@@ -188,7 +192,8 @@ namespace ddfem::coarsening
         optimal = (best == n);
         if (optimal)
           break;
-        passive[best] = true;
+        passive[best]                = true;
+        const Vector<double> x_freed = x;
 
         for (unsigned int inner = 0; inner < max_passes; ++inner)
           {
@@ -218,6 +223,10 @@ namespace ddfem::coarsening
                   x(j)       = 0;
                 }
           }
+        if (x == x_freed)
+          stalled[best] = true;
+        else
+          std::fill(stalled.begin(), stalled.end(), false);
       }
     AssertThrow(optimal,
                 ExcMessage("The bounded least squares of a metamaterial fit "
