@@ -309,10 +309,8 @@ namespace ddfem::coarsening
                                Utilities::to_string(settings.point_offset) +
                                "."));
       }
-    const std::vector<Entry> journaled =
-      Journal::read(database_file,
-                    settings.fingerprint(),
-                    database.combinations().size());
+    const std::vector<Entry> journaled = Journal::read(
+      database_file, settings.fingerprint(), database.combinations().size(), 1);
     unsigned int recovered = 0;
     for (const Entry &e : journaled)
       {
@@ -605,7 +603,7 @@ namespace ddfem::coarsening
                   const std::string &fingerprint)
     {
       const std::vector<Entry> journaled =
-        Journal::read(journal_of, fingerprint, level2.n_representatives());
+        Journal::read(journal_of, fingerprint, level2.n_representatives(), 2);
       level2.entries.insert(level2.entries.end(),
                             journaled.begin(),
                             journaled.end());
@@ -732,7 +730,8 @@ namespace ddfem::coarsening
         create_directories(directory(), "Database/File");
         Journal journal(database_file,
                         database.fingerprint(),
-                        database.combinations().size());
+                        database.combinations().size(),
+                        1);
         fit_in_parallel(
           todo.size(),
           n_threads,
@@ -875,7 +874,8 @@ namespace ddfem::coarsening
           {
             Journal journal(level2_journal,
                             level2_fingerprint,
-                            level2.n_representatives());
+                            level2.n_representatives(),
+                            2);
             fit_in_parallel(
               needed.size(),
               n_threads,

@@ -979,8 +979,10 @@ namespace ddfem::coarsening
     read_journal(const std::string &name,
                  const std::string &fingerprint,
                  const std::size_t  n_keys,
+                 const unsigned int level,
                  std::uintmax_t    &valid_end)
     {
+      Assert(level == 1 || level == 2, ExcInternalError());
       std::vector<Entry> entries;
       valid_end              = 0;
       const std::string kind = non_regular_kind(name);
@@ -1019,13 +1021,13 @@ namespace ddfem::coarsening
       std::uint32_t       magic;
       std::uint64_t       sum;
       // Level-1 records carry 8 points and 8 child points, level-2 ones 64
-      // points and none.
+      // points and none (the lookups of a level read them so).
+      const double shape[2] = {level == 1 ? 8. : 64., level == 1 ? 8. : 0.};
       while (std::fread(&magic, sizeof(magic), 1, in) == 1 &&
              magic == record_magic &&
              std::fread(values.data(), sizeof(double), n_header, in) ==
                n_header &&
-             ((values[7] == 8 && values[8] == 8) ||
-              (values[7] == 64 && values[8] == 0)))
+             values[7] == shape[0] && values[8] == shape[1])
         {
           const unsigned int n_points = values[7], n_children = values[8];
           const unsigned int n_stored = (n_points + n_children) * n_values;
@@ -1077,7 +1079,8 @@ namespace ddfem::coarsening
 
   Journal::Journal(const std::string &database_file,
                    const std::string &fingerprint,
-                   const std::size_t  n_keys)
+                   const std::size_t  n_keys,
+                   const unsigned int level)
     : name(file_name(database_file))
   {
     // A new journal gets its header under another name first: a reader
@@ -1107,7 +1110,7 @@ namespace ddfem::coarsening
         // read() stops there: cut it off, or the records appended now
         // would follow it unread.
         std::uintmax_t valid_end;
-        read_journal(name, fingerprint, n_keys, valid_end);
+        read_journal(name, fingerprint, n_keys, level, valid_end);
         std::error_code error;
         if (std::filesystem::file_size(name, error) > valid_end && !error)
           std::filesystem::resize_file(name, valid_end, error);
@@ -1173,13 +1176,12 @@ namespace ddfem::coarsening
   std::vector<Entry>
   Journal::read(const std::string &database_file,
                 const std::string &fingerprint,
-                const std::size_t  n_keys)
+                const std::size_t  n_keys,
+                const unsigned int level)
   {
     std::uintmax_t valid_end;
-    return read_journal(file_name(database_file),
-                        fingerprint,
-                        n_keys,
-                        valid_end);
+    return read_journal(
+      file_name(database_file), fingerprint, n_keys, level, valid_end);
   }
 
 

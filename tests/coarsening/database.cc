@@ -306,14 +306,14 @@ main()
     const std::string fingerprint =
       builder("killed.h5", true).settings(palette()).fingerprint();
     const std::size_t n_keys = CombinationIndex(2, true).size();
-    while (Journal::read("killed.h5", fingerprint, n_keys).size() < 20 &&
+    while (Journal::read("killed.h5", fingerprint, n_keys, 1).size() < 20 &&
            !std::filesystem::exists("killed.h5") &&
            waitpid(child, nullptr, WNOHANG) == 0)
       usleep(1000);
     kill(child, SIGKILL);
     waitpid(child, nullptr, 0);
     const std::size_t journaled =
-      Journal::read("killed.h5", fingerprint, n_keys).size();
+      Journal::read("killed.h5", fingerprint, n_keys, 1).size();
     std::cout << "killed before the end: " << std::boolalpha
               << !std::filesystem::exists("killed.h5")
               << ", at least 20 entries journaled: " << (journaled >= 20)
@@ -338,7 +338,7 @@ main()
     // and removes the journal.
     {
       Database unsaved(b.settings(palette()), 2);
-      Journal  journal("unsaved.h5", fingerprint, n_keys);
+      Journal  journal("unsaved.h5", fingerprint, n_keys, 1);
       for (unsigned int e = 0; e < full.entries().size(); ++e)
         if (e % 2 == 0)
           unsaved.add(full.entries()[e]);
@@ -357,11 +357,17 @@ main()
     for (const auto &[damage, spoil] :
          std::vector<std::pair<std::string, std::function<void(Entry &)>>>{
            {"key beyond the palette", [&](Entry &e) { e.key = n_keys; }},
-           {"negative mu", [](Entry &e) { e.material.points[3].mu = -1; }}})
+           {"negative mu", [](Entry &e) { e.material.points[3].mu = -1; }},
+           // A level-2 record's shape: the level-1 lookup would read its
+           // missing child points.
+           {"level 2's shape", [](Entry &e) {
+              e.material.points.resize(64, e.material.points[0]);
+              e.child_material.points.clear();
+            }}})
       {
         std::filesystem::remove("forged.h5.journal");
         {
-          Journal journal("forged.h5", fingerprint, n_keys);
+          Journal journal("forged.h5", fingerprint, n_keys, 1);
           Entry   bad = full.entries()[1];
           spoil(bad);
           journal.append(full.entries()[0]);
@@ -369,14 +375,14 @@ main()
           journal.append(full.entries()[2]);
         }
         std::cout << "journal with a record of " << damage << ": records read "
-                  << Journal::read("forged.h5", fingerprint, n_keys).size()
+                  << Journal::read("forged.h5", fingerprint, n_keys, 1).size()
                   << " of 3" << std::endl;
       }
     // A record of a combination that is not its orbit's representative
     // (damage a checksum cannot catch) is an error naming the journal.
     std::filesystem::remove("forged.h5.journal");
     {
-      Journal           journal("forged.h5", fingerprint, n_keys);
+      Journal           journal("forged.h5", fingerprint, n_keys, 1);
       Entry             image = full.entries()[1];
       const Combination c     = full.combinations().combination(image.key);
       for (unsigned int g = 0; image.key == full.entries()[1].key; ++g)
@@ -395,7 +401,7 @@ main()
     // build cuts it off, so the records it appends can be read.
     std::filesystem::remove("forged.h5.journal");
     {
-      Journal journal("forged.h5", fingerprint, n_keys);
+      Journal journal("forged.h5", fingerprint, n_keys, 1);
       journal.append(full.entries()[0]);
       journal.append(full.entries()[1]);
     }
@@ -407,21 +413,21 @@ main()
       torn.write(reinterpret_cast<const char *>(key), sizeof(key));
     }
     std::cout << "journal with a torn record: records read "
-              << Journal::read("forged.h5", fingerprint, n_keys).size()
+              << Journal::read("forged.h5", fingerprint, n_keys, 1).size()
               << " of 2";
     {
-      Journal journal("forged.h5", fingerprint, n_keys);
+      Journal journal("forged.h5", fingerprint, n_keys, 1);
       journal.append(full.entries()[3]);
     }
     std::cout << ", after resuming and appending one: "
-              << Journal::read("forged.h5", fingerprint, n_keys).size()
+              << Journal::read("forged.h5", fingerprint, n_keys, 1).size()
               << " of 3" << std::endl;
     // A record that cannot be written stops the build (/dev/full fails
     // every write with ENOSPC).
     std::filesystem::remove("full_disk.h5.journal");
     std::filesystem::create_symlink("/dev/full", "full_disk.h5.journal");
     expect_error("journal on a full disk", [&] {
-      Journal journal("full_disk.h5", fingerprint, n_keys);
+      Journal journal("full_disk.h5", fingerprint, n_keys, 1);
       journal.append(full.entries()[0]);
     });
     std::filesystem::remove("full_disk.h5.journal");
@@ -430,9 +436,9 @@ main()
     // follow the torn one, unread.
     {
       std::filesystem::remove("torn.h5.journal");
-      Journal("torn.h5", fingerprint, n_keys);
+      Journal("torn.h5", fingerprint, n_keys, 1);
       const auto header = std::filesystem::file_size("torn.h5.journal");
-      Journal("torn.h5", fingerprint, n_keys).append(full.entries()[0]);
+      Journal("torn.h5", fingerprint, n_keys, 1).append(full.entries()[0]);
       const auto record =
         std::filesystem::file_size("torn.h5.journal") - header;
       std::cout.flush();
@@ -443,7 +449,7 @@ main()
           rlimit limit = {rlim_t(header + record + record / 2), RLIM_INFINITY};
           setrlimit(RLIMIT_FSIZE, &limit);
           {
-            Journal journal("torn.h5", fingerprint, n_keys);
+            Journal journal("torn.h5", fingerprint, n_keys, 1);
             expect_error("record beyond a file size limit",
                          [&] { journal.append(full.entries()[1]); });
             limit.rlim_cur = RLIM_INFINITY;
@@ -456,7 +462,7 @@ main()
         }
       waitpid(appender, nullptr, 0);
       std::cout << "then: records read "
-                << Journal::read("torn.h5", fingerprint, n_keys).size()
+                << Journal::read("torn.h5", fingerprint, n_keys, 1).size()
                 << ", the journal ends with its last complete record: "
                 << (std::filesystem::file_size("torn.h5.journal") ==
                     header + record)
@@ -467,8 +473,9 @@ main()
     std::filesystem::remove("full_disk.h5.journal.partial");
     std::filesystem::create_symlink("/dev/full",
                                     "full_disk.h5.journal.partial");
-    expect_error("new journal on a full disk",
-                 [&] { Journal journal("full_disk.h5", fingerprint, n_keys); });
+    expect_error("new journal on a full disk", [&] {
+      Journal journal("full_disk.h5", fingerprint, n_keys, 1);
+    });
     std::cout << "partial header removed: "
               << !std::filesystem::is_symlink("full_disk.h5.journal.partial")
               << ", no journal: "
@@ -990,7 +997,8 @@ main()
       Journal   journal("level2_unsaved.h5.level2",
                       loaded.fingerprint() + " | " +
                         level2.settings.fingerprint(),
-                      level2.n_representatives());
+                      level2.n_representatives(),
+                      2);
       unsaved.entries.clear();
       for (unsigned int e = 0; e < level2.entries.size(); ++e)
         if (e % 2 == 0)
@@ -1173,7 +1181,8 @@ main()
         Journal journal("lazy2_killed.h5.level2",
                         db.fingerprint() + " | " +
                           unsaved.settings.fingerprint(),
-                        unsaved.n_representatives());
+                        unsaved.n_representatives(),
+                        2);
         for (const Entry &e : unsaved.entries)
           journal.append(e);
       }

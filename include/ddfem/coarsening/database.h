@@ -385,14 +385,15 @@ namespace ddfem::coarsening
      * Opens the journal of @p database_file for appending; a new journal
      * starts with @p fingerprint (DatabaseSettings::fingerprint()). An
      * existing one is cut after its last complete record (as read() with
-     * @p fingerprint and @p n_keys finds it), so that a torn record left by
-     * an interrupted build does not hide the records appended now. Throws
-     * ExcMessage if the journal cannot be created or written, or if it was
-     * written with other settings.
+     * @p fingerprint, @p n_keys and @p level finds it), so that a torn
+     * record left by an interrupted build does not hide the records
+     * appended now. Throws ExcMessage if the journal cannot be created or
+     * written, or if it was written with other settings.
      */
     Journal(const std::string &database_file,
             const std::string &fingerprint,
-            std::size_t        n_keys);
+            std::size_t        n_keys,
+            unsigned int       level);
     /// Closes the file.
     ~Journal();
 
@@ -413,15 +414,17 @@ namespace ddfem::coarsening
 
     /**
      * Reads the complete records of the journal of @p database_file
-     * (none if it does not exist). Reading stops at a torn or damaged
-     * record: a bad checksum, a key not below @p n_keys, or a non-physical
-     * parameter. Throws ExcMessage if the journal was written with settings
-     * other than @p fingerprint.
+     * (none if it does not exist), whose entries are of level @p level (1:
+     * 8 points and 8 child points; 2: 64 points). Reading stops at a torn
+     * or damaged record: a bad checksum, a key not below @p n_keys, another
+     * level's shape, or a non-physical parameter. Throws ExcMessage if the
+     * journal was written with settings other than @p fingerprint.
      */
     static std::vector<Entry>
     read(const std::string &database_file,
          const std::string &fingerprint,
-         std::size_t        n_keys);
+         std::size_t        n_keys,
+         unsigned int       level);
 
     /// Deletes the journal of @p database_file.
     static void
