@@ -167,15 +167,25 @@ namespace ddfem::coarsening
     // on the free (passive) set, and where that leaves the feasible set,
     // step to its boundary and bound the variable that reaches it first
     // (set to 0 exactly: the step's round-off would leave it at 1e-17,
-    // and the next step would not move). Each pass frees one variable;
-    // the method ends after finitely many.
+    // and the next step would not move). Each pass frees one variable and
+    // lowers the objective; the method ends after finitely many.
+    const auto objective = [&](const Vector<double> &v) {
+      Vector<double> Hv(n);
+      H.vmult(Hv, v);
+      return 0.5 * (v * Hv) - g * v;
+    };
     const unsigned int max_passes = 3 * n + 10;
     bool               optimal    = false;
-    // Variables freed without moving x: their gradient was round-off (the
-    // passive solve went below their bound at once), so freeing them again
-    // would repeat the pass. Skipped until x moves.
+    double             f          = 0; // the objective at x = 0
+    // A variable whose gradient passes the tolerance by round-off only (the
+    // passive solves of an ill-conditioned problem) can be freed without
+    // lowering the objective, and would be freed again and again. Such a
+    // pass is undone, and the variable is not freed again until a pass
+    // lowers the objective. These passes do not count toward the limit: at
+    // most n follow each other. Since every counted pass lowers the
+    // objective, no state repeats.
     std::vector<bool> stalled(n, false);
-    for (unsigned int outer = 0; outer < max_passes && !optimal; ++outer)
+    for (unsigned int passes = 0; passes < max_passes && !optimal;)
       {
         // Gradient of the objective's negative: w = g - H x.
         Vector<double> w(n);
@@ -192,8 +202,9 @@ namespace ddfem::coarsening
         optimal = (best == n);
         if (optimal)
           break;
-        passive[best]                = true;
-        const Vector<double> x_freed = x;
+        const Vector<double>    x_before       = x;
+        const std::vector<bool> passive_before = passive;
+        passive[best]                          = true;
 
         for (unsigned int inner = 0; inner < max_passes; ++inner)
           {
@@ -223,10 +234,18 @@ namespace ddfem::coarsening
                   x(j)       = 0;
                 }
           }
-        if (x == x_freed)
-          stalled[best] = true;
+        if (const double f_new = objective(x); f_new < f)
+          {
+            f = f_new;
+            ++passes;
+            std::fill(stalled.begin(), stalled.end(), false);
+          }
         else
-          std::fill(stalled.begin(), stalled.end(), false);
+          {
+            x             = x_before;
+            passive       = passive_before;
+            stalled[best] = true;
+          }
       }
     AssertThrow(optimal,
                 ExcMessage("The bounded least squares of a metamaterial fit "
@@ -409,21 +428,15 @@ namespace ddfem::coarsening
     const double                regularization,
     const std::optional<double> spring_regularization) const
   {
-    // Without regularization, fewer samples than unknowns cannot
-    // determine them: the active-set solver would leave all but as many as
-    // there are samples at their bounds, without an error.
-    const bool unregularized =
-      regularization == 0 || spring_regularization.value_or(1) == 0;
-    AssertThrow(!unregularized || n_fit >= unknowns.size(),
-                ExcMessage("A metamaterial fit without regularization has " +
-                           std::to_string(n_fit) + " samples for " +
-                           std::to_string(unknowns.size()) +
-                           " unknowns, which they cannot determine. Give the "
-                           "regularization weights (Database/Fitting/"
-                           "Regularization, Spring regularization and Child "
-                           "regularization, Database/Level 2/"
-                           "Regularization) values above 0, or more "
-                           "Database/Sampling/Patterns."));
+    const double spring_weight = spring_regularization.value_or(regularization);
+    // What a fit whose samples do not determine its parameters should
+    // change.
+    const std::string advice =
+      " Give the regularization weights (Database/Fitting/Regularization, "
+      "Spring regularization and Child regularization, Database/Level 2/"
+      "Regularization) values above 0 (1e-6 leaves the parameters nearly "
+      "free), or more Database/Sampling/Patterns, or sample mixed blocks "
+      "with force patterns (Database/Sampling/Embedded fraction = 0).";
     // The regularization sums over an unknown's parameters, which share
     // their fine value and bounds.
     FullMatrix<double> A = H;
@@ -434,41 +447,31 @@ namespace ddfem::coarsening
           const unsigned int q = i / 3, t = i % 3;
           const auto        &p0      = prior.points[q];
           const double       fine[3] = {p0.mu, p0.lambda, p0.anisotropy};
-          const double       weight =
-            t == 2 ? spring_regularization.value_or(regularization) :
-                           regularization;
+          const double       weight  = t == 2 ? spring_weight : regularization;
           A(a, a) += weight;
           b(a) += weight * (fine[t] - lower[q][t]) / scale[t];
         }
-    // Enough samples may still fix only combinations of the unknowns:
-    // embedded samples move the corners affinely, so every point sees the
-    // same deformation and only the sums of the points' moduli count. The
-    // solver would then split them arbitrarily (stiff children soft) and
-    // report a fit without error.
-    AssertThrow(!unregularized || determines_unknowns(A),
-                ExcMessage("A metamaterial fit without regularization has " +
-                           std::to_string(n_fit) +
-                           " samples that fix only combinations of its " +
-                           std::to_string(unknowns.size()) +
-                           " unknowns, not each one (embedded samples, for "
-                           "one, deform every point alike). Give the "
-                           "regularization weights (Database/Fitting/"
-                           "Regularization, Spring regularization and Child "
-                           "regularization, Database/Level 2/"
-                           "Regularization) values above 0 (1e-6 leaves "
-                           "the parameters nearly free), or sample mixed "
-                           "blocks with force patterns (Database/Sampling/"
-                           "Embedded fraction = 0)."));
+    // With a weight of 0 the samples alone must determine the unknowns
+    // it leaves free. Fewer samples than unknowns cannot, and neither can
+    // embedded samples, which move the corners affinely: every point sees
+    // the same deformation, so only the sums of the points' moduli (or of
+    // springs along one direction) count. The solver would split them
+    // arbitrarily (stiff children soft) and report a fit without error.
+    AssertThrow(
+      (regularization > 0 && spring_weight > 0) || determines_unknowns(A),
+      ExcMessage(
+        "A metamaterial fit with the regularization "
+        "weights " +
+        Utilities::to_string(regularization) + " (mu, lambda) and " +
+        Utilities::to_string(spring_weight) + " (springs) has " +
+        std::to_string(n_fit) + " samples that fix only combinations of its " +
+        std::to_string(unknowns.size()) + " unknowns, not each one." + advice));
 
     const Vector<double> x = nonnegative_least_squares(A, b);
     AssertThrow(all_finite(x),
                 ExcMessage("A metamaterial fit gave parameters that are not "
-                           "finite: its samples do not determine them. Give "
-                           "the regularization weights (Database/Fitting/"
-                           "Regularization, Spring regularization and Child "
-                           "regularization, Database/Level 2/Regularization) "
-                           "values above 0, or more "
-                           "Database/Sampling/Patterns."));
+                           "finite: its samples do not determine them." +
+                           advice));
     std::vector<double> p(3 * prior.points.size());
     for (unsigned int q = 0; q < prior.points.size(); ++q)
       for (unsigned int t = 0; t < 3; ++t)

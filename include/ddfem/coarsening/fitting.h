@@ -167,11 +167,13 @@ namespace ddfem::coarsening
   /**
    * Minimizes 1/2 x^T H x - g^T x over x >= 0 for a symmetric positive
    * definite @p H (Lawson and Hanson's active-set method on the normal
-   * equations). Exact up to round-off after finitely many steps. A
-   * variable whose freeing does not move x (its gradient above the
-   * tolerance by round-off only, as in ill-conditioned fits) is not freed
-   * again until x moves; it used to be freed and bounded until the passes
-   * ran out.
+   * equations). Exact up to round-off after finitely many steps. A pass
+   * that frees a variable without lowering the objective (its gradient
+   * above the tolerance by round-off only, as in ill-conditioned fits) is
+   * undone, and that variable is not freed again until a pass lowers the
+   * objective; it used to be freed and bounded until the passes ran out.
+   * Throws ExcMessage if 3 n + 10 passes that lower the objective do not
+   * reach the optimum.
    */
   Vector<double>
   nonnegative_least_squares(const FullMatrix<double> &H,
