@@ -971,6 +971,20 @@ namespace ddfem::coarsening
   namespace
   {
     /**
+     * The points and child points of an entry of level @p level: 8 and 8
+     * at level 1, 64 and none at level 2 (the lookups of a level read
+     * them so).
+     */
+    std::pair<unsigned int, unsigned int>
+    record_shape(const unsigned int level)
+    {
+      Assert(level == 1 || level == 2, ExcInternalError());
+      return level == 1 ? std::pair(8u, 8u) : std::pair(64u, 0u);
+    }
+
+
+
+    /**
      * The complete records of the journal @p name (see Journal::read()),
      * and in @p valid_end the length of the journal up to the end of the
      * last of them.
@@ -982,7 +996,6 @@ namespace ddfem::coarsening
                  const unsigned int level,
                  std::uintmax_t    &valid_end)
     {
-      Assert(level == 1 || level == 2, ExcInternalError());
       std::vector<Entry> entries;
       valid_end              = 0;
       const std::string kind = non_regular_kind(name);
@@ -1020,14 +1033,12 @@ namespace ddfem::coarsening
       std::vector<double> values(n_header);
       std::uint32_t       magic;
       std::uint64_t       sum;
-      // Level-1 records carry 8 points and 8 child points, level-2 ones 64
-      // points and none (the lookups of a level read them so).
-      const double shape[2] = {level == 1 ? 8. : 64., level == 1 ? 8. : 0.};
+      const auto [n_level_points, n_level_children] = record_shape(level);
       while (std::fread(&magic, sizeof(magic), 1, in) == 1 &&
              magic == record_magic &&
              std::fread(values.data(), sizeof(double), n_header, in) ==
                n_header &&
-             values[7] == shape[0] && values[8] == shape[1])
+             values[7] == n_level_points && values[8] == n_level_children)
         {
           const unsigned int n_points = values[7], n_children = values[8];
           const unsigned int n_stored = (n_points + n_children) * n_values;
@@ -1082,6 +1093,7 @@ namespace ddfem::coarsening
                    const std::size_t  n_keys,
                    const unsigned int level)
     : name(file_name(database_file))
+    , level(level)
   {
     // A new journal gets its header under another name first: a reader
     // (or a build killed meanwhile) never sees half a header.
@@ -1136,6 +1148,10 @@ namespace ddfem::coarsening
   void
   Journal::append(const Entry &entry)
   {
+    Assert(std::pair(unsigned(entry.material.points.size()),
+                     unsigned(entry.child_material.points.size())) ==
+             record_shape(level),
+           ExcInternalError());
     std::vector<double> values = {double(entry.key),
                                   entry.median_error,
                                   entry.max_error,

@@ -18,6 +18,7 @@
 #include <functional>
 #include <random>
 #include <set>
+#include <sstream>
 #include <tuple>
 #include <type_traits>
 
@@ -357,13 +358,7 @@ main()
     for (const auto &[damage, spoil] :
          std::vector<std::pair<std::string, std::function<void(Entry &)>>>{
            {"key beyond the palette", [&](Entry &e) { e.key = n_keys; }},
-           {"negative mu", [](Entry &e) { e.material.points[3].mu = -1; }},
-           // A level-2 record's shape: the level-1 lookup would read its
-           // missing child points.
-           {"level 2's shape", [](Entry &e) {
-              e.material.points.resize(64, e.material.points[0]);
-              e.child_material.points.clear();
-            }}})
+           {"negative mu", [](Entry &e) { e.material.points[3].mu = -1; }}})
       {
         std::filesystem::remove("forged.h5.journal");
         {
@@ -378,6 +373,35 @@ main()
                   << Journal::read("forged.h5", fingerprint, n_keys, 1).size()
                   << " of 3" << std::endl;
       }
+    // So is one of level 2's shape, which the level-1 lookups would read
+    // without its child points. Journal::append() writes only its own
+    // level's shape: the record comes from a level-2 journal with the same
+    // header, spliced between two level-1 records.
+    {
+      for (const std::string file : {"forged.h5", "level2_shape.h5"})
+        std::filesystem::remove(file + ".journal");
+      Journal("forged.h5", fingerprint, n_keys, 1).append(full.entries()[0]);
+      Journal("forged.h5", fingerprint, n_keys, 1).append(full.entries()[2]);
+      Entry level2_shape = full.entries()[1];
+      level2_shape.material.points.resize(64, level2_shape.material.points[0]);
+      level2_shape.child_material.points.clear();
+      Journal("level2_shape.h5", fingerprint, n_keys, 2).append(level2_shape);
+      const auto content = [](const std::string &file) {
+        std::ostringstream bytes;
+        bytes << std::ifstream(file, std::ios::binary).rdbuf();
+        return bytes.str();
+      };
+      const std::string level1 = content("forged.h5.journal"),
+                        level2 = content("level2_shape.h5.journal");
+      const std::size_t header = sizeof(std::uint64_t) + fingerprint.size(),
+                        record = (level1.size() - header) / 2;
+      std::ofstream("forged.h5.journal", std::ios::binary)
+        << level1.substr(0, header + record) << level2.substr(header)
+        << level1.substr(header + record);
+      std::cout << "journal with a record of level 2's shape: records read "
+                << Journal::read("forged.h5", fingerprint, n_keys, 1).size()
+                << " of 3" << std::endl;
+    }
     // A record of a combination that is not its orbit's representative
     // (damage a checksum cannot catch) is an error naming the journal.
     std::filesystem::remove("forged.h5.journal");

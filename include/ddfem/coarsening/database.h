@@ -442,6 +442,8 @@ namespace ddfem::coarsening
   private:
     /// The journal's file name.
     std::string name;
+    /// The level of its entries (1 or 2), which fixes their shape.
+    unsigned int level;
     /// The journal, open for appending; nullptr after a failed append.
     std::FILE *file;
     /// The journal's size up to its last complete record.
