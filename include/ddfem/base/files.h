@@ -20,8 +20,8 @@ namespace ddfem
     /**
      * "Cannot create the directory ..." for @p path from parameter
      * @p where, or, where @p error says that a component's symbolic links
-     * form a loop (found before anything is made), that the path cannot
-     * be followed.
+     * form a loop (found by looking, not by making it), that the path
+     * cannot be followed.
      */
     inline dealii::ExcMessage
     directory_error(const std::string     &path,
