@@ -261,7 +261,9 @@ namespace ddfem::coarsening
   bool
   determines_unknowns(const FullMatrix<double> &A)
   {
-    const unsigned int  m = A.m();
+    const unsigned int m = A.m();
+    if (m == 0)
+      return true;
     std::vector<double> d(m);
     for (unsigned int a = 0; a < m; ++a)
       {
@@ -460,8 +462,7 @@ namespace ddfem::coarsening
     AssertThrow(
       (regularization > 0 && spring_weight > 0) || determines_unknowns(A),
       ExcMessage(
-        "A metamaterial fit with the regularization "
-        "weights " +
+        "A metamaterial fit with the regularization weights " +
         Utilities::to_string(regularization) + " (mu, lambda) and " +
         Utilities::to_string(spring_weight) + " (springs) has " +
         std::to_string(n_fit) + " samples that fix only combinations of its " +

@@ -181,11 +181,11 @@ namespace ddfem::coarsening
 
   /**
    * Whether the symmetric positive semidefinite matrix @p A of a fit's
-   * normal equations (regularization included) determines every unknown:
-   * false if a diagonal entry is not positive, or if the smallest singular
-   * value of A scaled to a unit diagonal is at most 1e-12 times its
-   * largest, where round-off cannot tell it from 0 (samples that fix only
-   * combinations of the unknowns).
+   * normal equations (regularization included) determines every unknown
+   * (true if there is none): false if a diagonal entry is not positive, or
+   * if the smallest singular value of A scaled to a unit diagonal is at
+   * most 1e-12 times its largest, where round-off cannot tell it from 0
+   * (samples that fix only combinations of the unknowns).
    */
   bool
   determines_unknowns(const FullMatrix<double> &A);
