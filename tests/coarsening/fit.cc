@@ -944,6 +944,7 @@ main()
                 for (unsigned int c = 0; c < P.size(); ++c)
                   H_PP(a, c) = H(P[a], P[c]);
               }
+            H_PP.set_property(LAPACKSupport::symmetric);
             H_PP.compute_cholesky_factorization();
             H_PP.solve(z_P);
             bool feasible = true;
