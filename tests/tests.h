@@ -25,6 +25,7 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <iterator>
 #include <limits>
 #include <map>
 #include <memory>
@@ -36,6 +37,14 @@
 namespace ddfem::testing
 {
   using namespace dealii;
+
+  /// The content of the file @p file ("" if there is none).
+  inline std::string
+  content_of(const std::string &file)
+  {
+    std::ifstream in(file, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  }
 
   /**
    * A scene, its discretization and a static solver, set up from the text

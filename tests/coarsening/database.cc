@@ -18,7 +18,6 @@
 #include <functional>
 #include <random>
 #include <set>
-#include <sstream>
 #include <tuple>
 #include <type_traits>
 
@@ -386,13 +385,8 @@ main()
       level2_shape.material.points.resize(64, level2_shape.material.points[0]);
       level2_shape.child_material.points.clear();
       Journal("level2_shape.h5", fingerprint, n_keys, 2).append(level2_shape);
-      const auto content = [](const std::string &file) {
-        std::ostringstream bytes;
-        bytes << std::ifstream(file, std::ios::binary).rdbuf();
-        return bytes.str();
-      };
-      const std::string level1 = content("forged.h5.journal"),
-                        level2 = content("level2_shape.h5.journal");
+      const std::string level1 = testing::content_of("forged.h5.journal"),
+                        level2 = testing::content_of("level2_shape.h5.journal");
       const std::size_t header = sizeof(std::uint64_t) + fingerprint.size(),
                         record = (level1.size() - header) / 2;
       std::ofstream("forged.h5.journal", std::ios::binary)

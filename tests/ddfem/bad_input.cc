@@ -162,14 +162,6 @@ namespace
     return code;
   }
 
-  /// The content of the file @p file ("" if there is none).
-  std::string
-  content_of(const std::string &file)
-  {
-    std::ifstream in(file, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), {});
-  }
-
   /**
    * Runs ddfem on @p prm_text (plus @p extra arguments, VTU files of every
    * load step) with files limited to 10000 bytes, more than parameters.prm
@@ -735,7 +727,7 @@ main(int argc, char **argv)
   {
     std::cout << "  a_file unchanged: " << std::boolalpha
               << (std::filesystem::is_regular_file("a_file") &&
-                  content_of("a_file") == "not a directory\n")
+                  testing::content_of("a_file") == "not a directory\n")
               << "\n"
               << std::endl;
   }
@@ -1051,7 +1043,7 @@ end
       std::cout << "  earlier files left:";
       for (const std::string &file : earlier)
         {
-          if (content_of(directory + "/" + file) == "earlier run\n")
+          if (testing::content_of(directory + "/" + file) == "earlier run\n")
             std::cout << ' ' << file;
         }
       std::cout << "\n" << std::endl;
@@ -1186,7 +1178,8 @@ end
          "  set Screen timings = false\n  set Write VTU = none\nend\n";
     std::ostringstream out, err;
     const int          first = app::run({"rerun_fails.prm"}, out, err);
-    const std::string  used  = content_of("out_rerun_fails/parameters.prm");
+    const std::string  used =
+      testing::content_of("out_rerun_fails/parameters.prm");
     std::ostringstream rerun_err;
     const int code = run_with_small_files({"out_rerun_fails/parameters.prm",
                                            "--set",
@@ -1201,7 +1194,7 @@ end
       std::cout << " " << f;
     std::cout << ", parameters.prm as the first run wrote it: "
               << (!used.empty() &&
-                  content_of("out_rerun_fails/parameters.prm") == used)
+                  testing::content_of("out_rerun_fails/parameters.prm") == used)
               << "\n  " << rerun_err.str() << std::endl;
   }
   // A gnuplot that does not work is found before anything runs too.
