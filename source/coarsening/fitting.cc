@@ -258,6 +258,20 @@ namespace ddfem::coarsening
 
 
 
+  namespace
+  {
+    /// What a fit whose samples do not determine its parameters should
+    /// change, for its messages.
+    constexpr char undetermined_advice[] =
+      " Give the regularization weights (Database/Fitting/Regularization, "
+      "Spring regularization and Child regularization, Database/Level 2/"
+      "Regularization) values above 0 (1e-6 leaves the parameters nearly "
+      "free), or more Database/Sampling/Patterns, or sample mixed blocks "
+      "with force patterns (Database/Sampling/Embedded fraction = 0).";
+  } // namespace
+
+
+
   bool
   determines_unknowns(const FullMatrix<double> &A)
   {
@@ -431,14 +445,6 @@ namespace ddfem::coarsening
     const std::optional<double> spring_regularization) const
   {
     const double spring_weight = spring_regularization.value_or(regularization);
-    // What a fit whose samples do not determine its parameters should
-    // change.
-    const std::string advice =
-      " Give the regularization weights (Database/Fitting/Regularization, "
-      "Spring regularization and Child regularization, Database/Level 2/"
-      "Regularization) values above 0 (1e-6 leaves the parameters nearly "
-      "free), or more Database/Sampling/Patterns, or sample mixed blocks "
-      "with force patterns (Database/Sampling/Embedded fraction = 0).";
     // The regularization sums over an unknown's parameters, which share
     // their fine value and bounds.
     FullMatrix<double> A = H;
@@ -461,18 +467,19 @@ namespace ddfem::coarsening
     // arbitrarily (stiff children soft) and report a fit without error.
     AssertThrow(
       (regularization > 0 && spring_weight > 0) || determines_unknowns(A),
-      ExcMessage(
-        "A metamaterial fit with the regularization weights " +
-        Utilities::to_string(regularization) + " (mu, lambda) and " +
-        Utilities::to_string(spring_weight) + " (springs) has " +
-        std::to_string(n_fit) + " samples that fix only combinations of its " +
-        std::to_string(unknowns.size()) + " unknowns, not each one." + advice));
+      ExcMessage("A metamaterial fit with the regularization weights " +
+                 Utilities::to_string(regularization) + " (mu, lambda) and " +
+                 Utilities::to_string(spring_weight) + " (springs) has " +
+                 std::to_string(n_fit) +
+                 " samples that fix only combinations of its " +
+                 std::to_string(unknowns.size()) + " unknowns, not each one." +
+                 undetermined_advice));
 
     const Vector<double> x = nonnegative_least_squares(A, b);
     AssertThrow(all_finite(x),
                 ExcMessage("A metamaterial fit gave parameters that are not "
                            "finite: its samples do not determine them." +
-                           advice));
+                           std::string(undetermined_advice)));
     std::vector<double> p(3 * prior.points.size());
     for (unsigned int q = 0; q < prior.points.size(); ++q)
       for (unsigned int t = 0; t < 3; ++t)
