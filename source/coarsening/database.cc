@@ -1040,8 +1040,8 @@ namespace ddfem::coarsening
                n_header &&
              values[7] == n_level_points && values[8] == n_level_children)
         {
-          const unsigned int n_points = values[7], n_children = values[8];
-          const unsigned int n_stored = (n_points + n_children) * n_values;
+          const unsigned int n_stored =
+            (n_level_points + n_level_children) * n_values;
           values.resize(n_header + n_stored);
           if (std::fread(values.data() + n_header,
                          sizeof(double),
@@ -1066,12 +1066,12 @@ namespace ddfem::coarsening
           e.max_strain   = values[4];
           e.n_samples    = values[5];
           e.n_dropped    = values[6];
-          for (unsigned int q = 0; q < n_points; ++q)
+          for (unsigned int q = 0; q < n_level_points; ++q)
             e.material.points.push_back(
               point_from(&values[n_header + q * n_values]));
-          for (unsigned int q = 0; q < n_children; ++q)
+          for (unsigned int q = 0; q < n_level_children; ++q)
             e.child_material.points.push_back(
-              point_from(&values[n_header + (n_points + q) * n_values]));
+              point_from(&values[n_header + (n_level_points + q) * n_values]));
           const auto physical = [](const Metamaterial &m) {
             return std::all_of(m.points.begin(), m.points.end(), is_physical);
           };
