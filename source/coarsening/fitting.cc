@@ -264,9 +264,8 @@ namespace ddfem::coarsening
     /// change, for its messages.
     constexpr char undetermined_advice[] =
       " Give the regularization weights (Database/Fitting/Regularization, "
-      "Spring regularization and Child regularization, Database/Level 2/"
-      "Regularization) values above 0 (1e-6 leaves the parameters nearly "
-      "free), or more Database/Sampling/Patterns, or sample mixed blocks "
+      "Spring regularization and Child regularization) values above 0 "
+      "(1e-6 leaves the parameters nearly free), or more Database/Sampling/Patterns, or sample mixed blocks "
       "with force patterns (Database/Sampling/Embedded fraction = 0).";
   } // namespace
 

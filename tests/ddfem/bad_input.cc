@@ -419,6 +419,15 @@ main(int argc, char **argv)
             "Method=ddfem",
             "--set",
             "Database/Fitting/Spring regularization=Same"});
+  // Refused when read, not by the first level-2 fit after all of level 1.
+  run_case("level2_regularization_zero",
+           cantilever,
+           {"--set",
+            "Method=ddfem",
+            "--set",
+            "Coarsening levels=2",
+            "--set",
+            "Database/Level 2/Regularization=0"});
   // The database's settings concern ddfem alone: a naive run that gives
   // none runs.
   run_case("naive_without_database_file",
