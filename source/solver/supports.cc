@@ -68,8 +68,14 @@ namespace ddfem::solver
     for (const auto &cell : tria.active_cell_iterators())
       for (const unsigned int f : cell->face_indices())
         if (!cell->at_boundary(f))
-          parts.join(cell->active_cell_index(),
-                     cell->neighbor(f)->active_cell_index());
+          {
+            // A neighbor with children across a hanging face has no
+            // active cell index; its children join from their side.
+            if (cell->neighbor(f)->has_children())
+              continue;
+            parts.join(cell->active_cell_index(),
+                       cell->neighbor(f)->active_cell_index());
+          }
     return parts;
   }
 
@@ -318,6 +324,16 @@ namespace ddfem::solver
     const std::map<std::size_t, std::vector<ConstrainedRow>> &rows,
     const std::string                                        &shared)
   {
+    AssertThrow(
+      std::any_of(rows.begin(),
+                  rows.end(),
+                  [](const auto &part_rows) {
+                    return !part_rows.second.empty();
+                  }),
+      ExcMessage(
+        "No Dirichlet condition (fixed, sliding, displacement or "
+        "rotation) acts on any node of the solid, so rigid body "
+        "motions are not prevented. Add one in 'Boundary conditions'."));
     std::set<std::size_t> representatives;
     for (unsigned int c = 0; c < tria.n_active_cells(); ++c)
       representatives.insert(parts.find(c));
@@ -340,14 +356,23 @@ namespace ddfem::solver
         for (const auto &cell : tria.active_cell_iterators())
           if (parts.find(cell->active_cell_index()) == part && cells++ == 0)
             where = cell->center();
-        AssertThrow(
-          false,
-          ExcMessage(
-            std::to_string(cells) + " voxel(s) around " + format_point(where) +
-            " m float free of the rest: they share no " + shared +
-            " with the other parts, and Dirichlet conditions fix only " +
-            std::to_string(fixed) +
-            " of their 6 rigid body motions. Remove or connect them."));
+        const std::string voxels = std::to_string(cells) + " voxel(s) around " +
+                                   format_point(where) + " m share no " +
+                                   shared + " with the other parts, and ";
+        AssertThrow(fixed > 0,
+                    ExcMessage(voxels +
+                               "no Dirichlet condition acts on them: they "
+                               "float free. Connect them to a held part, "
+                               "hold them in 'Boundary conditions', or "
+                               "remove them."));
+        AssertThrow(false,
+                    ExcMessage(voxels +
+                               "their Dirichlet conditions fix "
+                               "only " +
+                               std::to_string(fixed) +
+                               " of their 6 rigid body motions. Add "
+                               "conditions in 'Boundary conditions', or "
+                               "connect them to a held part."));
       }
   }
 
@@ -358,15 +383,6 @@ namespace ddfem::solver
     const Triangulation<3>                         &tria,
     const std::vector<std::vector<ConstrainedRow>> &cell_rows)
   {
-    AssertThrow(
-      std::any_of(cell_rows.begin(),
-                  cell_rows.end(),
-                  [](const auto &rows) { return !rows.empty(); }),
-      ExcMessage(
-        "No Dirichlet condition (fixed, sliding, displacement or "
-        "rotation) acts on any node of the solid, so rigid body "
-        "motions are not prevented. Add one in 'Boundary conditions'."));
-
     // Parts sharing nodes (vertex-connected cells) and parts sharing faces.
     Components by_vertex = vertex_connected_parts(tria);
     Components by_face   = face_connected_parts(tria);

@@ -927,6 +927,11 @@ end
   run_case("floating_voxels", floating_voxels);
   // Coarse blocks may bridge the gap; the voxels are checked as they are.
   run_case("floating_voxels_naive", floating_voxels, {"--set", "Method=naive"});
+  // Held in part by conditions of their own: the message asks for more.
+  run_case("partly_held_voxels",
+           floating_voxels +
+             "subsection Boundary conditions\n  subsection Condition 2\n"
+             "    set Type = sliding\n    set Region = z-\n  end\nend\n");
   // Not bad input but a solve that fails: rigid blocks on soft hinges
   // (contrast 1e6) bent far in few, short Newton runs. It must stop with a
   // message naming what failed; the converged load steps are kept.

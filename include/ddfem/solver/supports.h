@@ -48,7 +48,8 @@ namespace ddfem::solver
   Components
   vertex_connected_parts(const Triangulation<3> &tria);
 
-  /// The parts of @p tria's active cells that share faces.
+  /// The parts of @p tria's active cells that share faces (across a
+  /// hanging face, the refined side's cells join the coarse cell).
   Components
   face_connected_parts(const Triangulation<3> &tria);
 
@@ -146,7 +147,8 @@ namespace ddfem::solver
   dof_components(const DoFHandler<3> &dof_handler);
 
   /**
-   * Throws ExcMessage unless the rows of every part of @p parts (the
+   * Throws ExcMessage unless there are Dirichlet rows, and the rows of
+   * every part of @p parts (the
    * active cells of @p tria, joined by what the discretization couples)
    * fix all six rigid body motions of that part. @p rows holds each part's
    * rows under its representative. @p shared names what joins cells into a
@@ -167,9 +169,8 @@ namespace ddfem::solver
              const unsigned int                            f);
 
   /**
-   * Throws ExcMessage unless there are Dirichlet rows, and those of
-   * @p tria's cells fix all
-   * six rigid body motions of every part whose cells share vertices
+   * Throws ExcMessage unless the Dirichlet rows of @p tria's cells fix
+   * all six rigid body motions of every part whose cells share vertices
    * (require_supported_parts()), and no part whose cells share faces hangs
    * on the others along an edge or at a corner only (a mechanism): each
    * such part must be held by its rows and the nodes it shares with the
