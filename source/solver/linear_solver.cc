@@ -179,6 +179,11 @@ namespace ddfem::solver
                                          dof_handler,
                                          support_points);
     components = dof_components(dof_handler);
+    for (std::size_t i = 0; i < n; ++i)
+      Assert(i >= components[i] &&
+               support_points[i - components[i]].distance(support_points[i]) <=
+                 1e-12 * support_points[i].norm(),
+             ExcMessage("The three DoFs of a node must be consecutive."));
   }
 
 

@@ -8,8 +8,10 @@
 // here: held points do not move, joined points move alike in both parts.
 // The sparse count of free motions agrees with the dense basis. The mesh
 // check counts the mechanism of rotating squares (a checkerboard layer of
-// voxels hinged at their z edges) at any size.
+// voxels hinged at their z edges) at any size. Cells across a hanging face
+// are one face-connected part.
 
+#include <deal.II/grid/grid_generator.h>
 #include <deal.II/grid/tria.h>
 
 #include <ddfem/base/exceptions.h>
@@ -253,4 +255,24 @@ main()
   report_checkerboard(41, 1, {20, 30});
   report_checkerboard(21, 2, {10});
   report_checkerboard(41, 2, {20});
+
+  // Parts across a hanging face: two cells, one of them refined, are one
+  // part, joined from the refined side (the coarse side's neighbor has no
+  // active cell index).
+  {
+    Triangulation<3> tria;
+    GridGenerator::subdivided_hyper_rectangle(tria,
+                                              {2, 1, 1},
+                                              Point<3>(0, 0, 0),
+                                              Point<3>(2, 1, 1));
+    tria.begin_active()->set_refine_flag();
+    tria.execute_coarsening_and_refinement();
+    solver::Components    parts = solver::face_connected_parts(tria);
+    std::set<std::size_t> distinct;
+    for (unsigned int c = 0; c < tria.n_active_cells(); ++c)
+      distinct.insert(parts.find(c));
+    std::cout << tria.n_active_cells()
+              << " cells, one of two refined: " << distinct.size()
+              << " face-connected part(s)" << std::endl;
+  }
 }

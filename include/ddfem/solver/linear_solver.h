@@ -72,8 +72,9 @@ namespace ddfem::solver
 
     /**
      * Prepares for systems on @p dof_handler (an element of three
-     * components, p <= 2, whose default numbering keeps the three
-     * components of a node together: FE_Q(p)^3 or FE_DGQ(p)^3): chooses
+     * components, p <= 2, whose DoFs are numbered node by node, the three
+     * components of a node consecutive: FE_Q(p)^3 as distributed,
+     * FE_DGQ(p)^3 as dg::System renumbers it): chooses
      * the method ('auto' takes @p small_systems up to 'Direct solver
      * limit' unknowns, cg-amg above) and computes the rigid body modes for
      * the multigrid preconditioner. Throws ExcMessage naming Linear
