@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstring>
 #include <iostream>
 #include <sstream>
 
@@ -115,19 +116,34 @@ namespace ddfem::scene
           std::cerr.rdbuf(buffer);
         }
       } restore{cerr_buffer};
-      try
-        {
-          parser->initialize("x,y,z", expressions, {{"pi", numbers::PI}});
-          Vector<double> values(n_components);      // muparser parses lazily:
-          parser->vector_value(Point<3>(), values); // check every component
-        }
-      catch (ExceptionBase &e)
-        {
-          AssertThrow(false,
-                      ExcMessage(where + " = \"" + text +
-                                 "\" is not a valid expression of x, y, z: " +
-                                 message_of(e)));
-        }
+      // Each component on its own first, so that the message names the
+      // one at fault: the "Column" of deal.II's message is muparser's error
+      // code, and the position muparser gives counts in the component.
+      for (unsigned int c = 0; c < n_components; ++c)
+        try
+          {
+            FunctionParser<3> component(1);
+            component.initialize("x,y,z",
+                                 {expressions[c]},
+                                 {{"pi", numbers::PI}});
+            component.value(Point<3>()); // muparser parses lazily
+          }
+        catch (ExceptionBase &e)
+          {
+            std::string said   = message_of(e);
+            const auto  marker = said.find("The parser said: ");
+            if (marker != std::string::npos)
+              said.erase(0, marker + std::strlen("The parser said: "));
+            AssertThrow(false,
+                        ExcMessage(
+                          where + " = \"" + text + "\": " +
+                          (n_components > 1 ?
+                             "component " + std::to_string(c + 1) + ", \"" +
+                               expressions[c] + "\", " :
+                             std::string()) +
+                          "is not a valid expression of x, y, z: " + said));
+          }
+      parser->initialize("x,y,z", expressions, {{"pi", numbers::PI}});
       return parser;
     }
 

@@ -70,7 +70,8 @@ namespace ddfem::scene
         "1",
         Patterns::Integer(0, 254),
         "Material id of the uniform layout, and of the core, matrix or "
-        "inside of the skin, fibers and surface mesh layouts (0 = void).");
+        "inside of the skin, fibers and surface mesh layouts (0 = void, "
+        "but not inside a surface mesh). The other layouts ignore it.");
       prm.declare_entry(
         "Shapes",
         "",
@@ -116,7 +117,10 @@ namespace ddfem::scene
       prm.declare_entry("Thickness",
                         "0.01",
                         Patterns::Double(0),
-                        "Skin thickness (m).");
+                        "Skin thickness (m): voxels whose centers lie "
+                        "closer than this to a skin face take the skin "
+                        "material (a center at exactly this distance does "
+                        "not).");
       prm.declare_entry(
         "Faces",
         "all",
@@ -213,8 +217,18 @@ namespace ddfem::scene
     prm.enter_subsection("Layout");
     {
       type = prm.get("Type");
-      material =
-        checked_id(prm.get_integer("Material"), n_materials, "Layout/Material");
+      // Only these types read 'Material'; the others ignore it.
+      material = (type == "uniform" || type == "skin" || type == "fibers" ||
+                  type == "surface mesh") ?
+                   checked_id(prm.get_integer("Material"),
+                              n_materials,
+                              "Layout/Material") :
+                   void_id;
+      AssertThrow(type != "surface mesh" || material != void_id,
+                  ExcMessage("Layout/Material = 0 (void) would leave the "
+                             "inside of the surface mesh void: give the "
+                             "material id of its inside, 1 to " +
+                             std::to_string(n_materials) + "."));
       shapes = parse_shapes(prm.get("Shapes"), n_materials, "Layout/Shapes");
       edits.clear();
       // split_list() rejects an empty edit, so each has a shape.
@@ -649,6 +663,11 @@ namespace ddfem::scene
                         "voxels (ids 1 and up), not add or remove them."));
           changed.push_back(v);
         }
+    AssertThrow(!changed.empty(),
+                ExcMessage("Layout/Edits, edit " + std::to_string(e + 1) +
+                           ": its shapes give every voxel they contain the "
+                           "material it has already, so it changes nothing "
+                           "and would only solve the same state again."));
     return changed;
   }
 } // namespace ddfem::scene

@@ -224,6 +224,10 @@ main(int argc, char **argv)
              "subsection Materials\n  set Palette = E=1e5 nu=-1.2\nend\n");
   run_case("missing_voxel_file", from_voxel_file("no_such_file.txt"));
   run_case("missing_mesh_file", from_surface_mesh("no_such_mesh.stl"));
+  // Found before the mesh is read, and not blamed on the mesh.
+  run_case("surface_mesh_void_inside",
+           from_surface_mesh("no_such_mesh.stl"),
+           {"--set", "Layout/Material=0"});
 
   std::ofstream("wrong_size.txt") << "3 4 2\n"
                                   << std::string(24 * 2, ' ') << "\n";
@@ -610,6 +614,10 @@ main(int argc, char **argv)
            {"--set", "Method=dg", "--set", "Layout/Edits=box 0 0 0 1 1 1 : 2"});
   run_case("empty_edit",
            cantilever + "subsection Layout\n  set Edits = | \nend\n");
+  // The second edit paints what the first painted.
+  run_case("edit_changes_nothing",
+           cantilever + "subsection Layout\n  set Edits = box 0 0 0 1 1 1 : 2 "
+                        "| box 0 0 0 1 1 1 : 2\nend\n");
   // A comparison checks that every coarse model's grid coarsens before the
   // fine model is solved.
   run_case("compare_grid_not_divisible",

@@ -77,12 +77,13 @@ namespace
 int
 main()
 {
-  // 8x8x8 voxels of 0.01 m.
+  // 8x8x8 voxels of 0.01 m. Layers ignore 'Material', which need not be
+  // in the palette then.
   print(
     "layers along z, 0.02 m, ids 1 2 3",
     make_scene(
-      "set Type = layers\nsubsection Layers\n set Axis = z\n set Thickness = 0.02\n"
-      " set Materials = 1, 2, 3\nend")
+      "set Type = layers\nset Material = 7\nsubsection Layers\n set Axis = z\n"
+      " set Thickness = 0.02\n set Materials = 1, 2, 3\nend")
       .grid);
   print("skin 0.01 m on all faces, id 3 around id 1",
         make_scene(
