@@ -89,7 +89,8 @@ namespace ddfem::app
      * The scene's name: 'Scene name', or the stem of @p prm_file, which then
      * becomes 'Scene name' in @p prm if a parameter file can hold it, so
      * that a rerun from the run's parameters.prm keeps it. Throws ExcMessage if
-     * it is not UTF-8 text, which the JSON results need.
+     * it is not UTF-8 text, which the JSON results need, or holds a control
+     * character.
      */
     std::string
     scene_name_of(ParameterHandler &prm, const std::string &prm_file)
@@ -113,6 +114,16 @@ namespace ddfem::app
                                  "and comparison.json need. Set 'Scene "
                                  "name' to UTF-8 text."));
         }
+      // The name is printed: the terminal would take a control character
+      // as a command. Only a file name can hold one ('Scene name' is
+      // checked as every value is).
+      const std::string control = first_control_character(name);
+      AssertThrow(control.empty(),
+                  ExcMessage("The parameter file's name, the scene's name "
+                             "while 'Scene name' is empty, holds the control "
+                             "character " +
+                             control +
+                             ". Set 'Scene name', or rename the file."));
       if (fits_in_parameter_file(name))
         prm.set("Scene name", name);
       return name;

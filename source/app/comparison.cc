@@ -496,7 +496,23 @@ namespace ddfem::app
       is_one("parameters.prm") ||
       std::any_of(result_files.begin(), result_files.end(), is_one);
     const bool vtu_name = report::VtuWriter::is_vtu_file(name);
-    directories.push_back(directory);
+    directories.insert(directories.begin(), directory);
+    // Nor may the database lie where a directory of the results is to be:
+    // the run would fit it, then fail to make the directory.
+    for (const std::string &d : directories)
+      {
+        const std::filesystem::path place = resolved_path(d);
+        AssertThrow(
+          std::mismatch(file.begin(), file.end(), place.begin(), place.end())
+              .first != file.end(),
+          ExcMessage("Database/File = '" + database_file +
+                     "' is the directory '" + d +
+                     "', or one it lies in, which this run writes "
+                     "its results into (Output/Output directory = '" +
+                     directory +
+                     "'). Name the database otherwise, or keep it "
+                     "in another directory."));
+      }
     for (const std::string &d : directories)
       AssertThrow(!(vtu_name || (result_here && d == directory)) ||
                     resolved_path(d) != file.parent_path(),

@@ -733,9 +733,43 @@ main(int argc, char **argv)
             "--set",
             "Database/File=out_database_file_is_a_compare_result/ddfem-L1/"
             "solution-0002.vtu"});
+  // The same with the output directory named with a final separator, or
+  // through a directory not yet made: the check compared "out/" with
+  // "out", and the run overwrote the database.
+  run_case("database_file_is_a_result_slash",
+           cantilever,
+           {"--set",
+            "Method=ddfem",
+            "--set",
+            "Output/Output directory=out_database_file_is_a_result_slash/",
+            "--set",
+            "Database/File=out_database_file_is_a_result_slash/summary.json"});
+  run_case(
+    "database_file_is_a_result_dotdot",
+    cantilever,
+    {"--set",
+     "Method=ddfem",
+     "--set",
+     "Output/Output directory=out_database_file_is_a_result_dotdot/new/..",
+     "--set",
+     "Database/File=out_database_file_is_a_result_dotdot/summary.json"});
+  // The database where the output directory is to be: it was fitted, then
+  // the directory could not be made.
+  run_case("database_file_is_the_output_directory",
+           cantilever,
+           {"--set",
+            "Method=ddfem",
+            "--set",
+            "Database/File=out_database_file_is_the_output_directory"});
   run_case("newton_tolerance_one",
            cantilever,
            {"--set", "Nonlinear solver/Newton tolerance=1"});
+  // A scene named by its file, whose name holds a control character that
+  // the screen would take as a command.
+  std::ofstream("escape_\033[31m.prm")
+    << cantilever << "\nsubsection Output\n  set Output directory = "
+    << "out_scene_name_control_character\nend\n";
+  report_run("scene_name_control_character", {"escape_\033[31m.prm"});
   // Files and directories in the way.
   std::ofstream("a_file") << "not a directory\n";
   run_case("output_directory_under_a_file",

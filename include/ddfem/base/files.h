@@ -299,19 +299,26 @@ namespace ddfem
    * The absolute path of @p path with the symbolic links of its existing
    * part followed (std::filesystem::weakly_canonical()), or lexically
    * normal where they cannot be followed (a directory that may not be
-   * searched): for telling whether two names are one file. Never throws.
+   * searched): for telling whether two names are one file. A final
+   * separator is dropped, which the missing part of a path keeps
+   * ("out/" and "out/new/.." are "out"). Never throws.
    */
   inline std::filesystem::path
   resolved_path(const std::string &path)
   {
+    const auto without_final_separator = [](std::filesystem::path p) {
+      return p.has_filename() || !p.has_relative_path() ? p : p.parent_path();
+    };
     std::error_code             error;
     const std::filesystem::path absolute =
       std::filesystem::absolute(path, error);
     if (error)
-      return std::filesystem::path(path).lexically_normal();
+      return without_final_separator(
+        std::filesystem::path(path).lexically_normal());
     const std::filesystem::path resolved =
       std::filesystem::weakly_canonical(absolute, error);
-    return error ? absolute.lexically_normal() : resolved;
+    return without_final_separator(error ? absolute.lexically_normal() :
+                                           resolved);
   }
 
   /// The extension of the file name @p file in lower case (".stl").
