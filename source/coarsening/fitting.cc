@@ -76,8 +76,10 @@ namespace ddfem::coarsening
                       "measure the fit's relative energy error. 0 holds none "
                       "out and measures the error on the fitted samples; 1 "
                       "would leave the fit no samples and is rejected, as is "
-                      "a number above Database/Sampling/Patterns, which would "
-                      "hold none out.");
+                      "a number above the patterns of either kind (force or "
+                      "embedded: Database/Sampling/Patterns split by "
+                      "Embedded fraction), which would hold none of that "
+                      "kind out.");
     prm.declare_entry("Laminate springs",
                       "false",
                       Patterns::Bool(),

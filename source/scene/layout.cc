@@ -93,7 +93,8 @@ namespace ddfem::scene
         "may only change which material a solid voxel has (never make a "
         "voxel void or solid), so the mesh stays the same and coarse models "
         "re-coarsen only the blocks it touched. A simulation solves the "
-        "scene before the first edit and after each one.");
+        "scene before the first edit and after each one (not with Method "
+        "= dg, which refuses edits). An edit must change a voxel.");
 
       prm.enter_subsection("Layers");
       prm.declare_entry("Axis",
