@@ -352,7 +352,7 @@ namespace ddfem::app
           database.parse_parameters(prm);
         scene.parse_parameters(prm);
         if (method == "ddfem")
-          database.check_input(scene.palette);
+          database.check_input(scene.palette, level);
         AssertThrow(method != "dg" || scene.n_edits() == 0,
                     ExcMessage("Layout/Edits is not supported with Method = "
                                "dg (a DG run solves the base state only): "

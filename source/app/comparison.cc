@@ -496,23 +496,17 @@ namespace ddfem::app
       is_one("parameters.prm") ||
       std::any_of(result_files.begin(), result_files.end(), is_one);
     const bool vtu_name = report::VtuWriter::is_vtu_file(name);
-    directories.insert(directories.begin(), directory);
-    // Nor may the database lie where a directory of the results is to be:
-    // the run would fit it, then fail to make the directory.
-    for (const std::string &d : directories)
-      {
-        const std::filesystem::path place = resolved_path(d);
-        AssertThrow(
-          std::mismatch(file.begin(), file.end(), place.begin(), place.end())
-              .first != file.end(),
-          ExcMessage("Database/File = '" + database_file +
-                     "' is the directory '" + d +
-                     "', or one it lies in, which this run writes "
-                     "its results into (Output/Output directory = '" +
-                     directory +
-                     "'). Name the database otherwise, or keep it "
-                     "in another directory."));
-      }
+    directories.push_back(directory);
+    // Nor may the database lie where the output directory is to be: the
+    // run would fit it, then fail to make the directory.
+    const std::filesystem::path output = resolved_path(directory);
+    AssertThrow(
+      std::mismatch(file.begin(), file.end(), output.begin(), output.end())
+          .first != file.end(),
+      ExcMessage("Database/File = '" + database_file +
+                 "' is Output/Output directory = '" + directory +
+                 "', or a directory it lies in. Name the database "
+                 "otherwise, or keep it in another directory."));
     for (const std::string &d : directories)
       AssertThrow(!(vtu_name || (result_here && d == directory)) ||
                     resolved_path(d) != file.parent_path(),
@@ -566,11 +560,14 @@ namespace ddfem::app
     out << "Comparison of scene \"" << scene_name << "\": grid "
         << scene.grid.describe() << ", " << scene.n_edits() << " material edit"
         << (scene.n_edits() == 1 ? "" : "s") << std::endl;
-    // The database settings matter to the ddfem models alone.
-    if (std::any_of(configurations.begin(),
-                    configurations.end(),
-                    [](const Configuration &c) { return c.name == "ddfem"; }))
-      database.check_input(scene.palette);
+    // The database settings matter to the ddfem models alone: checked up
+    // to the highest ddfem level, which is prepared below.
+    unsigned int ddfem_level = 0;
+    for (const Configuration &c : configurations)
+      if (c.name == "ddfem")
+        ddfem_level = std::max(ddfem_level, c.level);
+    if (ddfem_level > 0)
+      database.check_input(scene.palette, ddfem_level);
 
     // The models, set up in order (the fine one first) before anything is
     // solved or written: invalid input (a grid that does not coarsen, a
@@ -649,7 +646,6 @@ namespace ddfem::app
     // The database, completed lazily for this scene's blocks in every
     // state. A ddfem level without a baseline model on the same mesh is
     // checked with naive materials first.
-    unsigned int ddfem_level = 0;
     for (const Configuration &c : configurations)
       if (c.name == "ddfem")
         {
@@ -665,7 +661,6 @@ namespace ddfem::app
                                database.point_offset(c.level),
                                solver_parameters,
                                *c.linear_solver);
-          ddfem_level = std::max(ddfem_level, c.level);
         }
     if (ddfem_level > 0)
       {

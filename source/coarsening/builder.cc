@@ -159,10 +159,22 @@ namespace ddfem::coarsening
 
 
   void
-  DatabaseBuilder::check_input(const scene::Palette &palette) const
+  DatabaseBuilder::check_input(const scene::Palette &palette,
+                               const unsigned int    level) const
   {
     AssertThrow(!database_file.empty(),
                 ExcMessage("Database/File must name a file."));
+    // A trilinear element's strains at its points are polynomials of
+    // degree 2 or less in each coordinate, so small-strain samples fix at
+    // most 27 combinations of the 64 points' mu, and of their lambda.
+    // Caught here rather than by the first level-2 fit, after level 1.
+    AssertThrow(level < 2 || hierarchy.regularization > 0,
+                ExcMessage("Database/Level 2/Regularization must be above 0 "
+                           "(up to 1e6) where level 2 is fitted, not 0: a "
+                           "level-2 element moves its 64 quadrature points "
+                           "by its 8 corners, so no samples determine each "
+                           "point's parameters. 1e-6 leaves them nearly "
+                           "free."));
     // The held-out split takes every n-th pattern of each kind (a mixed
     // block's embedded and force patterns are numbered apart), so each kind
     // a block may have needs n patterns at least.
@@ -249,7 +261,7 @@ namespace ddfem::coarsening
   std::unique_ptr<FileLock>
   DatabaseBuilder::lock(const scene::Palette &palette, std::ostream &out) const
   {
-    check_input(palette);
+    check_input(palette, levels);
     const std::filesystem::path file = resolved_path(database_file);
     // Before anything is fitted: the file, its journals and their
     // temporaries must be regular files or missing. A directory there
@@ -277,7 +289,7 @@ namespace ddfem::coarsening
                         Hierarchy            &level2,
                         std::ostream         &out) const
   {
-    check_input(palette);
+    check_input(palette, levels);
     const DatabaseSettings settings = this->settings(palette);
 
     Database database(settings, palette.size());

@@ -47,9 +47,9 @@ namespace ddfem::coarsening
       "children's records (Database/Fitting/Regularization is the "
       "level-1 weight). A 64-point fit has 192 parameters; with less weight it makes the "
       "element too soft in deformations the samples do not cover "
-      "(doc/coarsening.md). It must be above 0: the element moves its 64 "
-      "points by its 8 corners, so no samples determine every "
-      "parameter (1e-6 leaves them nearly free).");
+      "(doc/coarsening.md). A run that fits level 2 needs it above 0: the "
+      "element moves its 64 points by its 8 corners, so no samples "
+      "determine every parameter (1e-6 leaves them nearly free).");
     prm.leave_subsection();
   }
 
@@ -64,16 +64,6 @@ namespace ddfem::coarsening
     n_representatives = prm.get_integer("Representatives");
     regularization    = prm.get_double("Regularization");
     prm.leave_subsection();
-    // A trilinear element's strains at its points are polynomials of
-    // degree 2 or less in each coordinate, so small-strain samples fix at
-    // most 27 combinations of the 64 points' mu, and of their lambda. Caught
-    // here rather than by the first level-2 fit, after all of level 1.
-    AssertThrow(regularization > 0,
-                ExcMessage("Database/Level 2/Regularization must be above 0 "
-                           "(up to 1e6), not 0: a level-2 element moves its "
-                           "64 quadrature points by its 8 corners, so no "
-                           "samples determine each point's parameters. "
-                           "1e-6 leaves them nearly free."));
   }
 
 

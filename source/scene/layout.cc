@@ -668,7 +668,9 @@ namespace ddfem::scene
                 ExcMessage("Layout/Edits, edit " + std::to_string(e + 1) +
                            ": its shapes give every voxel they contain the "
                            "material it has already, so it changes nothing "
-                           "and would only solve the same state again."));
+                           "and would only solve the same state again. "
+                           "Remove the edit, or change its shapes or "
+                           "material."));
     return changed;
   }
 } // namespace ddfem::scene

@@ -176,6 +176,8 @@ namespace ddfem::solver
               else
                 {
                   v[d] = down ? width - 1 : 0;
+                  // The coarse mesh is unrefined: every neighbor active.
+                  Assert(cell.neighbor(f)->is_active(), ExcInternalError());
                   neighbor_solid =
                     is_solid(discretization,
                              cell.neighbor(f)->active_cell_index(),

@@ -423,7 +423,14 @@ main(int argc, char **argv)
             "Method=ddfem",
             "--set",
             "Database/Fitting/Spring regularization=Same"});
-  // Refused when read, not by the first level-2 fit after all of level 1.
+  // Refused before any fit, not by the first level-2 fit after all of
+  // level 1; a run that fits no level-2 entry (naive) takes it.
+  run_case("level2_regularization_zero_naive",
+           cantilever,
+           {"--set",
+            "Method=naive",
+            "--set",
+            "Database/Level 2/Regularization=0"});
   run_case("level2_regularization_zero",
            cantilever,
            {"--set",

@@ -32,7 +32,10 @@ main(int argc, char **argv)
           scene.parse_parameters(prm);
           coarsening::DatabaseBuilder builder;
           builder.parse_parameters(prm);
-          builder.check_input(scene.palette);
+          prm.enter_subsection("Database");
+          const unsigned int levels = prm.get_integer("Levels");
+          prm.leave_subsection();
+          builder.check_input(scene.palette, levels);
           std::cout << ", " << scene.palette.size() << " materials";
         }
       else if (run_type == "dg convergence")

@@ -28,7 +28,8 @@ namespace ddfem::app
    * run type checks with its own states); and naming Database/File if
    * @p database_file (empty: the run uses no database) is a result file
    * that a run writes there or removes as an earlier run's, which would
-   * overwrite or delete the database.
+   * overwrite or delete the database, or is the output directory or a
+   * directory it lies in.
    */
   void
   check_earlier_results(const std::string       &directory,

@@ -100,14 +100,15 @@ namespace ddfem::coarsening
     settings(const scene::Palette &palette) const;
 
     /**
-     * Throws ExcMessage if a database for @p palette cannot be built with
-     * these settings (no Database/File, more held-out patterns than
-     * patterns, compression of a lazy build, more than 9 material ids,
-     * void included; lambda < 0) or Database/File's directory cannot be
-     * made. Writes nothing.
+     * Throws ExcMessage if a database for @p palette up to level @p level
+     * (the highest this run fits) cannot be built with these settings (no
+     * Database/File, more held-out patterns than patterns, compression of a
+     * lazy build, more than 9 material ids, void included; lambda < 0; at
+     * level 2, a level-2 regularization of 0) or Database/File's directory
+     * cannot be made. Writes nothing.
      */
     void
-    check_input(const scene::Palette &palette) const;
+    check_input(const scene::Palette &palette, const unsigned int level) const;
 
     /**
      * After check_input(), locks Database/File for this process until the
