@@ -339,17 +339,19 @@ namespace ddfem::testing
   }
 
   /**
-   * The positive number @p bound as "m x 10^e", or "10^e" where m = 1. The
-   * harness's numdiff splits it at '^' and compares the exponent e as a
-   * number of its own: a bound like 1e-14, printed as such, would pass as
-   * equal to any other below numdiff's absolute tolerance of 1e-6.
+   * The positive number @p bound as "m x 10^e" (m to @p digits significant
+   * digits), or "10^e" where m = 1. The harness's numdiff splits it at '^'
+   * and compares the exponent e as a number of its own: a bound like
+   * 1e-14, printed as such, would pass as equal to any other below
+   * numdiff's absolute tolerance of 1e-6.
    */
   inline std::string
-  power_of_ten(const double bound)
+  power_of_ten(const double bound, const int digits = 3)
   {
     AssertThrow(bound > 0, dealii::ExcMessage("A bound must be positive."));
-    int    e = static_cast<int>(std::floor(std::log10(bound) + 1e-9));
-    double m = std::round(bound / std::pow(10., e) * 100) / 100; // 3 digits
+    int          e     = static_cast<int>(std::floor(std::log10(bound) + 1e-9));
+    const double scale = std::pow(10., digits - 1);
+    double       m     = std::round(bound / std::pow(10., e) * scale) / scale;
     if (m >= 10)
       {
         m /= 10;
@@ -357,7 +359,7 @@ namespace ddfem::testing
       }
     std::ostringstream text;
     if (m != 1)
-      text << std::setprecision(3) << m << " x ";
+      text << std::setprecision(digits) << m << " x ";
     text << "10^" << e;
     return text.str();
   }
@@ -380,7 +382,9 @@ namespace ddfem::testing
   /// power_of_ten() writes it. With @p digits > 0 the value is printed too,
   /// to that many significant digits ("name: 0.65, below 7.5 x 10^-1"), so
   /// that the output pins a measured value while the bound states the
-  /// claim.
+  /// claim; a positive value below 1e-3 as power_of_ten() writes it
+  /// ("2.8 x 10^-11"), which numdiff's absolute tolerance of 1e-6 would
+  /// not hold to its digits otherwise.
   inline void
   check_below(const std::string &name,
               const double       value,
@@ -390,7 +394,9 @@ namespace ddfem::testing
     std::cout << name << ": ";
     if (value < bound)
       {
-        if (digits > 0)
+        if (digits > 0 && value > 0 && value < 1e-3)
+          std::cout << power_of_ten(value, digits) << ", ";
+        else if (digits > 0)
           {
             const auto precision = std::cout.precision(digits);
             std::cout << value << ", ";

@@ -151,8 +151,8 @@ main(int argc, char **argv)
             {
               const double a = simulated[p].at("displacement")[d],
                            b = compared[p].at("displacement")[d];
-              difference     = std::max(difference, std::abs(a - b));
-              largest        = std::max(largest, std::abs(a));
+              difference = ddfem::testing::worst(difference, std::abs(a - b));
+              largest    = ddfem::testing::worst(largest, std::abs(a));
             }
         }
       std::cout << "  as many probes, at the same points: "

@@ -72,7 +72,10 @@ main(int argc, char **argv)
       testing::check_below("  held by a box around the first layer instead: "
                            "tips apart by (relative)",
                            (held_by_box - clamped).norm() / clamped.norm(),
-                           bound);
+                           bound,
+                           // Weak conditions differ by a discretization
+                           // error, printed; the others by round-off.
+                           bound > 1e-6 ? 2 : 0);
     }
 
   // A body force on the held layer goes into the reactions, as where CG or

@@ -97,8 +97,7 @@ main(int argc, char **argv)
   testing::check_below("  probe 1, |u_z(DG) / u_z(lid) - 1/2|",
                        std::abs(testing::probe_displacements(dg)[0][2] / -lid -
                                 0.5),
-                       1e-10,
-                       2);
+                       1e-10); // round-off: not pinned
   const nlohmann::json cg =
     run("cg_pressed",
         {"Method=fine", "Nonlinear solver/Load steps=1", pressed});
