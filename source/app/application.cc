@@ -56,13 +56,18 @@ namespace ddfem::app
              !std::isspace(static_cast<unsigned char>(c));
     }
 
-    /// The first control character of @p text (is_control_character())
+    /// The first control character of @p text (is_control_character(),
+    /// or with @p white_space also a tab, line break or carriage return)
     /// in hexadecimal ("0x01"), or "" if it has none.
     std::string
-    first_control_character(const std::string &text)
+    first_control_character(const std::string &text,
+                            const bool         white_space = false)
     {
       const auto c =
-        std::find_if(text.begin(), text.end(), is_control_character);
+        std::find_if(text.begin(), text.end(), [white_space](const char c) {
+          return is_control_character(c) ||
+                 (white_space && std::iscntrl(static_cast<unsigned char>(c)));
+        });
       if (c == text.end())
         return "";
       std::ostringstream code;
@@ -115,9 +120,10 @@ namespace ddfem::app
                                  "name' to UTF-8 text."));
         }
       // The name is printed: the terminal would take a control character
-      // as a command. Only a file name can hold one ('Scene name' is
-      // checked as every value is).
-      const std::string control = first_control_character(name);
+      // as a command, and a carriage return would overwrite the line. Only
+      // a file name can hold one ('Scene name' is checked as every value
+      // is, and a parameter file's line holds no line break).
+      const std::string control = first_control_character(name, true);
       AssertThrow(control.empty(),
                   ExcMessage("The parameter file's name, the scene's name "
                              "while 'Scene name' is empty, holds the control "

@@ -221,16 +221,19 @@ namespace ddfem::coarsening
                              "lambda >= 0, so Method = ddfem and Run type = "
                              "database need nu >= 0 (lambda >= 0)."));
     // (A path that cannot be followed is check_creatable()'s to report.)
-    std::error_code error;
-    AssertThrow(
-      !std::filesystem::path(database_file).filename().empty() &&
-        !std::filesystem::is_directory(database_file, error),
-      ExcMessage(
-        "Database/File = '" + database_file +
-        "' is a directory; give the name of a file "
-        "(e.g. " +
-        (std::filesystem::path(database_file) / "metamaterials.h5").string() +
-        ")."));
+    std::error_code   error;
+    const std::string name =
+      std::filesystem::path(database_file).filename().string();
+    AssertThrow(name != "" && name != "." && name != ".." &&
+                  !std::filesystem::is_directory(database_file, error),
+                ExcMessage(
+                  "Database/File = '" + database_file +
+                  "' is a directory; give the name of a file "
+                  "(e.g. " +
+                  (std::filesystem::path(database_file) / "metamaterials.h5")
+                    .lexically_normal()
+                    .string() +
+                  ")."));
     check_creatable(directory(), "Database/File");
   }
 

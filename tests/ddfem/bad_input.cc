@@ -425,12 +425,10 @@ main(int argc, char **argv)
             "Database/Fitting/Spring regularization=Same"});
   // Refused before any fit, not by the first level-2 fit after all of
   // level 1; a run that fits no level-2 entry (naive) takes it.
-  run_case("level2_regularization_zero_naive",
-           cantilever,
-           {"--set",
-            "Method=naive",
-            "--set",
-            "Database/Level 2/Regularization=0"});
+  run_case(
+    "level2_regularization_zero_naive",
+    cantilever,
+    {"--set", "Method=naive", "--set", "Database/Level 2/Regularization=0"});
   run_case("level2_regularization_zero",
            cantilever,
            {"--set",
@@ -768,6 +766,10 @@ main(int argc, char **argv)
             "Method=ddfem",
             "--set",
             "Database/File=out_database_file_is_the_output_directory"});
+  // A name whose last part is '.': no file (it was fitted, then failed).
+  run_case("database_file_is_dot",
+           cantilever,
+           {"--set", "Method=ddfem", "--set", "Database/File=db_directory/."});
   run_case("newton_tolerance_one",
            cantilever,
            {"--set", "Nonlinear solver/Newton tolerance=1"});
