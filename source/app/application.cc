@@ -64,9 +64,9 @@ namespace ddfem::app
                             const bool         white_space = false)
     {
       const auto c =
-        std::find_if(text.begin(), text.end(), [white_space](const char c) {
-          return is_control_character(c) ||
-                 (white_space && std::iscntrl(static_cast<unsigned char>(c)));
+        std::find_if(text.begin(), text.end(), [white_space](const char x) {
+          return is_control_character(x) ||
+                 (white_space && std::iscntrl(static_cast<unsigned char>(x)));
         });
       if (c == text.end())
         return "";

@@ -131,6 +131,27 @@ namespace ddfem::app
       return result;
     }
 
+    /**
+     * Throws ExcMessage naming Database/File if @p database_file is the
+     * directory @p d, which the run makes (@p what says which), or a
+     * directory it lies in: the run would fit the database, then fail to
+     * make the directory.
+     */
+    void
+    require_database_outside(const std::string &database_file,
+                             const std::string &d,
+                             const std::string &what)
+    {
+      const std::filesystem::path file  = resolved_path(database_file);
+      const std::filesystem::path place = resolved_path(d);
+      AssertThrow(
+        std::mismatch(file.begin(), file.end(), place.begin(), place.end())
+            .first != file.end(),
+        ExcMessage("Database/File = '" + database_file + "' is " + what +
+                   ", or a directory it lies in. Name the database "
+                   "otherwise, or keep it in another directory."));
+    }
+
     /// "nx x ny x nz" of @p grid coarsened @p level times.
     std::string
     grid_text(const scene::VoxelGrid &grid, const unsigned int level)
@@ -497,16 +518,9 @@ namespace ddfem::app
       std::any_of(result_files.begin(), result_files.end(), is_one);
     const bool vtu_name = report::VtuWriter::is_vtu_file(name);
     directories.push_back(directory);
-    // Nor may the database lie where the output directory is to be: the
-    // run would fit it, then fail to make the directory.
-    const std::filesystem::path output = resolved_path(directory);
-    AssertThrow(
-      std::mismatch(file.begin(), file.end(), output.begin(), output.end())
-          .first != file.end(),
-      ExcMessage("Database/File = '" + database_file +
-                 "' is Output/Output directory = '" + directory +
-                 "', or a directory it lies in. Name the database "
-                 "otherwise, or keep it in another directory."));
+    require_database_outside(database_file,
+                             directory,
+                             "Output/Output directory = '" + directory + "'");
     for (const std::string &d : directories)
       AssertThrow(!(vtu_name || (result_here && d == directory)) ||
                     resolved_path(d) != file.parent_path(),
@@ -639,7 +653,14 @@ namespace ddfem::app
         const std::string d =
           model_directory(directory, config.name, config.level);
         if (vtu.enabled())
-          check_creatable(d, "Output/Output directory");
+          {
+            check_creatable(d, "Output/Output directory");
+            if (ddfem_level > 0)
+              require_database_outside(database.file(),
+                                       d,
+                                       "the directory '" + d +
+                                         "' of a model's VTU files");
+          }
         vtu.check_writable(d, scene.n_edits() + 1);
       }
 

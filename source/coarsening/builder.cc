@@ -228,7 +228,7 @@ namespace ddfem::coarsening
                   !std::filesystem::is_directory(database_file, error),
                 ExcMessage(
                   "Database/File = '" + database_file +
-                  "' is a directory; give the name of a file "
+                  "' names a directory; give the name of a file "
                   "(e.g. " +
                   (std::filesystem::path(database_file) / "metamaterials.h5")
                     .lexically_normal()

@@ -176,7 +176,7 @@ namespace ddfem::solver
               else
                 {
                   v[d] = down ? width - 1 : 0;
-                  // The coarse mesh is unrefined: every neighbor active.
+                  // Voxel meshes, fine or coarse, are unrefined.
                   Assert(cell.neighbor(f)->is_active(), ExcInternalError());
                   neighbor_solid =
                     is_solid(discretization,

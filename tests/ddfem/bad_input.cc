@@ -429,6 +429,14 @@ main(int argc, char **argv)
     "level2_regularization_zero_naive",
     cantilever,
     {"--set", "Method=naive", "--set", "Database/Level 2/Regularization=0"});
+  run_case("level2_regularization_zero_level1",
+           cantilever,
+           {"--set",
+            "Method=ddfem",
+            "--set",
+            "Database/File=out_level2_regularization_zero_level1.h5",
+            "--set",
+            "Database/Level 2/Regularization=0"});
   run_case("level2_regularization_zero",
            cantilever,
            {"--set",
@@ -766,6 +774,16 @@ main(int argc, char **argv)
             "Method=ddfem",
             "--set",
             "Database/File=out_database_file_is_the_output_directory"});
+  // The database where a compared model's VTU files go: it was fitted, and
+  // the models solved, before the directory could not be made.
+  run_case("database_file_is_a_model_directory",
+           cantilever,
+           {"--set",
+            "Run type=compare",
+            "--set",
+            "Comparison/Levels=1",
+            "--set",
+            "Database/File=out_database_file_is_a_model_directory/ddfem-L1"});
   // A name whose last part is '.': no file (it was fitted, then failed).
   run_case("database_file_is_dot",
            cantilever,
@@ -779,6 +797,10 @@ main(int argc, char **argv)
     << cantilever << "\nsubsection Output\n  set Output directory = "
     << "out_scene_name_control_character\nend\n";
   report_run("scene_name_control_character", {"escape_\033[31m.prm"});
+  std::ofstream("tab\tin_name.prm")
+    << cantilever << "\nsubsection Output\n  set Output directory = "
+    << "out_scene_name_tab\nend\n";
+  report_run("scene_name_tab", {"tab\tin_name.prm"});
   // Files and directories in the way.
   std::ofstream("a_file") << "not a directory\n";
   run_case("output_directory_under_a_file",
