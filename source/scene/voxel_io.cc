@@ -728,9 +728,12 @@ namespace ddfem::scene
                             clamp(std::ceil((high - offset) / h - 0.5) + 1));
     };
 
-    // Bin the triangles by the columns their xy bounding box covers.
-    std::vector<std::vector<unsigned int>> column_triangles(
-      static_cast<std::size_t>(n[0]) * n[1]);
+    // Bin the triangles by the rows of columns (j) their xy bounding box
+    // covers, and each row's by its columns (i) when the row is voxelized:
+    // bins for every column of a flat grid (up to 2e8) would take GBs.
+    std::vector<std::vector<unsigned int>>             row_triangles(n[1]);
+    std::vector<std::pair<unsigned int, unsigned int>> i_ranges(
+      mesh.triangles.size());
     for (unsigned int t = 0; t < mesh.triangles.size(); ++t)
       {
         Point<3> low = mesh.vertices[mesh.triangles[t][0]], high = low;
@@ -740,13 +743,12 @@ namespace ddfem::scene
               low[d]  = std::min(low[d], mesh.vertices[v][d]);
               high[d] = std::max(high[d], mesh.vertices[v][d]);
             }
-        const auto [i_begin, i_end] = ray_range(low[0], high[0], dx, n[0]);
+        i_ranges[t]                 = ray_range(low[0], high[0], dx, n[0]);
         const auto [j_begin, j_end] = ray_range(low[1], high[1], dy, n[1]);
         for (unsigned int j = j_begin; j < j_end; ++j)
-          for (unsigned int i = i_begin; i < i_end; ++i)
-            column_triangles[i + static_cast<std::size_t>(n[0]) * j].push_back(
-              t);
+          row_triangles[j].push_back(t);
       }
+    std::vector<std::vector<unsigned int>> column_triangles(n[0]);
 
     // Overlapping bodies of a mesh that can be oriented consistently make
     // a union (inside: nonzero winding number); otherwise inside is odd
@@ -755,48 +757,55 @@ namespace ddfem::scene
     const bool             winding     = !orientation.empty();
     std::vector<std::pair<double, int>> crossings; // z, winding change
     for (unsigned int j = 0; j < n[1]; ++j)
-      for (unsigned int i = 0; i < n[0]; ++i)
-        {
-          const double x = (i + 0.5) * h + dx;
-          const double y = (j + 0.5) * h + dy;
-          crossings.clear();
-          for (const unsigned int t :
-               column_triangles[i + static_cast<std::size_t>(n[0]) * j])
-            {
-              const Point<3> &a = mesh.vertices[mesh.triangles[t][0]];
-              const Point<3> &b = mesh.vertices[mesh.triangles[t][1]];
-              const Point<3> &c = mesh.vertices[mesh.triangles[t][2]];
-              // Unnormalized barycentric coordinates of the ray in xy.
-              const double la = edge_function(b, c, x, y);
-              const double lb = edge_function(c, a, x, y);
-              const double lc = edge_function(a, b, x, y);
-              // A triangle seen counterclockwise from above (la + lb + lc
-              // > 0) faces up: where it is outward, the ray leaves there.
-              if ((la > 0 && lb > 0 && lc > 0) || (la < 0 && lb < 0 && lc < 0))
-                crossings.emplace_back((la * a[2] + lb * b[2] + lc * c[2]) /
-                                         (la + lb + lc),
-                                       (la > 0 ? -1 : 1) *
-                                         (winding ? orientation[t] : 1));
-            }
-          std::sort(crossings.begin(), crossings.end());
+      {
+        for (std::vector<unsigned int> &column : column_triangles)
+          column.clear();
+        for (const unsigned int t : row_triangles[j])
+          for (unsigned int i = i_ranges[t].first; i < i_ranges[t].second; ++i)
+            column_triangles[i].push_back(t);
+        for (unsigned int i = 0; i < n[0]; ++i)
+          {
+            const double x = (i + 0.5) * h + dx;
+            const double y = (j + 0.5) * h + dy;
+            crossings.clear();
+            for (const unsigned int t : column_triangles[i])
+              {
+                const Point<3> &a = mesh.vertices[mesh.triangles[t][0]];
+                const Point<3> &b = mesh.vertices[mesh.triangles[t][1]];
+                const Point<3> &c = mesh.vertices[mesh.triangles[t][2]];
+                // Unnormalized barycentric coordinates of the ray in xy.
+                const double la = edge_function(b, c, x, y);
+                const double lb = edge_function(c, a, x, y);
+                const double lc = edge_function(a, b, x, y);
+                // A triangle seen counterclockwise from above (la + lb + lc
+                // > 0) faces up: where it is outward, the ray leaves there.
+                if ((la > 0 && lb > 0 && lc > 0) ||
+                    (la < 0 && lb < 0 && lc < 0))
+                  crossings.emplace_back((la * a[2] + lb * b[2] + lc * c[2]) /
+                                           (la + lb + lc),
+                                         (la > 0 ? -1 : 1) *
+                                           (winding ? orientation[t] : 1));
+              }
+            std::sort(crossings.begin(), crossings.end());
 
-          // Voxel centers in [z_m, z_{m+1}) are inside if the winding
-          // number (or the parity) after crossing m says so.
-          int inside = 0;
-          for (std::size_t m = 0; m + 1 < crossings.size(); ++m)
-            {
-              inside = winding ? inside + crossings[m].second : 1 - inside;
-              if (inside == 0)
-                continue;
-              const auto k_index = [&](const double z) {
-                return static_cast<unsigned int>(
-                  std::clamp(std::ceil((z - dz) / h - 0.5), 0., double(n[2])));
-              };
-              const unsigned int k_begin = k_index(crossings[m].first);
-              const unsigned int k_end   = k_index(crossings[m + 1].first);
-              for (unsigned int k = k_begin; k < k_end; ++k)
-                grid(i, j, k) = material;
-            }
-        }
+            // Voxel centers in [z_m, z_{m+1}) are inside if the winding
+            // number (or the parity) after crossing m says so.
+            int inside = 0;
+            for (std::size_t m = 0; m + 1 < crossings.size(); ++m)
+              {
+                inside = winding ? inside + crossings[m].second : 1 - inside;
+                if (inside == 0)
+                  continue;
+                const auto k_index = [&](const double z) {
+                  return static_cast<unsigned int>(std::clamp(
+                    std::ceil((z - dz) / h - 0.5), 0., double(n[2])));
+                };
+                const unsigned int k_begin = k_index(crossings[m].first);
+                const unsigned int k_end   = k_index(crossings[m + 1].first);
+                for (unsigned int k = k_begin; k < k_end; ++k)
+                  grid(i, j, k) = material;
+              }
+          }
+      }
   }
 } // namespace ddfem::scene
