@@ -267,8 +267,9 @@ namespace ddfem::coarsening
     constexpr char undetermined_advice[] =
       " Give the regularization weights (Database/Fitting/Regularization, "
       "Spring regularization and Child regularization) values above 0 "
-      "(1e-6 leaves the parameters nearly free), or more Database/Sampling/Patterns, or sample mixed blocks "
-      "with force patterns (Database/Sampling/Embedded fraction = 0).";
+      "(1e-6 leaves the parameters nearly free), or more Database/"
+      "Sampling/Patterns, or sample mixed blocks with force patterns "
+      "(Database/Sampling/Embedded fraction = 0).";
   } // namespace
 
 

@@ -181,8 +181,7 @@ namespace ddfem::solver
     components = dof_components(dof_handler);
     for (std::size_t i = 0; i < n; ++i)
       Assert(i >= components[i] &&
-               support_points[i - components[i]].distance(support_points[i]) <=
-                 1e-12 * support_points[i].norm(),
+               support_points[i - components[i]] == support_points[i],
              ExcMessage("The three DoFs of a node must be consecutive."));
   }
 

@@ -67,15 +67,11 @@ namespace ddfem::solver
     Components parts(tria.n_active_cells());
     for (const auto &cell : tria.active_cell_iterators())
       for (const unsigned int f : cell->face_indices())
-        if (!cell->at_boundary(f))
-          {
-            // A neighbor with children across a hanging face has no
-            // active cell index; its children join from their side.
-            if (cell->neighbor(f)->has_children())
-              continue;
-            parts.join(cell->active_cell_index(),
-                       cell->neighbor(f)->active_cell_index());
-          }
+        // A neighbor with children across a hanging face has no active
+        // cell index; its children join from their side.
+        if (!cell->at_boundary(f) && cell->neighbor(f)->is_active())
+          parts.join(cell->active_cell_index(),
+                     cell->neighbor(f)->active_cell_index());
     return parts;
   }
 
@@ -356,23 +352,19 @@ namespace ddfem::solver
         for (const auto &cell : tria.active_cell_iterators())
           if (parts.find(cell->active_cell_index()) == part && cells++ == 0)
             where = cell->center();
-        const std::string voxels = std::to_string(cells) + " voxel(s) around " +
-                                   format_point(where) + " m share no " +
-                                   shared + " with the other parts, and ";
-        AssertThrow(fixed > 0,
-                    ExcMessage(voxels +
-                               "no Dirichlet condition acts on them: they "
-                               "float free. Connect them to a held part, "
-                               "hold them in 'Boundary conditions', or "
-                               "remove them."));
-        AssertThrow(false,
-                    ExcMessage(voxels +
-                               "their Dirichlet conditions fix "
-                               "only " +
-                               std::to_string(fixed) +
-                               " of their 6 rigid body motions. Add "
-                               "conditions in 'Boundary conditions', or "
-                               "connect them to a held part."));
+        AssertThrow(
+          false,
+          ExcMessage(
+            std::to_string(cells) + " voxel(s) around " + format_point(where) +
+            " m share no " + shared + " with the other parts, and " +
+            (fixed == 0 ?
+               "no Dirichlet condition acts on them: they float "
+               "free. Connect them to a held part, hold them in "
+               "'Boundary conditions', or remove them." :
+               "their Dirichlet conditions fix only " + std::to_string(fixed) +
+                 " of their 6 rigid body motions. Add conditions "
+                 "in 'Boundary conditions', or connect them to a "
+                 "held part.")));
       }
   }
 

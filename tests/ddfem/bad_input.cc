@@ -792,15 +792,16 @@ main(int argc, char **argv)
            cantilever,
            {"--set", "Nonlinear solver/Newton tolerance=1"});
   // A scene named by its file, whose name holds a control character that
-  // the screen would take as a command.
-  std::ofstream("escape_\033[31m.prm")
-    << cantilever << "\nsubsection Output\n  set Output directory = "
-    << "out_scene_name_control_character\nend\n";
-  report_run("scene_name_control_character", {"escape_\033[31m.prm"});
-  std::ofstream("tab\tin_name.prm")
-    << cantilever << "\nsubsection Output\n  set Output directory = "
-    << "out_scene_name_tab\nend\n";
-  report_run("scene_name_tab", {"tab\tin_name.prm"});
+  // the screen would take as a command, or a tab.
+  for (const auto &[name, file] :
+       {std::pair("scene_name_control_character", "escape_\033[31m.prm"),
+        std::pair("scene_name_tab", "tab\tin_name.prm")})
+    {
+      std::ofstream(file) << cantilever
+                          << "\nsubsection Output\n  set Output directory = "
+                          << "out_" << name << "\nend\n";
+      report_run(name, {file});
+    }
   // Files and directories in the way.
   std::ofstream("a_file") << "not a directory\n";
   run_case("output_directory_under_a_file",
