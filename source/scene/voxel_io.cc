@@ -21,21 +21,34 @@ namespace ddfem::scene
 {
   namespace
   {
-    // The white-space separated tokens of a line (or of a piece of text:
-    // line breaks separate tokens too).
-    std::vector<std::string_view>
-    split(const std::string_view line)
+    // Calls f(token) for every white-space separated token of @p text (line
+    // breaks separate tokens too), without keeping them: a voxel file may
+    // hold all of its ids on one line.
+    template <typename Function>
+    void
+    for_each_token(const std::string_view text, const Function &f)
     {
-      const char                   *white_space = " \t\n\r\v\f";
-      std::vector<std::string_view> tokens;
-      for (std::size_t begin = line.find_first_not_of(white_space);
+      const char *white_space = " \t\n\r\v\f";
+      for (std::size_t begin = text.find_first_not_of(white_space);
            begin != std::string_view::npos;)
         {
           const std::size_t end =
-            std::min(line.find_first_of(white_space, begin), line.size());
-          tokens.push_back(line.substr(begin, end - begin));
-          begin = line.find_first_not_of(white_space, end);
+            std::min(text.find_first_of(white_space, begin), text.size());
+          f(text.substr(begin, end - begin));
+          begin = text.find_first_not_of(white_space, end);
         }
+    }
+
+
+
+    // The white-space separated tokens of @p text.
+    std::vector<std::string_view>
+    split(const std::string_view text)
+    {
+      std::vector<std::string_view> tokens;
+      for_each_token(text, [&](const std::string_view token) {
+        tokens.push_back(token);
+      });
       return tokens;
     }
 
@@ -45,7 +58,7 @@ namespace ddfem::scene
     struct Line
     {
       /// Its white-space separated words (with comments, those before a
-      /// '#').
+      /// '#'); empty where the reader walks them with for_each_token().
       std::vector<std::string_view> tokens;
       /// The whole line.
       const std::string &text;
@@ -75,6 +88,25 @@ namespace ddfem::scene
 
 
 
+    // Calls f(text, words, number) for every line of @p in: its whole
+    // @p text, its @p words (the part before a '#' where @p comments) and its
+    // @p number, counted from 1.
+    template <typename Function>
+    void
+    for_each_text_line(std::istream &in, const bool comments, const Function &f)
+    {
+      std::string text;
+      for (unsigned int number = 1; std::getline(in, text); ++number)
+        {
+          if (number == 1)
+            drop_byte_order_mark(text);
+          const std::string_view view(text);
+          f(text, comments ? view.substr(0, view.find('#')) : view, number);
+        }
+    }
+
+
+
     // Calls f(line) for every Line of @p in (read from @p file) that has a
     // token; words after a '#' are left out where @p comments.
     template <typename Function>
@@ -84,19 +116,15 @@ namespace ddfem::scene
                   const bool         comments,
                   const Function    &f)
     {
-      std::string text;
-      for (unsigned int number = 1; std::getline(in, text); ++number)
-        {
-          if (number == 1)
-            drop_byte_order_mark(text);
-          const std::string_view view(text);
-          Line line{split(comments ? view.substr(0, view.find('#')) : view),
-                    text,
-                    file,
-                    number};
-          if (!line.tokens.empty())
-            f(line);
-        }
+      for_each_text_line(in,
+                         comments,
+                         [&](const std::string     &text,
+                             const std::string_view words,
+                             const unsigned int     number) {
+                           const Line line{split(words), text, file, number};
+                           if (!line.tokens.empty())
+                             f(line);
+                         });
     }
 
 
@@ -537,27 +565,39 @@ namespace ddfem::scene
     ids.reserve(grid.n_voxels());
     std::size_t n_found     = 0;
     bool        have_header = false;
-    for_each_line(in, file, true, [&](const Line &line) {
-      if (!have_header)
-        {
-          std::array<unsigned int, 3> m;
-          AssertThrow(line.tokens.size() == 3 && parse(line.tokens[0], m[0]) &&
-                        parse(line.tokens[1], m[1]) &&
-                        parse(line.tokens[2], m[2]),
-                      ExcMessage(line.where() +
-                                 "expected the header \"nx ny nz\", "
-                                 "found \"" +
-                                 line.text + "\"."));
-          AssertThrow(m == n,
-                      ExcMessage(
-                        line.where() + "the header \"" + size_string(m) +
-                        "\" does not match the grid size \"" + header + "\"."));
-          have_header = true;
-          return;
-        }
+    // The ids are walked token by token: a file may hold them all on one
+    // line, and a vector of their views would take 16 bytes for each.
+    for_each_text_line(
+      in,
+      true,
+      [&](const std::string     &text,
+          const std::string_view words,
+          const unsigned int     number) {
+        if (!have_header)
+          {
+            const Line line{split(words), text, file, number};
+            if (line.tokens.empty())
+              return;
+            std::array<unsigned int, 3> m;
+            AssertThrow(line.tokens.size() == 3 &&
+                          parse(line.tokens[0], m[0]) &&
+                          parse(line.tokens[1], m[1]) &&
+                          parse(line.tokens[2], m[2]),
+                        ExcMessage(line.where() +
+                                   "expected the header \"nx ny nz\", "
+                                   "found \"" +
+                                   line.text + "\"."));
+            AssertThrow(m == n,
+                        ExcMessage(line.where() + "the header \"" +
+                                   size_string(m) +
+                                   "\" does not match the grid size \"" +
+                                   header + "\"."));
+            have_header = true;
+            return;
+          }
 
-      for (const std::string_view token : line.tokens)
-        {
+        const Line line{{}, text, file, number};
+        for_each_token(words, [&](const std::string_view token) {
           unsigned long id = 0;
           AssertThrow(parse(token, id),
                       ExcMessage(line.where() + "\"" + std::string(token) +
@@ -578,8 +618,8 @@ namespace ddfem::scene
               ids.push_back(static_cast<MaterialId>(id));
             }
           ++n_found;
-        }
-    });
+        });
+      });
 
     AssertThrow(have_header,
                 ExcMessage(file + ": no header \"nx ny nz\" found."));
