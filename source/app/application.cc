@@ -357,6 +357,8 @@ namespace ddfem::app
         else if (method != "fine")
           database.parse_parameters(prm);
         scene.parse_parameters(prm);
+        if (method != "dg")
+          scene.palette.require_nonnegative_lambda("Method = " + method);
         if (method == "ddfem")
           database.check_input(scene.palette, level);
         AssertThrow(method != "dg" || scene.n_edits() == 0,

@@ -574,6 +574,8 @@ namespace ddfem::app
     out << "Comparison of scene \"" << scene_name << "\": grid "
         << scene.grid.describe() << ", " << scene.n_edits() << " material edit"
         << (scene.n_edits() == 1 ? "" : "s") << std::endl;
+    // Every model solves the Neo-Hookean energy.
+    scene.palette.require_nonnegative_lambda("Run type = compare");
     // The database settings matter to the ddfem models alone: checked up
     // to the highest ddfem level, which is prepared below.
     unsigned int ddfem_level = 0;

@@ -212,14 +212,8 @@ namespace ddfem::coarsening
                            "plus void, or 9 with Database/Include void = "
                            "false; Materials has " +
                            std::to_string(palette.size()) + "."));
-    for (scene::MaterialId id = 1; id <= palette.size(); ++id)
-      AssertThrow(palette[id].lambda >= 0,
-                  ExcMessage("Materials/Palette: material " +
-                             std::to_string(id) + " has lambda = " +
-                             Utilities::to_string(palette[id].lambda) +
-                             " < 0 (nu < 0). Metamaterials are fitted with "
-                             "lambda >= 0, so Method = ddfem and Run type = "
-                             "database need nu >= 0 (lambda >= 0)."));
+    palette.require_nonnegative_lambda(
+      "Fitting metamaterials (Run type = database, Method = ddfem)");
     // (A path that cannot be followed is check_creatable()'s to report.)
     std::error_code   error;
     const std::string name =

@@ -40,8 +40,9 @@ namespace ddfem::scene
       "material is either 'E=<Young's modulus in Pa> nu=<Poisson ratio>' "
       "with E > 0 and -1 < nu < 0.5, or 'mu=<Pa> lambda=<Pa>' with mu > 0 "
       "and lambda > -2/3 mu; mu at least 1e-20 Pa, mu and |lambda| at most "
-      "1e20 Pa. The default "
-      "is the paper's palette.");
+      "1e20 Pa. Method = fine, naive, average and ddfem need nu >= 0 "
+      "(lambda >= 0): with lambda < 0 the Neo-Hookean energy has no lower "
+      "bound under compression. The default is the paper's palette.");
     prm.leave_subsection();
   }
 
@@ -113,11 +114,17 @@ namespace ddfem::scene
         // Energies and residuals sum moduli times strains over the cells:
         // far larger moduli overflow them to infinity.
         AssertThrow(m.mu <= max_modulus && std::abs(m.lambda) <= max_modulus,
-                    ExcMessage(where + ": mu and lambda must be at most 1e20 "
-                                       "Pa (E at most about 1e20 Pa)."));
+                    ExcMessage(
+                      where + ": mu = " + format_number(m.mu) +
+                      " Pa and lambda = " + format_number(m.lambda) +
+                      " Pa, but |mu| and |lambda| must be at most 1e20 Pa" +
+                      (values.count("nu") == 0 ? "." :
+                       m.mu <= max_modulus     ? " (lambda grows without bound "
+                                                 "as nu approaches 0.5)." :
+                                                 ": lower E.")));
         AssertThrow(m.mu >= min_modulus,
-                    ExcMessage(where + ": mu must be at least 1e-20 Pa (E of "
-                                       "3e-20 Pa or more)."));
+                    ExcMessage(where + ": mu = " + format_number(m.mu) +
+                               " Pa, but it must be at least 1e-20 Pa."));
         result.push_back(m);
       }
     AssertThrow(!result.empty() && result.size() < 255,
@@ -125,5 +132,25 @@ namespace ddfem::scene
                            "materials, found " +
                            std::to_string(result.size()) + "."));
     materials = std::move(result);
+  }
+
+
+
+  void
+  Palette::require_nonnegative_lambda(const std::string &run) const
+  {
+    for (std::size_t m = 0; m < materials.size(); ++m)
+      AssertThrow(
+        materials[m].lambda >= 0,
+        ExcMessage(
+          "Materials/Palette: material " + std::to_string(m + 1) +
+          " has lambda = " + format_number(materials[m].lambda) +
+          " Pa < 0 (nu < 0). " + run +
+          " needs nu >= 0 (lambda >= 0): the compressible Neo-Hookean "
+          "energy mu/2 (I1 - 3) - mu ln J + lambda/2 (ln J)^2 has no lower "
+          "bound when lambda < 0 (it falls without limit as J -> 0), so a "
+          "solve fails once a compression passes the largest pressure the "
+          "material bears. Method = dg (linear or corotated elasticity) "
+          "takes -1 < nu < 0.5."));
   }
 } // namespace ddfem::scene

@@ -222,6 +222,22 @@ main(int argc, char **argv)
   run_case("nu_too_small",
            cantilever +
              "subsection Materials\n  set Palette = E=1e5 nu=-1.2\nend\n");
+  // The Neo-Hookean energy has no lower bound for lambda < 0; DG takes it.
+  run_case("negative_lambda_fine",
+           cantilever +
+             "subsection Materials\n  set Palette = E=1e5 nu=-0.2\nend\n");
+  run_case("negative_lambda_dg",
+           cantilever +
+             "subsection Materials\n  set Palette = E=1e5 nu=-0.2\nend\n",
+           {"--set", "Method=dg"});
+  run_case("negative_lambda_compare",
+           cantilever +
+             "subsection Materials\n  set Palette = E=1e5 nu=-0.2\nend\n",
+           {"--set", "Run type=compare"});
+  // E is small; lambda is not.
+  run_case("nu_near_half",
+           cantilever + "subsection Materials\n  set Palette = "
+                        "E=1e5 nu=0.4999999999999999\nend\n");
   run_case("missing_voxel_file", from_voxel_file("no_such_file.txt"));
   run_case("missing_mesh_file", from_surface_mesh("no_such_mesh.stl"));
   // Found before the mesh is read, and not blamed on the mesh.

@@ -402,9 +402,9 @@ main()
           }
         std::set<std::array<long, 3>> distinct;
         for (const Point<3> &p : tria.get_vertices())
-          distinct.insert({{std::lround(p[0] / 0.01),
-                            std::lround(p[1] / 0.01),
-                            std::lround(p[2] / 0.01)}});
+          distinct.insert(std::array<long, 3>{{std::lround(p[0] / 0.01),
+                                               std::lround(p[1] / 0.01),
+                                               std::lround(p[2] / 0.01)}});
         std::cout << name << " mesh at level " << level << ": "
                   << tria.n_active_cells() << " cells, " << tria.n_vertices()
                   << " vertices (" << distinct.size()

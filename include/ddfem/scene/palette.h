@@ -54,6 +54,16 @@ namespace ddfem::scene
     void
     parse(const std::string &description);
 
+    /**
+     * Throws, naming @p run (the method or run type, as "Method = fine"),
+     * when a material has lambda < 0: the compressible Neo-Hookean energy
+     * has no lower bound then, so every solve that uses it needs
+     * lambda >= 0. (Linear and corotated elasticity, which DG solves, are
+     * bounded for every lambda > -2/3 mu.)
+     */
+    void
+    require_nonnegative_lambda(const std::string &run) const;
+
     /// Number of (non-void) materials.
     unsigned int
     size() const
