@@ -284,6 +284,36 @@ namespace ddfem::app
       result.commit();
     }
 
+    // gnuplot's list of labelled tics, "(label value, ...)", at 1, 2 and 5
+    // times the powers of ten from @p low to @p high: errors and run times
+    // often span little more than a decade, where powers of ten alone would
+    // leave one label or two. (Over more than three decades, the powers of
+    // ten alone.) Labels are "2e-3" where @p exponents, else "0.002".
+    std::string
+    log_tics(const double low, const double high, const bool exponents)
+    {
+      std::ostringstream tics;
+      tics << "(";
+      for (int e = static_cast<int>(std::floor(std::log10(low)));
+           e <= static_cast<int>(std::ceil(std::log10(high)));
+           ++e)
+        for (const int m : {1, 2, 5})
+          if (const double x = m * std::pow(10., e);
+              x >= low && x <= high && (m == 1 || high <= 1e3 * low))
+            {
+              tics << (tics.tellp() > 1 ? ", '" : "'");
+              if (exponents)
+                tics << m << "e" << e;
+              else
+                tics << x;
+              tics << "' " << x;
+            }
+      tics << ")";
+      return tics.str();
+    }
+
+
+
     /**
      * Draws error_vs_time.png: the mean vertex error of each coarse model
      * of the first state against its wall time, log-log, one marker per
@@ -386,26 +416,11 @@ namespace ddfem::app
                  << ", graph " << 0.95 - 0.3 * (fine_lines++ % 3)
                  << " rotate by 90 right offset -1,0\n";
       dat_file.commit();
-      // Labelled tics at 1, 2 and 5 times the powers of ten: the errors
-      // often span less than a decade, where powers of ten alone would
-      // leave one label or none.
-      const double             y_min = lowest / 3, y_max = highest * 3;
-      std::vector<std::string> tics;
-      for (int e = static_cast<int>(std::floor(std::log10(y_min)));
-           e <= static_cast<int>(std::ceil(std::log10(y_max)));
-           ++e)
-        for (const int m : {1, 2, 5})
-          if (const double y = m * std::pow(10., e); y >= y_min && y <= y_max)
-            {
-              std::ostringstream tic;
-              tic << "'" << m << "e" << e << "' " << y;
-              tics.push_back(tic.str());
-            }
-      script << "set yrange [" << y_min << ":" << y_max << "]\nset ytics (";
-      for (unsigned int t = 0; t < tics.size(); ++t)
-        script << (t == 0 ? "" : ", ") << tics[t];
-      script << ")\nset xrange [" << fastest / 2 << ":" << slowest * 2
-             << "]\nplot ";
+      const double y_min = lowest / 3, y_max = highest * 3;
+      script << "set yrange [" << y_min << ":" << y_max << "]\nset ytics "
+             << log_tics(y_min, y_max, true) << "\nset xrange [" << fastest / 2
+             << ":" << slowest * 2 << "]\nset xtics "
+             << log_tics(fastest / 2, slowest * 2, false) << "\nplot ";
       for (unsigned int c = 0; c < curves.size(); ++c)
         script << (c == 0 ? "" : ", \\\n     ") << curves[c];
       script << "\n";
