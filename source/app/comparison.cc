@@ -168,7 +168,10 @@ namespace ddfem::app
                 const bool              timings,
                 std::ostream           &out)
     {
-      std::string state;
+      // The number format is set per column, and restored at the end.
+      const std::ios_base::fmtflags flags     = out.flags();
+      const std::streamsize         precision = out.precision();
+      std::string                   state;
       for (const Row &row : rows)
         {
           if (row.state != state)
@@ -223,12 +226,13 @@ namespace ddfem::app
                   else
                     out << "-";
                 }
-              out << std::defaultfloat << std::setprecision(6);
             }
           if (!row.result.statistics.converged)
             out << "  NOT CONVERGED";
           out << "\n";
         }
+      out.flags(flags);
+      out.precision(precision);
       out << std::flush;
     }
 
