@@ -606,7 +606,12 @@ namespace ddfem::coarsening
               "is not an HDF5 file (corrupt or truncated?)");
         const Handle h5(H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT),
                         H5Fclose);
-        check(h5.valid(), "cannot be opened (corrupt or truncated?)");
+        check(h5.valid(),
+              lock_failed() ?
+                "cannot be opened: HDF5 could not lock it, so another "
+                "program has it open for writing (an HDF5 viewer or "
+                "script?)" :
+                "cannot be opened (corrupt or truncated?)");
         check(read_attribute(h5, "format") == "ddfem metamaterial database",
               "is not a ddfem metamaterial database");
         const std::string version = read_attribute(h5, "format version");

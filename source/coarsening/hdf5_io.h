@@ -78,6 +78,27 @@ namespace ddfem::coarsening::hdf5
     std::string what;
   };
 
+  /**
+   * Whether HDF5's error stack, that of the last call that failed, holds a
+   * failure to lock a file: HDF5 locks a file it opens, so another program
+   * has it open for writing.
+   */
+  inline bool
+  lock_failed()
+  {
+    bool locked = false;
+    H5Ewalk2(
+      H5E_DEFAULT,
+      H5E_WALK_UPWARD,
+      [](unsigned int, const H5E_error2_t *error, void *data) -> herr_t {
+        if (error->min_num == H5E_CANTLOCKFILE)
+          *static_cast<bool *>(data) = true;
+        return 0;
+      },
+      &locked);
+    return locked;
+  }
+
   /// Throws FileProblem{@p what} unless @p condition holds.
   inline void
   check(const bool condition, const std::string &what)
@@ -199,8 +220,9 @@ namespace ddfem::coarsening::hdf5
     const int    rank = space.valid() ? H5Sget_simple_extent_ndims(space) : -1;
     check(rank >= 0 && rank <= H5S_MAX_RANK,
           "has the dataset '" + name + "' with an unreadable shape");
-    std::vector<hsize_t> shape(rank);
-    check(H5Sget_simple_extent_dims(space, shape.data(), nullptr) == rank,
+    std::vector<hsize_t> shape(rank), most_shape(rank);
+    check(H5Sget_simple_extent_dims(space, shape.data(), most_shape.data()) ==
+            rank,
           "has the dataset '" + name + "' with an unreadable shape");
     // The elements the dataset stores bound those of its shape, whose
     // product is checked factor by factor so that it cannot overflow. A
@@ -235,6 +257,21 @@ namespace ddfem::coarsening::hdf5
                 " bytes it stores can hold (corrupt file" +
                 (filtered ? ", or compressed beyond gzip's ratio?)" : "?)"));
         n *= d;
+      }
+    // HDF5 reads a dataset chunk by chunk and trusts the chunks' shape: one
+    // larger than the dataset's largest extent (a damaged byte in its
+    // header; ddfem's and h5repack's are not) made it copy past its buffer.
+    if (creation.valid() && H5Pget_layout(creation) == H5D_CHUNKED)
+      {
+        std::vector<hsize_t> chunk(H5S_MAX_RANK);
+        bool ok = H5Pget_chunk(creation, H5S_MAX_RANK, chunk.data()) == rank;
+        for (int d = 0; ok && d < rank; ++d)
+          ok = chunk[d] >= 1 && chunk[d] <= std::max<hsize_t>(most_shape[d], 1);
+        chunk.resize(std::max(rank, 0));
+        check(ok,
+              "has the dataset '" + name + "' of shape " + describe(shape) +
+                " with a corrupt chunk layout (chunks of " + describe(chunk) +
+                ")");
       }
     return shape;
   }
@@ -286,22 +323,39 @@ namespace ddfem::coarsening::hdf5
                 ExcMessage("Could not write the attribute '" + name + "'."));
   }
 
-  /// Reads the string attribute @p name (FileProblem if missing or not a
-  /// string).
+  /**
+   * Reads the string attribute @p name. Throws FileProblem if it is
+   * missing, not one fixed-length string (an array of them would overrun
+   * the buffer), or holds other than printable ASCII text, tabs and line
+   * breaks, which is all that ddfem writes (attributes carry no checksum:
+   * a damaged byte would otherwise reach a message).
+   */
   inline std::string
   read_attribute(const hid_t file, const std::string &name)
   {
     check(H5Aexists(file, name.c_str()) > 0, "has no attribute " + name);
     const Handle attribute(H5Aopen(file, name.c_str(), H5P_DEFAULT), H5Aclose);
     const Handle type(H5Aget_type(attribute), H5Tclose);
-    check(attribute.valid() && H5Tget_class(type) == H5T_STRING,
-          "has an attribute '" + name + "' that is not a string");
+    const Handle space(H5Aget_space(attribute), H5Sclose);
+    check(attribute.valid() && type.valid() && space.valid() &&
+            H5Tget_class(type) == H5T_STRING && H5Tis_variable_str(type) == 0 &&
+            H5Sget_simple_extent_npoints(space) == 1,
+          "has an attribute '" + name + "' that is not a single string");
     std::string  value(H5Tget_size(type), '\0');
     const Handle memory(H5Tcopy(H5T_C_S1), H5Tclose);
     H5Tset_size(memory, value.size());
     check(H5Aread(attribute, memory, value.data()) >= 0,
           "cannot read the attribute " + name);
-    return value.substr(0, value.find('\0'));
+    value.erase(std::min(value.size(), value.find('\0')));
+    check(std::all_of(value.begin(),
+                      value.end(),
+                      [](const char c) {
+                        return (c >= 0x20 && c < 0x7F) || c == '\t' ||
+                               c == '\n';
+                      }),
+          "has an attribute '" + name +
+            "' with bytes that are not text (corrupt file?)");
+    return value;
   }
   /// Reads the string attribute @p name as a finite number (FileProblem
   /// naming the attribute and its text if it is not one).

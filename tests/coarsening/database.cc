@@ -6,7 +6,9 @@
 
 #include <ddfem/base/exceptions.h>
 #include <ddfem/coarsening/builder.h>
+#include <fcntl.h>
 #include <hdf5.h>
+#include <sys/file.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -1457,6 +1459,73 @@ main()
     edited_copy("small.h5", "bad_attribute.h5", {{"representatives", "many"}});
     expect_error("damaged attribute",
                  [] { Database::load("bad_attribute.h5"); });
+    edited_copy("small.h5", "binary_attribute.h5", {{"settings", "a\x01b"}});
+    expect_error("attribute with a control character",
+                 [] { Database::load("binary_attribute.h5"); });
+    {
+      // An attribute of two strings: read into one string's buffer, HDF5
+      // wrote past it.
+      edited_copy("small.h5", "array_attribute.h5", {});
+      const std::string value = "ddfem metamaterial database";
+      const hid_t       file =
+        H5Fopen("array_attribute.h5", H5F_ACC_RDWR, H5P_DEFAULT);
+      H5Adelete(file, "format");
+      const hid_t   type = H5Tcopy(H5T_C_S1);
+      const hsize_t two  = 2;
+      H5Tset_size(type, value.size());
+      const hid_t space = H5Screate_simple(1, &two, nullptr);
+      const hid_t attribute =
+        H5Acreate2(file, "format", type, space, H5P_DEFAULT, H5P_DEFAULT);
+      H5Awrite(attribute, type, (value + value).c_str());
+      H5Aclose(attribute);
+      H5Sclose(space);
+      H5Tclose(type);
+      H5Fclose(file);
+    }
+    expect_error("attribute of two strings",
+                 [] { Database::load("array_attribute.h5"); });
+    {
+      // A chunk larger than its dataset (a damaged byte in the dataset's
+      // header) made HDF5 copy past its buffer. The header stores the
+      // chunk's extents as 4-byte numbers followed by the element size.
+      const std::string name = "entries/parameters";
+      const hid_t       file = H5Fopen("small.h5", H5F_ACC_RDONLY, H5P_DEFAULT);
+      const hid_t       set  = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
+      const hid_t       creation = H5Dget_create_plist(set);
+      std::vector<hsize_t> chunk(3);
+      H5Pget_chunk(creation, 3, chunk.data());
+      H5Pclose(creation);
+      H5Dclose(set);
+      H5Fclose(file);
+      std::string pattern;
+      for (const hsize_t extent : {chunk[0], chunk[1], chunk[2], hsize_t(8)})
+        for (unsigned int byte = 0; byte < 4; ++byte)
+          pattern += static_cast<char>((extent >> (8 * byte)) & 0xFF);
+      std::ifstream     in("small.h5", std::ios::binary);
+      std::string       bytes((std::istreambuf_iterator<char>(in)),
+                        std::istreambuf_iterator<char>());
+      const std::size_t at = bytes.find(pattern);
+      // (The first such header may be another dataset's of the same
+      // shape: the message names the one damaged.)
+      std::cout << "chunk extents of '" << name
+                << "' found in the file: " << (at != std::string::npos)
+                << std::endl;
+      if (at != std::string::npos)
+        bytes[at + 8] = static_cast<char>(249);
+      std::ofstream("bad_chunk.h5", std::ios::binary) << bytes;
+    }
+    expect_error("chunk larger than its dataset",
+                 [] { Database::load("bad_chunk.h5"); });
+    {
+      // HDF5 locks a file it opens, so one that another program writes
+      // cannot be opened; that is no corruption.
+      edited_copy("small.h5", "locked.h5", {});
+      const int fd = open("locked.h5", O_RDWR);
+      flock(fd, LOCK_EX);
+      expect_error("file that another program has open for writing",
+                   [] { Database::load("locked.h5"); });
+      close(fd);
+    }
     {
       // The void flag is stored twice, as an attribute and in the settings.
       std::string       settings = Database::load("small.h5").fingerprint();
