@@ -16,6 +16,11 @@
 // 3. A mixed block: no sample exceeds the energy of the naive element
 //    (each child's material, no fluctuation) under the same corners.
 // 4. A block with a void child keeps the force patterns of a free block.
+//    A level-2 block whose eight children are alike is mixed and keeps its
+//    embedded samples, although its fluctuation vanishes as a homogeneous
+//    block's does: they are the level-2 element's energy with the
+//    children's points (doc/coarsening.md says why force patterns are not
+//    used there either).
 // 5. The relaxation converges at small strains and high contrast, where the
 //    energy decrease of the last Newton steps is at round-off (cases that
 //    failed before the relaxation took such steps by the residual).
@@ -176,6 +181,37 @@ main()
                   << " spacing (strains 0.02 to 0.25):" << ratios.str()
                   << std::endl;
       }
+  }
+
+  {
+    std::cout << "A level-2 block of eight alike mixed children (each a "
+                 "level-1 metamaterial with E = 1e7 at its points 0, 3 and 6, "
+                 "1e5 at the others)"
+              << std::endl;
+    std::vector<material::MaterialPoint> child;
+    for (unsigned int q = 0; q < 8; ++q)
+      child.push_back(point(q % 3 == 0 ? 1e7 : 1e5, 0.3));
+    std::array<std::vector<material::MaterialPoint>, 8> children;
+    children.fill(child);
+    const BlockSampler  sampler(children);
+    const CoarseElement level2(2);
+    Metamaterial        copied;
+    for (unsigned int q = 0; q < level2.n_points(); ++q)
+      copied.points.push_back(
+        children[level2.child_of_point(q)][level2.subpoint_of_point(q)]);
+    unsigned int dropped;
+    double       largest = 0;
+    for (const Sample &s : sampler.sample(sampling, 3, dropped))
+      {
+        double e;
+        level2.energy(s.corners, copied, e);
+        largest = testing::worst(largest, std::abs(e - s.energy) / s.energy);
+      }
+    testing::check_below("largest relative energy difference of its embedded "
+                         "samples to the level-2 element with the children's "
+                         "points",
+                         largest,
+                         1e-10);
   }
 
   {
@@ -341,6 +377,12 @@ main()
     report("mixed 2x2x2", {1, 1, 2, 1, 1, 1, 1, 3});
     report("mixed 2x2x2 with a void voxel", {1, 1, 2, 1, 0, 1, 1, 3});
     report("homogeneous 4x4x4", std::vector<scene::MaterialId>(64, 3));
+    // Listed child by child, as DatabaseBuilder passes them.
+    const std::vector<scene::MaterialId> mixed = {1, 1, 2, 1, 1, 1, 1, 3};
+    std::vector<scene::MaterialId>       alike;
+    for (unsigned int k = 0; k < 8; ++k)
+      alike.insert(alike.end(), mixed.begin(), mixed.end());
+    report("4x4x4 of eight alike mixed 2x2x2 children", alike);
     std::vector<scene::MaterialId> voxels(64, 1);
     voxels[40] = 2;
     report("4x4x4 with one other voxel", voxels);
