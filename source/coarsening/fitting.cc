@@ -50,7 +50,7 @@ namespace ddfem::coarsening
                       "which is stiffer in compression. See "
                       "doc/coarsening.md, 'Level-1 weight'.");
     prm.declare_entry("Stiffness floor",
-                      "1e-3",
+                      format_number(default_stiffness_floor),
                       Patterns::Double(1e-12, 1),
                       "Lower bound of every quadrature point's fitted shear "
                       "modulus, as a fraction of the block's largest fine "

@@ -130,7 +130,7 @@ namespace ddfem::coarsening
 
     /// The naive element's void stiffness, relative to the block's
     /// largest mu (Metamaterial::stiffness_floor()).
-    static constexpr double void_stiffness = 1e-3;
+    static constexpr double void_stiffness = default_stiffness_floor;
 
   private:
     /// Throws ExcMessage unless @p coarse is of level() and has the

@@ -41,7 +41,7 @@ namespace ddfem::coarsening
     double child_regularization = 1e-4;
     /// Lower bound of every point's shear modulus, as a fraction of the
     /// block's largest fine shear modulus.
-    double stiffness_floor = 1e-3;
+    double stiffness_floor = default_stiffness_floor;
     /// Lower bound of every point's mu and lambda as a fraction of the
     /// point's own fine values.
     double point_floor = 0;

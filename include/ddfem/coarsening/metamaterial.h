@@ -52,6 +52,11 @@ namespace ddfem::coarsening
     stiffness_floor(const double fraction) const;
   };
 
+  /// The default fraction for Metamaterial::stiffness_floor(): the
+  /// fitter's default 'Stiffness floor' and the naive element's void
+  /// stiffness.
+  constexpr double default_stiffness_floor = 1e-3;
+
   /**
    * The image of a level-1 metamaterial under cube symmetry @p g: the
    * record of point k moves to point image(g, k) and its direction turns
