@@ -608,9 +608,10 @@ namespace ddfem::coarsening
                         H5Fclose);
         check(h5.valid(),
               lock_failed() ?
-                "cannot be opened: HDF5 could not lock it, so another "
-                "program has it open for writing (an HDF5 viewer or "
-                "script?)" :
+                "cannot be opened: HDF5 could not lock it. Another program "
+                "may have it open for writing (an HDF5 viewer or script?), "
+                "or the file system may not support locks (then set the "
+                "environment variable HDF5_USE_FILE_LOCKING=FALSE)" :
                 "cannot be opened (corrupt or truncated?)");
         check(read_attribute(h5, "format") == "ddfem metamaterial database",
               "is not a ddfem metamaterial database");

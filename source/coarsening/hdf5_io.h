@@ -81,7 +81,7 @@ namespace ddfem::coarsening::hdf5
   /**
    * Whether HDF5's error stack, that of the last call that failed, holds a
    * failure to lock a file: HDF5 locks a file it opens, so another program
-   * has it open for writing.
+   * has it open for writing, or the file system refuses locks.
    */
   inline bool
   lock_failed()

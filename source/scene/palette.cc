@@ -41,8 +41,8 @@ namespace ddfem::scene
       "with E > 0 and -1 < nu < 0.5, or 'mu=<Pa> lambda=<Pa>' with mu > 0 "
       "and lambda > -2/3 mu; mu at least 1e-20 Pa, mu and |lambda| at most "
       "1e20 Pa. Method = fine, naive, average and ddfem need nu >= 0 "
-      "(lambda >= 0): with lambda < 0 the Neo-Hookean energy has no lower "
-      "bound under compression. The default is the paper's palette.");
+      "(lambda >= 0) of every material listed: with lambda < 0 the "
+      "Neo-Hookean energy has no lower bound under compression. The default is the paper's palette.");
     prm.leave_subsection();
   }
 
@@ -118,10 +118,10 @@ namespace ddfem::scene
                       where + ": mu = " + format_number(m.mu) +
                       " Pa and lambda = " + format_number(m.lambda) +
                       " Pa, but |mu| and |lambda| must be at most 1e20 Pa" +
-                      (values.count("nu") == 0 ? "." :
-                       m.mu <= max_modulus     ? " (lambda grows without bound "
-                                                 "as nu approaches 0.5)." :
-                                                 ": lower E.")));
+                      (values.count("nu") ?
+                         " (they grow with E, and without bound as nu "
+                         "approaches -1 or 0.5)." :
+                         ".")));
         AssertThrow(m.mu >= min_modulus,
                     ExcMessage(where + ": mu = " + format_number(m.mu) +
                                " Pa, but it must be at least 1e-20 Pa."));

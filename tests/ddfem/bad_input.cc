@@ -230,6 +230,13 @@ main(int argc, char **argv)
            cantilever +
              "subsection Materials\n  set Palette = E=1e5 nu=-0.2\nend\n",
            {"--set", "Method=dg"});
+  run_case("negative_lambda_database",
+           cantilever +
+             "subsection Materials\n  set Palette = E=1e5 nu=-0.2\nend\n",
+           {"--set",
+            "Run type=database",
+            "--set",
+            "Database/File=out_negative_lambda_database.h5"});
   run_case("negative_lambda_compare",
            cantilever +
              "subsection Materials\n  set Palette = E=1e5 nu=-0.2\nend\n",
