@@ -76,6 +76,23 @@ namespace ddfem::app
       return code.str();
     }
 
+    /// @p text with each control character other than a line break or a
+    /// tab written as "\xHH": an error message may echo a file name the
+    /// user typed, and a terminal takes an escape character as a command.
+    std::string
+    printable(const std::string &text)
+    {
+      std::ostringstream result;
+      for (const char c : text)
+        if (std::iscntrl(static_cast<unsigned char>(c)) && c != '\n' &&
+            c != '\t')
+          result << "\\x" << std::hex << std::setw(2) << std::setfill('0')
+                 << int(static_cast<unsigned char>(c));
+        else
+          result << c;
+      return result.str();
+    }
+
     /// Whether a parameter file can hold @p value: no line break, no '#'
     /// (which starts a comment), no tab (which ParameterHandler reads as a
     /// space), no final '\' (which continues the line), no control
@@ -1072,7 +1089,7 @@ namespace ddfem::app
       }
     catch (ExceptionBase &e)
       {
-        err << "Error: " << message_of(e) << std::endl;
+        err << "Error: " << printable(message_of(e)) << std::endl;
       }
     catch (std::bad_alloc &)
       {
@@ -1083,7 +1100,7 @@ namespace ddfem::app
       }
     catch (std::exception &e)
       {
-        err << "Error: " << e.what() << std::endl;
+        err << "Error: " << printable(e.what()) << std::endl;
       }
     return 1;
   }

@@ -825,6 +825,12 @@ main(int argc, char **argv)
                           << "out_" << name << "\nend\n";
       report_run(name, {file});
     }
+  // A message that names such a file shows the character as "\x1b".
+  {
+    const std::string file = "escape_\033[31m_unknown.prm";
+    std::ofstream(file) << cantilever << "\nset Unknown parameter = 1\n";
+    report_run("prm_file_name_control_character", {file});
+  }
   // Files and directories in the way.
   std::ofstream("a_file") << "not a directory\n";
   run_case("output_directory_under_a_file",
