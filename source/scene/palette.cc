@@ -40,9 +40,10 @@ namespace ddfem::scene
       "material is either 'E=<Young's modulus in Pa> nu=<Poisson ratio>' "
       "with E > 0 and -1 < nu < 0.5, or 'mu=<Pa> lambda=<Pa>' with mu > 0 "
       "and lambda > -2/3 mu; mu at least 1e-20 Pa, mu and |lambda| at most "
-      "1e20 Pa. Method = fine, naive, average and ddfem need nu >= 0 "
-      "(lambda >= 0) of every material listed: with lambda < 0 the "
-      "Neo-Hookean energy has no lower bound under compression. The default is the paper's palette.");
+      "1e20 Pa. Every run but Method = dg (Run type = compare and database "
+      "too) needs nu >= 0 (lambda >= 0) of every material listed: with "
+      "lambda < 0 the Neo-Hookean energy has no lower bound under "
+      "compression. The default is the paper's palette.");
     prm.leave_subsection();
   }
 

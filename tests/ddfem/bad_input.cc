@@ -828,7 +828,9 @@ main(int argc, char **argv)
   // A message that names such a file shows the character as "\x1b".
   {
     const std::string file = "escape_\033[31m_unknown.prm";
-    std::ofstream(file) << cantilever << "\nset Unknown parameter = 1\n";
+    std::ofstream(file) << cantilever << "\nset Unknown parameter = 1\n"
+                        << "subsection Output\n  set Output directory = "
+                        << "out_prm_file_name_control_character\nend\n";
     report_run("prm_file_name_control_character", {file});
   }
   // Files and directories in the way.
