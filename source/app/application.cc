@@ -56,6 +56,16 @@ namespace ddfem::app
              !std::isspace(static_cast<unsigned char>(c));
     }
 
+    /// The two hexadecimal digits of the byte @p c ("1b").
+    std::string
+    hex_digits(const char c)
+    {
+      std::ostringstream code;
+      code << std::hex << std::setw(2) << std::setfill('0')
+           << int(static_cast<unsigned char>(c));
+      return code.str();
+    }
+
     /// The first control character of @p text (is_control_character(),
     /// or with @p white_space also a tab, line break or carriage return)
     /// in hexadecimal ("0x01"), or "" if it has none.
@@ -68,12 +78,7 @@ namespace ddfem::app
           return is_control_character(x) ||
                  (white_space && std::iscntrl(static_cast<unsigned char>(x)));
         });
-      if (c == text.end())
-        return "";
-      std::ostringstream code;
-      code << "0x" << std::hex << std::setw(2) << std::setfill('0')
-           << int(static_cast<unsigned char>(*c));
-      return code.str();
+      return c == text.end() ? "" : "0x" + hex_digits(*c);
     }
 
     /// @p text with each control character other than a line break or a
@@ -82,15 +87,13 @@ namespace ddfem::app
     std::string
     printable(const std::string &text)
     {
-      std::ostringstream result;
+      std::string result;
       for (const char c : text)
-        if (std::iscntrl(static_cast<unsigned char>(c)) && c != '\n' &&
-            c != '\t')
-          result << "\\x" << std::hex << std::setw(2) << std::setfill('0')
-                 << int(static_cast<unsigned char>(c));
-        else
-          result << c;
-      return result.str();
+        result += std::iscntrl(static_cast<unsigned char>(c)) && c != '\n' &&
+                      c != '\t' ?
+                    "\\x" + hex_digits(c) :
+                    std::string(1, c);
+      return result;
     }
 
     /// Whether a parameter file can hold @p value: no line break, no '#'

@@ -298,6 +298,7 @@ namespace ddfem::app
     {
       std::ostringstream tics;
       tics << "(";
+      bool first = true;
       for (int e = static_cast<int>(std::floor(std::log10(low)));
            e <= static_cast<int>(std::ceil(std::log10(high)));
            ++e)
@@ -305,7 +306,8 @@ namespace ddfem::app
           if (const double x = m * std::pow(10., e);
               x >= low && x <= high && (m == 1 || high <= 1e3 * low))
             {
-              tics << (tics.tellp() > 1 ? ", '" : "'");
+              tics << (first ? "'" : ", '");
+              first = false;
               if (exponents)
                 tics << m << "e" << e;
               else
