@@ -31,6 +31,7 @@
 #include <new>
 #include <optional>
 #include <sstream>
+#include <string_view>
 
 namespace ddfem::app
 {
@@ -47,15 +48,6 @@ namespace ddfem::app
       "nested subsections are separated by '/'. --print-parameters lists\n"
       "every parameter with its documentation and default.\n";
 
-    /// Whether @p c is a control character other than white space, which
-    /// a parameter file, being text, does not hold.
-    bool
-    is_control_character(const char c)
-    {
-      return std::iscntrl(static_cast<unsigned char>(c)) &&
-             !std::isspace(static_cast<unsigned char>(c));
-    }
-
     /// The two hexadecimal digits of the byte @p c ("1b").
     std::string
     hex_digits(const char c)
@@ -66,33 +58,72 @@ namespace ddfem::app
       return code.str();
     }
 
-    /// The first control character of @p text (is_control_character(),
-    /// or with @p white_space also a tab, line break or carriage return)
-    /// in hexadecimal ("0x01"), or "" if it has none.
-    std::string
-    first_control_character(const std::string &text,
-                            const bool         white_space = false)
+    /// The length in bytes of the control character that @p text starts
+    /// with: 1 for an ASCII one, 2 for a C1 control in UTF-8 (U+0080 to
+    /// U+009F, bytes C2 80 to C2 9F; a terminal may take U+009B as it
+    /// takes ESC '['), 0 if @p text starts with none.
+    std::size_t
+    control_character_length(const std::string_view text)
     {
-      const auto c =
-        std::find_if(text.begin(), text.end(), [white_space](const char x) {
-          return is_control_character(x) ||
-                 (white_space && std::iscntrl(static_cast<unsigned char>(x)));
-        });
-      return c == text.end() ? "" : "0x" + hex_digits(*c);
+      if (text.empty())
+        return 0;
+      if (std::iscntrl(static_cast<unsigned char>(text[0])))
+        return 1;
+      const auto second =
+        text.size() > 1 ? static_cast<unsigned char>(text[1]) : 0;
+      return static_cast<unsigned char>(text[0]) == 0xc2 && second >= 0x80 &&
+                 second <= 0x9f ?
+               2 :
+               0;
+    }
+
+    /// How a message shows the control character at the start of
+    /// @p text, of control_character_length() @p length: "0x1b" or
+    /// "U+009b".
+    std::string
+    control_character_name(const std::string_view text,
+                           const std::size_t      length)
+    {
+      return length == 1 ? "0x" + hex_digits(text[0]) :
+                           "U+00" + hex_digits(text[1]);
+    }
+
+    /// The first control character of @p text other than white space
+    /// (with @p white_space also a tab, line break or carriage return), as
+    /// control_character_name() shows it, or "" if it has none.
+    std::string
+    first_control_character(const std::string_view text,
+                            const bool             white_space = false)
+    {
+      for (std::size_t i = 0; i < text.size(); ++i)
+        if (const std::size_t length = control_character_length(text.substr(i));
+            length > 0 &&
+            (white_space || !std::isspace(static_cast<unsigned char>(text[i]))))
+          return control_character_name(text.substr(i), length);
+      return "";
     }
 
     /// @p text with each control character other than a line break or a
-    /// tab written as "\xHH": an error message may echo a file name the
-    /// user typed, and a terminal takes an escape character as a command.
+    /// tab written as "\xHH" (or "\u00HH" for a C1 control): an error
+    /// message may echo a file name the user typed, and a terminal takes
+    /// an escape character as a command.
     std::string
     printable(const std::string &text)
     {
       std::string result;
-      for (const char c : text)
-        result += std::iscntrl(static_cast<unsigned char>(c)) && c != '\n' &&
-                      c != '\t' ?
-                    "\\x" + hex_digits(c) :
-                    std::string(1, c);
+      for (std::size_t i = 0; i < text.size();)
+        {
+          const std::size_t length =
+            control_character_length(std::string_view(text).substr(i));
+          if (length == 0 || text[i] == '\n' || text[i] == '\t')
+            result += text[i++];
+          else
+            {
+              result += (length == 1 ? "\\x" : "\\u00") +
+                        hex_digits(text[i + length - 1]);
+              i += length;
+            }
+        }
       return result;
     }
 
@@ -105,7 +136,7 @@ namespace ddfem::app
     {
       return value.find_first_of("\n\r\t#") == std::string::npos &&
              (value.empty() || value.back() != '\\') &&
-             std::none_of(value.begin(), value.end(), is_control_character);
+             first_control_character(value).empty();
     }
 
 
@@ -857,6 +888,16 @@ namespace ddfem::app
                                  std::to_string(number) +
                                  " holds the control character " + control +
                                  "."));
+          // ParameterHandler keeps a carriage return inside a value, which
+          // would overwrite the screen's line where the value is printed.
+          // One at a line's end is a Windows line end.
+          AssertThrow(line.find('\r') >=
+                        std::min(line.find('#'), line.size() - 1),
+                      ExcMessage("\"" + file + "\": line " +
+                                 std::to_string(number) +
+                                 " holds a carriage return (0x0d) before "
+                                 "its end. A line may end in one (Windows "
+                                 "line ends) but not hold one."));
           line = Utilities::trim(line);
           if (!line.empty() && line.back() == '\\')
             {

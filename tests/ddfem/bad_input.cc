@@ -313,6 +313,19 @@ main(int argc, char **argv)
     std::ofstream("binary.inc", std::ios::binary) << "# a comment\n" << bytes;
     run_case("binary_include", "include binary.inc\n" + cantilever);
   }
+  // A carriage return inside a line, which ParameterHandler kept in the
+  // value (a printed value overwrote the screen's line), and a C1 control
+  // in UTF-8 (U+009B, which a terminal may take as ESC '['), in a value and
+  // in an override.
+  run_case("carriage_return_in_value", cantilever + "set Scene name = a\rb\n");
+  run_case("c1_control_in_value",
+           cantilever + "set Scene name = a\xc2\x9b"
+                        "b\n");
+  run_case("c1_control_in_override",
+           cantilever,
+           {"--set",
+            "Scene name=a\xc2\x9b"
+            "b"});
   // 1e308 degrees overflowed to an infinite angle in radians, whose NaN
   // boundary values the Newton solver took as reached.
   run_case("rotation_angle",
@@ -818,6 +831,9 @@ main(int argc, char **argv)
   // the screen would take as a command, or a tab.
   for (const auto &[name, file] :
        {std::pair("scene_name_control_character", "escape_\033[31m.prm"),
+        std::pair("scene_name_c1_control",
+                  "csi_\xc2\x9b"
+                  "31m.prm"),
         std::pair("scene_name_tab", "tab\tin_name.prm")})
     {
       std::ofstream(file) << cantilever
