@@ -765,14 +765,17 @@ namespace ddfem::app
       coarsening::DatabaseBuilder builder;
       builder.parse_parameters(prm);
       const OutputSettings output(prm);
+      const bool           all =
+        builder.scope() == coarsening::DatabaseBuilder::Scope::all;
+      const std::vector<scene::VoxelGrid> grids =
+        all ? std::vector<scene::VoxelGrid>() : scene.states();
+      // Before the lock makes the file's directory and lock file.
+      for (const scene::VoxelGrid &grid : grids)
+        scene::check_coarsenable(grid, builder.coarsening_levels());
 
       const auto            held = builder.lock(scene.palette, out);
       coarsening::Hierarchy level2;
       coarsening::Database  database = builder.open(scene.palette, level2, out);
-      const bool            all =
-        builder.scope() == coarsening::DatabaseBuilder::Scope::all;
-      const std::vector<scene::VoxelGrid> grids =
-        all ? std::vector<scene::VoxelGrid>() : scene.states();
       builder.build(scene.palette,
                     database,
                     level2,

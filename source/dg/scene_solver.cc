@@ -258,7 +258,7 @@ namespace ddfem::dg
           }
         throw;
       }
-    bc.check_effects(points, faces);
+    bc.check_effects(points, faces, parameters.degree);
 
     // The conditions must fix all six rigid motions of every face-connected
     // part. The definiteness check of the penalty cannot be relied on for

@@ -532,20 +532,21 @@ namespace ddfem::scene
 
 
   std::vector<Point<3>>
-  BoundaryFace::node_points() const
+  BoundaryFace::node_points(const unsigned int degree) const
   {
+    Assert(degree == 1 || degree == 2, ExcIndexRange(degree, 1, 3));
     unsigned int axis = 0;
     for (unsigned int d = 1; d < 3; ++d)
       if (std::abs(normal[d]) > std::abs(normal[axis]))
         axis = d;
     const unsigned int    a = (axis + 1) % 3, b = (axis + 2) % 3;
     std::vector<Point<3>> points;
-    for (const int i : {-1, 0, 1})
-      for (const int j : {-1, 0, 1})
+    for (unsigned int i = 0; i <= degree; ++i)
+      for (unsigned int j = 0; j <= degree; ++j)
         {
           Point<3> p = center;
-          p[a] += i * size / 2;
-          p[b] += j * size / 2;
+          p[a] += (double(i) / degree - 0.5) * size;
+          p[b] += (double(j) / degree - 0.5) * size;
           points.push_back(p);
         }
     return points;
@@ -585,7 +586,8 @@ namespace ddfem::scene
   void
   BoundaryConditions::check_effects(
     const std::vector<Point<3>>     &nodes,
-    const std::vector<BoundaryFace> &boundary_faces) const
+    const std::vector<BoundaryFace> &boundary_faces,
+    const unsigned int               degree) const
   {
     // A load on components held at every node of its faces goes into the
     // reactions whole. A load that is zero on its faces is left alone: it
@@ -597,7 +599,7 @@ namespace ddfem::scene
           const auto acts    = [&]() {
             for (const BoundaryFace &face : boundary_faces)
               if (condition.region->contains(face.center))
-                for (const Point<3> &p : face.node_points())
+                for (const Point<3> &p : face.node_points(degree))
                   {
                     // A value that is not finite here is the assembly's
                     // error, at its quadrature points.

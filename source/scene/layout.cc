@@ -492,9 +492,12 @@ namespace ddfem::scene
                   {
                     // Distances to the faces in voxels, the same
                     // round-off on both sides: a thickness at a voxel
-                    // center takes as many voxels on each face.
+                    // center takes as many voxels on each face, and not
+                    // that center's (within 1e-6 of a voxel, as 0.035 /
+                    // 0.01 is 3.5000000000000004).
                     const std::array<unsigned int, 3> index{{i, j, k}};
-                    const double thickness = skin_thickness / grid.voxel_size();
+                    const double                      thickness =
+                      skin_thickness / grid.voxel_size() - 1e-6;
                     for (const std::string &face : skin_faces)
                       for (unsigned int d = 0; d < 3; ++d)
                         {

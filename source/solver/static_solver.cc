@@ -409,7 +409,7 @@ namespace ddfem::solver
     // to itself in the fine model: coarse models leave this check to the
     // fine voxels (check_voxel_scene(), or a compare run's fine model).
     if (discretization.level == 0)
-      boundary_conditions.check_effects(points, load_faces);
+      boundary_conditions.check_effects(points, load_faces, fe.degree);
     const std::vector<unsigned int> component = dof_components(dof_handler);
     dirichlet_dofs.clear();
     for (types::global_dof_index i = 0; i < n; ++i)

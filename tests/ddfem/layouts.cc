@@ -96,16 +96,23 @@ main()
       .grid);
   // A thickness at a voxel center (1.5 voxels) takes as many voxels on
   // each face, whatever the round-off of the centers' coordinates: the
-  // voxel sizes the reviewer found lopsided, 1 voxel on x- and 2 on x+.
-  for (const std::string h : {"0.1", "0.03", "0.07", "0.013"})
+  // voxel sizes the reviewer found lopsided, 1 voxel on x- and 2 on x+. A
+  // center at the thickness is not in the skin, also where the thickness
+  // in voxels rounds up (0.035 / 0.01 = 3.5000000000000004 took 4).
+  for (const auto &[voxels, h] : {std::pair(1.5, "0.1"),
+                                  std::pair(1.5, "0.03"),
+                                  std::pair(1.5, "0.07"),
+                                  std::pair(1.5, "0.013"),
+                                  std::pair(3.5, "0.01")})
     {
       const auto skin =
         make_scene("set Type = skin\nsubsection Skin\n set Thickness = " +
-                     std::to_string(1.5 * std::stod(h)) +
+                     std::to_string(voxels * std::stod(h)) +
                      "\n set Faces = x-, x+\nend",
-                   "10, 1, 1\nset Voxel size = " + h)
+                   "10, 1, 1\nset Voxel size = " + std::string(h))
           .grid;
-      std::cout << "skin of 1.5 voxels of " << h << " m on x- and x+: ";
+      std::cout << "skin of " << voxels << " voxels of " << h
+                << " m on x- and x+: ";
       for (unsigned int i = 0; i < 10; ++i)
         std::cout << int(skin(i, 0, 0));
       std::cout << std::endl;

@@ -87,6 +87,13 @@ namespace ddfem::coarsening
       return run_scope;
     }
 
+    /// Database/Levels: the coarsening levels a build fits (1 or 2).
+    unsigned int
+    coarsening_levels() const
+    {
+      return levels;
+    }
+
     /// Database/File with its symbolic links followed: the file that
     /// saves replace.
     const std::string &

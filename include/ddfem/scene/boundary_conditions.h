@@ -66,10 +66,10 @@ namespace ddfem::scene
     /// Its side length (the voxel size, m).
     double size;
 
-    /// Its corners, edge midpoints and center: the nodes an element of
-    /// degree 1 or 2 has on it.
+    /// The nodes an element of degree @p degree (1 or 2) has on it: its
+    /// corners, and at degree 2 its edge midpoints and center too.
     std::vector<Point<3>>
-    node_points() const;
+    node_points(const unsigned int degree) const;
   };
 
   /**
@@ -145,14 +145,16 @@ namespace ddfem::scene
      * the solid (check_regions()), a condition would still do nothing: a
      * traction or pressure, not zero on its faces among @p boundary_faces,
      * that loads only components Dirichlet conditions prescribe at every
-     * node of those faces (it would go into the reactions whole); or a
+     * node an element of degree @p degree has on those faces
+     * (BoundaryFace::node_points(); it would go into the reactions whole); or a
      * Dirichlet condition whose every component, at every one of @p nodes
      * it holds, a higher-numbered condition prescribes too (the highest
      * number wins).
      */
     void
     check_effects(const std::vector<Point<3>>     &nodes,
-                  const std::vector<BoundaryFace> &boundary_faces) const;
+                  const std::vector<BoundaryFace> &boundary_faces,
+                  const unsigned int               degree) const;
 
     /**
      * Throws ExcMessage naming the condition and @p parameter if a rotation
