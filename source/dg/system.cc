@@ -1,3 +1,4 @@
+#include <deal.II/base/quadrature_lib.h>
 #include <deal.II/base/timer.h>
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/fe_interface_values.h>
@@ -11,6 +12,7 @@
 
 #include <ddfem/base/cell_values.h>
 #include <ddfem/base/exceptions.h>
+#include <ddfem/base/parsing.h>
 #include <ddfem/base/statistics.h>
 #include <ddfem/dg/system.h>
 #include <ddfem/material/kernel.h>
@@ -18,6 +20,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <iomanip>
+#include <limits>
 #include <sstream>
 
 namespace ddfem::dg
@@ -1200,8 +1204,67 @@ namespace ddfem::dg
             solution.add(omega, residual);
             previous_residual = residual;
           }
+        // The lagged rotations have fixed points that are no deformation:
+        // a twist too large for one step can settle with cells inside out
+        // and the prescribed displacements missed by far (the elastic
+        // energy of the corotated model, unlike the Neo-Hookean one, does
+        // not grow without bound as a cell flattens).
+        const auto [J, where] = smallest_jacobian(solution);
+        if (!(J > 0))
+          {
+            std::ostringstream message;
+            message << "The corotated iteration ended load step " << step
+                    << " of " << parameters.load_steps
+                    << " in a state that turns the cell at "
+                    << format_point(where)
+                    << " m inside out (det F = " << std::setprecision(3) << J
+                    << " there): no deformation. Use more DG/Load steps.";
+            AssertThrow(false, ExcMessage(message.str()));
+          }
       }
     return solves;
+  }
+
+
+
+  template <int dim>
+  std::pair<double, Point<dim>>
+  System<dim>::smallest_jacobian(const Vector<double> &u) const
+  {
+    AssertDimension(n_components, dim);
+    // The cell's vertices, where a cell turns inside out first, and its
+    // quadrature points.
+    std::vector<Point<dim>> points = QTrapezoid<dim>().get_points();
+    points.insert(points.end(),
+                  quadrature.get_points().begin(),
+                  quadrature.get_points().end());
+    FEValues<dim>                        fv(mapping,
+                     fe,
+                     Quadrature<dim>(points),
+                     update_gradients | update_quadrature_points);
+    std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
+    std::pair<double, Point<dim>>        smallest(
+      std::numeric_limits<double>::infinity(), Point<dim>());
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      {
+        // The values may be those of a translate (reference): the cell's
+        // own coefficients, as in rotations().
+        const Tensor<1, dim> shift =
+          reinit_thread_independently(fv, cell, level_reference[cell->level()])
+            .shift;
+        cell->get_dof_indices(dofs);
+        for (unsigned int q = 0; q < points.size(); ++q)
+          {
+            Tensor<2, dim> F = unit_symmetric_tensor<dim>();
+            for (unsigned int i = 0; i < dofs.size(); ++i)
+              F[fe.system_to_component_index(i).first] +=
+                u[dofs[i]] * fv.shape_grad(i, q);
+            const double J = determinant(F);
+            if (!(J >= smallest.first))
+              smallest = {J, fv.quadrature_point(q) + shift};
+          }
+      }
+    return smallest;
   }
 
 

@@ -122,12 +122,14 @@ namespace ddfem
   }
 
   /// "(x, y, z)" with @p digits significant digits, for messages.
-  inline std::string
-  format_point(const dealii::Point<3> &p, const int digits = 4)
+  template <int dim>
+  std::string
+  format_point(const dealii::Point<dim> &p, const int digits = 4)
   {
-    return "(" + format_number(p[0], digits) + ", " +
-           format_number(p[1], digits) + ", " + format_number(p[2], digits) +
-           ")";
+    std::string text = "(";
+    for (unsigned int d = 0; d < dim; ++d)
+      text += (d > 0 ? ", " : "") + format_number(p[d], digits);
+    return text + ")";
   }
 } // namespace ddfem
 

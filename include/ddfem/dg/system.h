@@ -207,8 +207,10 @@ namespace ddfem::dg
      * The whole solve at the settled penalty: linear, or corotated with
      * 'Load steps' steps of fixed-point iterations (lagged rotations,
      * relaxed by Aitken's factor). Throws ExcMessage if the corotated
-     * iteration does not reach its tolerance. Returns the number of linear
-     * solves.
+     * iteration does not reach its tolerance, or if it ends a load step in
+     * a state that turns a cell inside out (smallest_jacobian() not
+     * positive), a fixed point of the lagged rotations that is no
+     * deformation. Returns the number of linear solves.
      */
     unsigned int
     run();
@@ -346,6 +348,14 @@ namespace ddfem::dg
     /// Rebuilds the strong Dirichlet constraints at load factor @p t.
     void
     make_constraints(const double t);
+
+    /**
+     * The smallest det(I + grad @p u) over the vertices and quadrature
+     * points of every cell, and where it is. Elasticity only (as many
+     * components as dimensions).
+     */
+    std::pair<double, Point<dim>>
+    smallest_jacobian(const Vector<double> &u) const;
 
     const Parameters       &parameters;
     const ProblemData<dim> &data;
