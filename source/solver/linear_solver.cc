@@ -75,17 +75,19 @@ namespace ddfem::solver
     prm.declare_entry(
       "Tolerance",
       "1e-2",
-      Patterns::Double(1e-12, 1),
-      "cg-amg: the loosest relative residual reduction of a linear solve. "
+      Patterns::Double(1e-12, 0.5),
+      "cg-amg: the loosest relative residual reduction of a linear solve "
+      "(at most 0.5: at 1, the first solve of a load step, which lifts the "
+      "part to its new boundary values, would do nothing). "
       "Newton's method tightens it to 0.1 |R| / |R_ref| as its residual "
       "|R| falls (inexact Newton), so early iterations are cheap and the "
       "last ones accurate. Method = dg solves to 1e-12.");
     prm.declare_entry(
       "Cholesky tolerance",
       "1e-8",
-      Patterns::Double(1e-12, 1),
+      Patterns::Double(1e-12, 0.5),
       "cg-cholesky: the loosest relative residual reduction of a linear "
-      "solve (tightened like 'Tolerance'). Its iterations are cheap, so "
+      "solve (tightened like 'Tolerance', at most 0.5 like it). Its iterations are cheap, so "
       "tight solves that keep Newton's quadratic convergence pay off. "
       "Method = dg solves to 1e-12.");
     prm.declare_entry(

@@ -262,7 +262,9 @@ namespace ddfem::solver
       Patterns::Double(1e-14, 1e-2),
       "From 1e-14 to 1e-2. Converged when the residual at the free unknowns is this "
       "fraction of the largest of (the largest residual seen in the "
-      "increment, the external load at the free unknowns).");
+      "increment, the external load at the free unknowns), or when a Newton "
+      "step moved no node by more than 1e-13 of the bounding box's diagonal "
+      "(a residual of round-off in stiff parts).");
     prm.declare_entry(
       "Start after edit",
       "last state",
@@ -977,8 +979,8 @@ namespace ddfem::solver
           }
         else if (!inverted.empty())
           {
-            // A shorter increment leads to the same state, so the solve
-            // stops.
+            // A shorter increment ending at the same load factor leads to
+            // the same state, so the solve stops.
             std::ostringstream message;
             message << "the load increment to load factor " << t_new
                     << " converged to a state that " << inverted << ": ";

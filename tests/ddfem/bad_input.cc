@@ -408,6 +408,11 @@ main(int argc, char **argv)
   run_case("zero_linear_tolerance",
            cantilever,
            {"--set", "Linear solver/Tolerance=0"});
+  // A reduction of 1 asked nothing of the solve that lifts a load step to
+  // its boundary values.
+  run_case("linear_tolerance_one",
+           cantilever,
+           {"--set", "Linear solver/Tolerance=1"});
   run_case("unknown_override_entry",
            cantilever,
            {"--set", "Nonlinear solver/Load stepz=3"});
