@@ -79,26 +79,28 @@ namespace ddfem::app
 
     /// How a message shows the control character at the start of
     /// @p text, of control_character_length() @p length: "0x1b" or
-    /// "U+009b".
+    /// "U+009B".
     std::string
     control_character_name(const std::string_view text,
                            const std::size_t      length)
     {
-      return length == 1 ? "0x" + hex_digits(text[0]) :
-                           "U+00" + hex_digits(text[1]);
+      if (length == 1)
+        return "0x" + hex_digits(text[0]);
+      std::string digits = hex_digits(text[1]);
+      std::transform(digits.begin(), digits.end(), digits.begin(), ::toupper);
+      return "U+00" + digits;
     }
 
-    /// The first control character of @p text other than white space
-    /// (with @p white_space also a tab, line break or carriage return), as
-    /// control_character_name() shows it, or "" if it has none.
+    /// The first control character of @p text that is not one of
+    /// @p allowed, as control_character_name() shows it, or "" if it has
+    /// none.
     std::string
     first_control_character(const std::string_view text,
-                            const bool             white_space = false)
+                            const std::string_view allowed)
     {
       for (std::size_t i = 0; i < text.size(); ++i)
         if (const std::size_t length = control_character_length(text.substr(i));
-            length > 0 &&
-            (white_space || !std::isspace(static_cast<unsigned char>(text[i]))))
+            length > 0 && allowed.find(text[i]) == std::string_view::npos)
           return control_character_name(text.substr(i), length);
       return "";
     }
@@ -136,7 +138,7 @@ namespace ddfem::app
     {
       return value.find_first_of("\n\r\t#") == std::string::npos &&
              (value.empty() || value.back() != '\\') &&
-             first_control_character(value).empty();
+             first_control_character(value, "").empty();
     }
 
 
@@ -174,7 +176,7 @@ namespace ddfem::app
       // as a command, and a carriage return would overwrite the line. Only
       // a file name can hold one ('Scene name' is checked as every value
       // is, and a parameter file's line holds no line break).
-      const std::string control = first_control_character(name, true);
+      const std::string control = first_control_character(name, "");
       AssertThrow(control.empty(),
                   ExcMessage("The parameter file's name, the scene's name "
                              "while 'Scene name' is empty, holds the control "
@@ -206,7 +208,8 @@ namespace ddfem::app
               {
                 const std::string text =
                   value.is_string() ? value.get<std::string>() : "";
-                const std::string control = first_control_character(text);
+                const std::string control =
+                  first_control_character(text, "\t\n\r");
                 AssertThrow(fits_in_parameter_file(text),
                             ExcMessage(
                               "In parameter file \"" + prm_file +
@@ -286,9 +289,9 @@ namespace ddfem::app
       const auto equal = text.find('=');
       // First, as no message may echo it: the terminal would take it as a
       // command. The parameter is named where its name has none.
-      const std::string control = first_control_character(text);
+      const std::string control = first_control_character(text, "\t\n\r");
       const std::string shown =
-        first_control_character(text.substr(0, equal)).empty() ?
+        first_control_character(text.substr(0, equal), "\t\n\r").empty() ?
           text.substr(0, equal) + "=..." :
           "...";
       AssertThrow(control.empty(),
@@ -769,9 +772,7 @@ namespace ddfem::app
         builder.scope() == coarsening::DatabaseBuilder::Scope::all;
       const std::vector<scene::VoxelGrid> grids =
         all ? std::vector<scene::VoxelGrid>() : scene.states();
-      // Before the lock makes the file's directory and lock file.
-      for (const scene::VoxelGrid &grid : grids)
-        scene::check_coarsenable(grid, builder.coarsening_levels());
+      builder.check_scene(scene.palette, grids);
 
       const auto            held = builder.lock(scene.palette, out);
       coarsening::Hierarchy level2;
@@ -884,23 +885,26 @@ namespace ddfem::app
           // ParameterHandler would echo a binary file's bytes in its
           // message (not those of a comment, which it drops).
           ++number;
-          const std::string control =
-            first_control_character(line.substr(0, line.find('#')));
+          const std::string text    = line.substr(0, line.find('#'));
+          const std::string control = first_control_character(text, "\t\r\v\f");
           AssertThrow(control.empty(),
                       ExcMessage("\"" + file + "\" is not a text file: line " +
                                  std::to_string(number) +
                                  " holds the control character " + control +
                                  "."));
-          // ParameterHandler keeps a carriage return inside a value, which
-          // would overwrite the screen's line where the value is printed.
-          // One at a line's end is a Windows line end.
-          AssertThrow(line.find('\r') >=
-                        std::min(line.find('#'), line.size() - 1),
+          // ParameterHandler trims a line, but keeps a carriage return, a
+          // vertical tab or a form feed inside a value, which the screen
+          // would show by moving the cursor where the value is printed. A
+          // line may end in a carriage return (Windows line ends) or hold
+          // only a form feed (a page break).
+          const std::string inside =
+            first_control_character(Utilities::trim(text), "\t");
+          AssertThrow(inside.empty(),
                       ExcMessage("\"" + file + "\": line " +
                                  std::to_string(number) +
-                                 " holds a carriage return (0x0d) before "
-                                 "its end. A line may end in one (Windows "
-                                 "line ends) but not hold one."));
+                                 " holds the control character " + inside +
+                                 " inside its text, where only spaces and "
+                                 "tabs may stand."));
           line = Utilities::trim(line);
           if (!line.empty() && line.back() == '\\')
             {

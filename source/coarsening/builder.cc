@@ -255,6 +255,26 @@ namespace ddfem::coarsening
 
 
 
+  void
+  DatabaseBuilder::check_scene(const scene::Palette                &palette,
+                               const std::vector<scene::VoxelGrid> &grids) const
+  {
+    check_input(palette, levels);
+    // An empty database of these settings covers the combinations that a
+    // built one does.
+    const Database empty(settings(palette), palette.size());
+    for (const scene::VoxelGrid &grid : grids)
+      {
+        scene::check_coarsenable(grid, levels);
+        empty.missing(scene_combinations(grid));
+        if (levels == 2)
+          for (const auto &block : scene_blocks(grid))
+            Hierarchy::check_representable(empty, block);
+      }
+  }
+
+
+
   std::unique_ptr<FileLock>
   DatabaseBuilder::lock(const scene::Palette &palette, std::ostream &out) const
   {

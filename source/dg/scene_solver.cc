@@ -193,7 +193,9 @@ namespace ddfem::dg
     // through shared faces only.
     const QGauss<3>    cell_quadrature(parameters.degree + 1);
     solver::Components parts = solver::face_connected_parts(triangulation);
-    std::vector<scene::BoundaryFace>                           faces;
+    std::vector<scene::BoundaryFace> faces;
+    // Where Dirichlet conditions act on each of faces.
+    std::vector<std::vector<Point<3>>>                         face_nodes;
     std::vector<Point<3>>                                      points;
     std::map<std::size_t, std::vector<solver::ConstrainedRow>> rows;
     for (const auto &cell : triangulation.active_cell_iterators())
@@ -213,6 +215,9 @@ namespace ddfem::dg
           if (cell->face(f)->at_boundary())
             {
               faces.push_back(solver::voxel_face(cell, f));
+              face_nodes.push_back(
+                weak ? face_points(cell, f) :
+                       faces.back().node_points(parameters.degree));
               for (const Point<3> &x : face_points(cell, f))
                 bc.traction(faces.back().center, x, faces.back().normal);
             }
@@ -258,7 +263,9 @@ namespace ddfem::dg
           }
         throw;
       }
-    bc.check_effects(points, faces, parameters.degree);
+    bc.check_effects(points, faces, [&](const std::size_t i) {
+      return face_nodes[i];
+    });
 
     // The conditions must fix all six rigid motions of every face-connected
     // part. The definiteness check of the penalty cannot be relied on for

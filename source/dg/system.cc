@@ -1215,9 +1215,9 @@ namespace ddfem::dg
             std::ostringstream message;
             message << "The corotated iteration ended load step " << step
                     << " of " << parameters.load_steps
-                    << " in a state that turns the cell at "
+                    << " in a state that turns a cell inside out at "
                     << format_point(where)
-                    << " m inside out (det F = " << std::setprecision(3) << J
+                    << " m (det F = " << std::setprecision(3) << J
                     << " there): no deformation. Use more DG/Load steps.";
             AssertThrow(false, ExcMessage(message.str()));
           }
@@ -1259,9 +1259,20 @@ namespace ddfem::dg
             for (unsigned int i = 0; i < dofs.size(); ++i)
               F[fe.system_to_component_index(i).first] +=
                 u[dofs[i]] * fv.shape_grad(i, q);
-            const double J = determinant(F);
-            if (!(J >= smallest.first))
-              smallest = {J, fv.quadrature_point(q) + shift};
+            // Values equal up to round-off (symmetric cells) go to the
+            // lexicographically first point, so that the place reported
+            // does not depend on the round-off of the solution.
+            const double     J     = determinant(F);
+            const Point<dim> x     = fv.quadrature_point(q) + shift;
+            const auto       first = [&]() {
+              for (unsigned int d = 0; d < dim; ++d)
+                if (x[d] != smallest.second[d])
+                  return x[d] < smallest.second[d];
+              return false;
+            };
+            if (!(J >= smallest.first - 1e-8) ||
+                (J <= smallest.first + 1e-8 && first()))
+              smallest = {std::min(J, smallest.first), x};
           }
       }
     return smallest;

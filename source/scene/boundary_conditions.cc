@@ -585,9 +585,9 @@ namespace ddfem::scene
 
   void
   BoundaryConditions::check_effects(
-    const std::vector<Point<3>>     &nodes,
-    const std::vector<BoundaryFace> &boundary_faces,
-    const unsigned int               degree) const
+    const std::vector<Point<3>>                             &nodes,
+    const std::vector<BoundaryFace>                         &boundary_faces,
+    const std::function<std::vector<Point<3>>(std::size_t)> &face_nodes) const
   {
     // A load on components held at every node of its faces goes into the
     // reactions whole. A load that is zero on its faces is left alone: it
@@ -597,9 +597,10 @@ namespace ddfem::scene
         {
           bool       nonzero = false;
           const auto acts    = [&]() {
-            for (const BoundaryFace &face : boundary_faces)
-              if (condition.region->contains(face.center))
-                for (const Point<3> &p : face.node_points(degree))
+            for (std::size_t i = 0; i < boundary_faces.size(); ++i)
+              if (const BoundaryFace &face = boundary_faces[i];
+                  condition.region->contains(face.center))
+                for (const Point<3> &p : face_nodes(i))
                   {
                     // A value that is not finite here is the assembly's
                     // error, at its quadrature points.

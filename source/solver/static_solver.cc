@@ -263,8 +263,9 @@ namespace ddfem::solver
       "From 1e-14 to 1e-2. Converged when the residual at the free unknowns is this "
       "fraction of the largest of (the largest residual seen in the "
       "increment, the external load at the free unknowns), or when a Newton "
-      "step moved no node by more than 1e-13 of the bounding box's diagonal "
-      "(a residual of round-off in stiff parts).");
+      "step with the unshifted tangent changed no unknown by more than 1e-13 "
+      "of the bounding box's diagonal (a residual of round-off in stiff "
+      "parts).");
     prm.declare_entry(
       "Start after edit",
       "last state",
@@ -411,7 +412,10 @@ namespace ddfem::solver
     // to itself in the fine model: coarse models leave this check to the
     // fine voxels (check_voxel_scene(), or a compare run's fine model).
     if (discretization.level == 0)
-      boundary_conditions.check_effects(points, load_faces, fe.degree);
+      boundary_conditions.check_effects(
+        points, load_faces, [&](const std::size_t i) {
+          return load_faces[i].node_points(fe.degree);
+        });
     const std::vector<unsigned int> component = dof_components(dof_handler);
     dirichlet_dofs.clear();
     for (types::global_dof_index i = 0; i < n; ++i)

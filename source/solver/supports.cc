@@ -587,7 +587,9 @@ namespace ddfem::solver
             faces.push_back(voxel_face(cell, f));
     const std::vector<Point<3>> &vertices = tria.get_vertices();
     bc.check_regions(vertices, faces);
-    bc.check_effects(vertices, faces, 1); // the vertices are the nodes
+    bc.check_effects(vertices, faces, [&](const std::size_t i) {
+      return faces[i].node_points(1); // the vertices are the nodes
+    });
 
     // The held components of each vertex, then the rows of each cell.
     std::vector<std::vector<unsigned int>> held(vertices.size());

@@ -313,11 +313,16 @@ main(int argc, char **argv)
     std::ofstream("binary.inc", std::ios::binary) << "# a comment\n" << bytes;
     run_case("binary_include", "include binary.inc\n" + cantilever);
   }
-  // A carriage return inside a line, which ParameterHandler kept in the
-  // value (a printed value overwrote the screen's line), and a C1 control
-  // in UTF-8 (U+009B, which a terminal may take as ESC '['), in a value and
-  // in an override.
+  // A carriage return, form feed or vertical tab inside a line, which
+  // ParameterHandler kept in the value (a printed value overwrote the
+  // screen's line; the scene-name check blamed the file's name), and a C1
+  // control in UTF-8 (U+009B, which a terminal may take as ESC '['), in a value
+  // and in an override.
   run_case("carriage_return_in_value", cantilever + "set Scene name = a\rb\n");
+  run_case("form_feed_in_value", cantilever + "set Scene name = a\fb\n");
+  run_case("vertical_tab_in_override",
+           cantilever,
+           {"--set", "Scene name=a\vb"});
   run_case("c1_control_in_value",
            cantilever + "set Scene name = a\xc2\x9b"
                         "b\n");
@@ -1260,16 +1265,17 @@ end
             << std::endl;
   // So is a 4x4x4 block with void and solid 2x2x2 blocks in a database
   // without void: level 1 has all its blocks, level 2 none for it.
+  std::filesystem::remove_all("level2_void");
   run_case("database_level2_void_without_void",
            testing::cantilever("4, 8, 4", "0; 0; -100") +
              "set Run type = database\n" +
-             testing::cheap_lazy_database("level2_void.h5") +
+             testing::cheap_lazy_database("level2_void/db.h5") +
              "subsection Database\n  set Levels = 2\n"
              "  set Include void = false\nend\n"
              "subsection Layout\n  set Shapes = box 0 0.04 0.02 0.04 0.08 "
              "0.04 : 0\nend\n");
-  std::cout << "  database written: "
-            << std::filesystem::exists("level2_void.h5") << "\n"
+  std::cout << "  database directory made: "
+            << std::filesystem::exists("level2_void") << "\n"
             << std::endl;
   // So are VTU files of any load step (the message names the file; deal.II's
   // writers would throw a generic input/output error), of an edited state,

@@ -121,7 +121,8 @@ namespace ddfem
     return s.str();
   }
 
-  /// "(x, y, z)" with @p digits significant digits, for messages.
+  /// "(x, y, z)" (as many coordinates as @p p has) with @p digits
+  /// significant digits, for messages.
   template <int dim>
   std::string
   format_point(const dealii::Point<dim> &p, const int digits = 4)

@@ -87,13 +87,6 @@ namespace ddfem::coarsening
       return run_scope;
     }
 
-    /// Database/Levels: the coarsening levels a build fits (1 or 2).
-    unsigned int
-    coarsening_levels() const
-    {
-      return levels;
-    }
-
     /// Database/File with its symbolic links followed: the file that
     /// saves replace.
     const std::string &
@@ -116,6 +109,18 @@ namespace ddfem::coarsening
      */
     void
     check_input(const scene::Palette &palette, const unsigned int level) const;
+
+    /**
+     * check_input(), and throws ExcMessage if a build with these settings
+     * cannot fit the blocks of @p grids (Scope = scene): a grid that
+     * Database/Levels cannot coarsen, or a block that the database cannot
+     * hold (void next to solid voxels without Database/Include void).
+     * build() finds these too, but only after lock() has made the file's
+     * directory and lock file; this writes nothing.
+     */
+    void
+    check_scene(const scene::Palette                &palette,
+                const std::vector<scene::VoxelGrid> &grids) const;
 
     /**
      * After check_input(), locks Database/File for this process until the

@@ -5,6 +5,7 @@
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/point.h>
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -145,8 +146,10 @@ namespace ddfem::scene
      * the solid (check_regions()), a condition would still do nothing: a
      * traction or pressure, not zero on its faces among @p boundary_faces,
      * that loads only components Dirichlet conditions prescribe at every
-     * node an element of degree @p degree has on those faces
-     * (BoundaryFace::node_points(); it would go into the reactions whole); or a
+     * point of those faces where they act, @p face_nodes(i) of face i (the
+     * element's nodes, BoundaryFace::node_points(), or the face's
+     * quadrature points where they act weakly; it would go into the
+     * reactions whole); or a
      * Dirichlet condition whose every component, at every one of @p nodes
      * it holds, a higher-numbered condition prescribes too (the highest
      * number wins).
@@ -154,7 +157,8 @@ namespace ddfem::scene
     void
     check_effects(const std::vector<Point<3>>     &nodes,
                   const std::vector<BoundaryFace> &boundary_faces,
-                  const unsigned int               degree) const;
+                  const std::function<std::vector<Point<3>>(std::size_t)>
+                    &face_nodes) const;
 
     /**
      * Throws ExcMessage naming the condition and @p parameter if a rotation
