@@ -132,23 +132,25 @@ namespace ddfem::app
     /// Whether a parameter file can hold @p value: no line break, no '#'
     /// (which starts a comment), no tab (which ParameterHandler reads as a
     /// space), no final '\' (which continues the line), no control
-    /// character.
+    /// character, no white space at either end (which ParameterHandler
+    /// trims).
     bool
     fits_in_parameter_file(const std::string &value)
     {
       return value.find_first_of("\n\r\t#") == std::string::npos &&
              (value.empty() || value.back() != '\\') &&
-             first_control_character(value, "").empty();
+             first_control_character(value, "").empty() &&
+             value == Utilities::trim(value);
     }
 
 
 
     /**
      * The scene's name: 'Scene name', or the stem of @p prm_file, which then
-     * becomes 'Scene name' in @p prm if a parameter file can hold it, so
-     * that a rerun from the run's parameters.prm keeps it. Throws ExcMessage if
-     * it is not UTF-8 text, which the JSON results need, or holds a control
-     * character.
+     * becomes 'Scene name' in @p prm, so that a rerun from the run's
+     * parameters.prm keeps it. Throws ExcMessage if it is not UTF-8 text,
+     * which the JSON results need, or holds a control character, or is a
+     * stem that a parameter file cannot hold (fits_in_parameter_file()).
      */
     std::string
     scene_name_of(ParameterHandler &prm, const std::string &prm_file)
@@ -183,8 +185,18 @@ namespace ddfem::app
                              "character " +
                              control +
                              ". Set 'Scene name', or rename the file."));
-      if (fits_in_parameter_file(name))
-        prm.set("Scene name", name);
+      if (given.empty())
+        {
+          AssertThrow(fits_in_parameter_file(name),
+                      ExcMessage("The parameter file's name, the scene's "
+                                 "name while 'Scene name' is empty, holds "
+                                 "'#', ends in '\\' or starts or ends with "
+                                 "white space, which the run's parameters.prm "
+                                 "could not hold (a rerun from it would take "
+                                 "another name). Set 'Scene name', or rename "
+                                 "the file."));
+          prm.set("Scene name", name);
+        }
       return name;
     }
 
@@ -215,8 +227,8 @@ namespace ddfem::app
                               "In parameter file \"" + prm_file +
                               "\": " + path + name + " holds " +
                               (control.empty() ?
-                                 "a line break, '#' or a tab, or ends in "
-                                 "'\\'," :
+                                 "a line break, '#' or a tab, ends in '\\' "
+                                 "or starts or ends with white space," :
                                  "the control character " + control + ",") +
                               " which the run's parameters.prm could not "
                               "hold (a rerun from it would read another "
@@ -791,6 +803,9 @@ namespace ddfem::app
     /**
      * Run types "dg convergence" and "dg cost": the DG studies of
      * subsections "DG convergence" and "DG cost" (the scene is ignored).
+     * Removes an earlier run's results from the output directory first
+     * (remove_earlier_results()), and writes parameters.prm once the study
+     * is done.
      */
     int
     run_dg_study(const std::string &run_type,
@@ -798,6 +813,14 @@ namespace ddfem::app
                  std::ostream      &out)
     {
       const OutputSettings output(prm);
+      report::VtuWriter    vtu;
+      vtu.parse_parameters(prm);
+      check_writable_in(output.directory,
+                        {"parameters.prm"},
+                        "Output/Output directory");
+      check_earlier_results(output.directory, vtu, "");
+      if (std::filesystem::is_directory(output.directory))
+        remove_earlier_results(output.directory);
       if (run_type == "dg convergence")
         {
           dg::ConvergenceStudy study;
@@ -810,6 +833,10 @@ namespace ddfem::app
           study.parse_parameters(prm);
           study.run(output.directory, output.screen_timings, out);
         }
+      ResultFile used(output.directory + "/parameters.prm",
+                      "Output/Output directory");
+      prm.print_parameters(used.stream(), ParameterHandler::ShortPRM);
+      used.commit();
       return 0;
     }
   } // namespace

@@ -5,6 +5,7 @@
 #include <ddfem/base/files.h>
 #include <ddfem/base/parsing.h>
 #include <ddfem/coarsening/coarsener.h>
+#include <ddfem/dg/studies.h>
 #include <ddfem/report/vertex_error.h>
 #include <nlohmann/json.hpp>
 
@@ -84,13 +85,22 @@ namespace ddfem::app
     }
 
     /// The result files of a simulation and a comparison in the output
-    /// directory: summary.json, the tables and the plot's files.
-    const std::vector<std::string> result_files = {"summary.json",
-                                                   "comparison.json",
-                                                   "comparison.csv",
-                                                   "error_vs_time.dat",
-                                                   "error_vs_time.gnuplot",
-                                                   "error_vs_time.png"};
+    /// directory: summary.json, the tables and the plot's files; and those
+    /// of the DG studies, which a run there removes as an earlier run's.
+    std::vector<std::string>
+    result_files()
+    {
+      std::vector<std::string> files = {"summary.json",
+                                        "comparison.json",
+                                        "comparison.csv",
+                                        "error_vs_time.dat",
+                                        "error_vs_time.gnuplot",
+                                        "error_vs_time.png"};
+      for (const auto &study : {dg::ConvergenceStudy::result_files(),
+                                dg::CostStudy::result_files()})
+        files.insert(files.end(), study.begin(), study.end());
+      return files;
+    }
 
     /// The fine configurations of every comparison: name and linear solver
     /// ("" for the scene's).
@@ -519,10 +529,24 @@ namespace ddfem::app
                         const report::VtuWriter &vtu,
                         const std::string       &database_file)
   {
-    check_writable_in(directory, result_files, "Output/Output directory");
+    check_writable_in(directory, result_files(), "Output/Output directory");
     std::vector<std::string> directories = all_model_directories(directory);
     for (const std::string &d : directories)
-      vtu.check_writable(d, 0);
+      {
+        vtu.check_writable(d, 0);
+        // A comparison's model directory holds VTU files only: one with a
+        // run's parameters.prm is that run's output directory, whose VTU
+        // files this run would remove (or put its own next to).
+        std::error_code error;
+        AssertThrow(!std::filesystem::exists(d + "/parameters.prm", error),
+                    ExcMessage("Output/Output directory = '" + directory +
+                               "': '" + d +
+                               "', where a compare run keeps a model's VTU "
+                               "files, holds another run's results (its "
+                               "parameters.prm), whose VTU files this run "
+                               "would remove or add to. Use another output "
+                               "directory, or move that run's results."));
+      }
     if (database_file.empty())
       return;
     // The file and the directory it lies in, with their links followed.
@@ -534,9 +558,9 @@ namespace ddfem::app
     // Runs write summary.json, parameters.prm and the comparison's tables
     // (or their temporaries) in the output directory, and VTU files there
     // and in every model's directory.
-    const bool result_here =
-      is_one("parameters.prm") ||
-      std::any_of(result_files.begin(), result_files.end(), is_one);
+    const std::vector<std::string> files       = result_files();
+    const bool                     result_here = is_one("parameters.prm") ||
+                             std::any_of(files.begin(), files.end(), is_one);
     const bool vtu_name = report::VtuWriter::is_vtu_file(name);
     directories.push_back(directory);
     require_database_outside(database_file,
@@ -560,7 +584,7 @@ namespace ddfem::app
   void
   remove_earlier_results(const std::string &directory)
   {
-    remove_earlier_in(directory, result_files, "Output/Output directory");
+    remove_earlier_in(directory, result_files(), "Output/Output directory");
     report::VtuWriter::remove_earlier(directory);
     for (const std::string &d : all_model_directories(directory))
       report::VtuWriter::remove_earlier(d);

@@ -463,6 +463,19 @@ namespace ddfem::dg
 
 
 
+  std::vector<std::string>
+  ConvergenceStudy::result_files()
+  {
+    return {"dg_convergence.txt",
+            "dg_convergence.csv",
+            "dg_convergence.dat",
+            "dg_convergence.gnuplot",
+            plot_file("2D Poisson"),
+            plot_file("3D elasticity")};
+  }
+
+
+
   void
   ConvergenceStudy::run(const std::string &directory, std::ostream &out) const
   {
@@ -470,13 +483,7 @@ namespace ddfem::dg
     // fails (out of memory, say) leaves no partial files; nor does one
     // whose figures could not be drawn.
     report::check_gnuplot("dg convergence");
-    replace_earlier(directory,
-                    {"dg_convergence.txt",
-                     "dg_convergence.csv",
-                     "dg_convergence.dat",
-                     "dg_convergence.gnuplot",
-                     plot_file("2D Poisson"),
-                     plot_file("3D elasticity")});
+    replace_earlier(directory, result_files());
     std::ostringstream text, csv;
     csv << "problem,method,cells,dofs,L2,H1,jump,condition_estimate,eta\n";
     csv << std::setprecision(6);
@@ -717,12 +724,20 @@ namespace ddfem::dg
 
 
 
+  std::vector<std::string>
+  CostStudy::result_files()
+  {
+    return {"dg_cost.txt"};
+  }
+
+
+
   void
   CostStudy::run(const std::string &directory,
                  const bool         timings,
                  std::ostream      &out) const
   {
-    replace_earlier(directory, {"dg_cost.txt"});
+    replace_earlier(directory, result_files());
     // One thread, as the paper's timings and so that integration and
     // assembly times are separable; the caller's limit again afterwards,
     // also when a solve throws.

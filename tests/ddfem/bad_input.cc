@@ -275,6 +275,20 @@ main(int argc, char **argv)
       << "{\"Scene name\": \"Run #3\", \"Output\": {\"Output directory\": "
          "\"out_hash_in_json\"}}\n";
     report_run("hash_in_json", {"hash_in_json.json"});
+    // Nor white space at a value's ends, which ParameterHandler trims from
+    // a parameter file's values (a rerun wrote into another directory).
+    std::ofstream("padded_json.json")
+      << "{\"Output\": {\"Output directory\": \"out_padded_json \"}}\n";
+    report_run("padded_json", {"padded_json.json"});
+  }
+  // A scene named by its file, whose name parameters.prm cannot hold: a
+  // rerun from it took the name "parameters".
+  {
+    std::ofstream("hash#name.prm")
+      << cantilever
+      << "subsection Output\n  set Output "
+         "directory = out_hash_in_file_name\nend\n";
+    report_run("hash_in_file_name", {"hash#name.prm"});
   }
   // ParameterHandler also reads a last line that ends in a backslash.
   {
@@ -1316,6 +1330,35 @@ end
     "  set 2D refinements = 1, 2\nend\n",
     {},
     "dg_convergence_3D_elasticity.png");
+  // A study removes a simulation's results, and a simulation a study's,
+  // and a study writes its parameters.prm (an earlier run's stayed).
+  run_in_existing_directory(
+    "dg_study_after_simulation",
+    "",
+    "set Run type = dg convergence\nsubsection DG convergence\n"
+    "  set Problems = 2D Poisson\n  set Methods = IP lin\n"
+    "  set 2D refinements = 1, 2\nend\n",
+    {},
+    "summary.json");
+  run_in_existing_directory(
+    "simulation_after_dg_study", "", cantilever, {}, "dg_cost.txt");
+  // Another run's results where a compare run keeps a model's VTU files:
+  // the VTU files would have been removed (or a compare run's added), the
+  // rest of that run's results left.
+  {
+    const std::string fine = "out_other_run_in_model_directory/fine";
+    run_case("other_run_in_model_directory",
+             cantilever,
+             {"--set", "Output/Output directory=" + fine});
+    run_case("other_run_in_model_directory", cantilever, {}, false, true);
+    std::set<std::string> files;
+    for (const auto &f : std::filesystem::directory_iterator(fine))
+      files.insert(f.path().filename().string());
+    std::cout << "  " << fine << " holds:";
+    for (const std::string &f : files)
+      std::cout << " " << f;
+    std::cout << "\n" << std::endl;
+  }
   // A run that fails once it has begun to write results (here the first
   // VTU file cannot be written) removes them again, with the directories
   // it made for them.

@@ -25,7 +25,9 @@ namespace ddfem::app
    * Throws ExcMessage naming Output/Output directory before anything is
    * solved if remove_earlier_results() could not remove what it removes
    * from @p directory (VTU files of the directory itself aside, which each
-   * run type checks with its own states); and naming Database/File if
+   * run type checks with its own states), or if a directory where a compare
+   * run keeps a model's VTU files holds another run's parameters.prm (it is
+   * that run's output directory); and naming Database/File if
    * @p database_file (empty: the run uses no database) is a result file
    * that a run writes there or removes as an earlier run's, which would
    * overwrite or delete the database, or is the output directory or a
@@ -37,10 +39,11 @@ namespace ddfem::app
                         const std::string       &database_file);
 
   /**
-   * Removes what an earlier simulation or comparison left in the output
-   * directory @p directory, so that none of it is taken for this run's:
-   * summary.json, the comparison's tables and plot, and every VTU file
-   * there and in the directory of every model a comparison can have.
+   * Removes what an earlier simulation, comparison or DG study left in the
+   * output directory @p directory, so that none of it is taken for this
+   * run's: summary.json, the comparison's tables and plot, the studies'
+   * tables and figures, and every VTU file there and in the directory of
+   * every model a comparison can have.
    */
   void
   remove_earlier_results(const std::string &directory);

@@ -115,6 +115,10 @@ namespace ddfem::dg
     void
     run(const std::string &directory, std::ostream &out) const;
 
+    /// The files run() writes into its directory (result_files()).
+    static std::vector<std::string>
+    result_files();
+
   private:
     /// The smallest and largest of some values (none: lo > hi).
     struct Extent
@@ -206,6 +210,10 @@ namespace ddfem::dg
     run(const std::string &directory,
         const bool         timings,
         std::ostream      &out) const;
+
+    /// The file run() writes into its directory: dg_cost.txt.
+    static std::vector<std::string>
+    result_files();
 
   private:
     Parameters   dg;
