@@ -39,9 +39,7 @@ int
 main(int argc, char **argv)
 {
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
-  for (const char *file :
-       {"compare.h5", "compare.h5.journal", "compare.h5.level2"})
-    std::filesystem::remove(file);
+  ddfem::testing::remove_database("compare.h5");
   std::filesystem::remove_all("compare");
 
   // prm/bending.prm with half the voxels per direction, and layers of three

@@ -331,8 +331,8 @@ main()
     std::cout << "fitted " << fit.n_fit << ", held out " << fit.n_held_out
               << ", rejected " << fit.n_rejected << std::endl;
     std::cout << "median held-out relative energy error "
-              << std::setprecision(2) << fit.median_error
-              << std::setprecision(6) << std::endl;
+              << std::setprecision(2) << fit.median_error << ", largest "
+              << fit.max_error << std::setprecision(6) << std::endl;
     testing::check_below("  stated tolerance: the median",
                          fit.median_error,
                          0.02);

@@ -65,8 +65,7 @@ main(int argc, char **argv)
   std::cout << "solid blocks " << n_blocks << ", mechanism blocks "
             << n_mechanisms << std::endl;
 
-  for (const char *stale : {"lattice.h5", "lattice.h5.journal"})
-    std::filesystem::remove(stale);
+  ddfem::testing::remove_database("lattice.h5");
   std::filesystem::remove_all("lattice");
   const auto [status, json] = ddfem::testing::run_comparison(
     "set Run type = compare\nINCLUDE " + prm +

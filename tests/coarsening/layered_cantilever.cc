@@ -38,9 +38,8 @@ main(int argc, char **argv)
       "E=1e7 nu=0.45; E=1e6 nu=0.45; E=1e5 nu=0.45",
       "3, 2, 1",
       "reversed"}}};
-  for (const char *file :
-       {"layers.h5", "layers.h5.journal", "reversed.h5", "reversed.h5.journal"})
-    std::filesystem::remove(file);
+  for (const char *file : {"layers.h5", "reversed.h5"})
+    ddfem::testing::remove_database(file);
   for (const auto &[label, palette, ids, database] : palettes)
     for (const auto &[axis, bound] : bounds)
       {

@@ -48,8 +48,7 @@ namespace
   errors(const std::string &prm_text, const std::string &name)
   {
     std::filesystem::remove_all(name);
-    for (const std::string suffix : {".h5", ".h5.journal"})
-      std::filesystem::remove(name + suffix);
+    ddfem::testing::remove_database(name + ".h5");
     const auto [status, json] = ddfem::testing::run_comparison(prm_text, name);
     std::map<std::pair<std::string, int>, std::array<double, 2>> result;
     bool converged = true;

@@ -36,7 +36,8 @@ main()
     return F;
   };
 
-  double stress_error = 0, tangent_error = 0, asymmetry = 0;
+  double       stress_error = 0, tangent_error = 0, asymmetry = 0;
+  unsigned int evaluated = 0; // trials with det F > 0.2
   for (unsigned int trial = 0; trial < 200; ++trial)
     {
       material::MaterialPoint m;
@@ -50,6 +51,7 @@ main()
       const Tensor<2, 3> F = random_deformation();
       if (determinant(F) <= 0.2)
         continue;
+      ++evaluated;
 
       material::KernelResult r;
       material::evaluate(F, m, material::KernelOutput::tangent, r);
@@ -83,6 +85,8 @@ main()
                 }
           }
     }
+  std::cout << "deformations evaluated: " << evaluated << " of 200"
+            << std::endl;
   testing::check_below("stress vs finite difference of energy, relative",
                        stress_error,
                        1e-7);
@@ -234,7 +238,8 @@ main()
   // the energy nor the stress beyond P(Q F) = Q P(F); rotating the body
   // and the spring's direction together, psi(F Q^T; Q v) = psi(F; v).
   {
-    double objectivity = 0, material_rotation = 0;
+    double       objectivity = 0, material_rotation = 0;
+    unsigned int rotated_trials = 0; // with det F > 0.2
     for (unsigned int trial = 0; trial < 50; ++trial)
       {
         material::MaterialPoint p;
@@ -248,6 +253,7 @@ main()
         const Tensor<2, 3> F = random_deformation();
         if (determinant(F) <= 0.2)
           continue;
+        ++rotated_trials;
         material::KernelResult plain, rotated, turned;
         material::evaluate(F, p, material::KernelOutput::stress, plain);
         material::evaluate(Q * F, p, material::KernelOutput::stress, rotated);
@@ -266,6 +272,8 @@ main()
           testing::worst(material_rotation,
                          std::abs(turned.energy - plain.energy) / plain.energy);
       }
+    std::cout << "rotated deformations evaluated: " << rotated_trials
+              << " of 50" << std::endl;
     testing::check_below("psi(QF) and P(QF) against psi(F) and Q P(F), "
                          "relative",
                          objectivity,

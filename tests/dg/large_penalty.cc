@@ -58,11 +58,17 @@ main(int argc, char **argv)
                      ref) /
             std::abs(ref);
           // The difference is O(1/eta): each decade of eta divides it by
-          // about 10. The last decade of IP is at round-off's level (9.25
-          // and 9.51 on two hosts), so the factor is checked against a
-          // range, not printed.
-          std::cout << "  eta = " << std::setw(6) << eta
-                    << ": |DG - CG| / |CG| = " << std::setprecision(3) << d;
+          // about 10, and eta times it is printed, O(1) and so held to its
+          // digits by the comparison of the output. The last decade of IP
+          // is at round-off's level (factors 9.25 and 9.51 on two hosts),
+          // so at the largest eta only the factor's range is checked.
+          std::cout << "  eta = " << std::setw(6) << eta << ": ";
+          if (eta < 1e5)
+            std::cout << "eta |DG - CG| / |CG| = " << std::setprecision(3)
+                      << eta * d;
+          else
+            std::cout << "|DG - CG| / |CG| below 10^-5: "
+                      << (d < 1e-5 ? "yes" : "NO");
           if (previous < std::numeric_limits<double>::max())
             std::cout << ", 8 to 12 times smaller: "
                       << (previous / d > 8 && previous / d < 12 ? "yes" : "NO");
@@ -70,7 +76,6 @@ main(int argc, char **argv)
           monotone = monotone && d < previous;
           previous = d;
         }
-      std::cout << "  decreasing: " << (monotone ? "yes" : "NO") << "\n  ";
-      testing::check_below("last difference", previous, 1e-5);
+      std::cout << "  decreasing: " << (monotone ? "yes" : "NO") << std::endl;
     }
 }
