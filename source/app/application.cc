@@ -382,6 +382,96 @@ namespace ddfem::app
     }
 
     /**
+     * Throws before anything is solved or written if a result could not
+     * be written into the output directory @p directory: it cannot be
+     * created, or something other than a regular file is in the way of
+     * summary.json, parameters.prm or the VTU files (written by @p vtu) of
+     * @p n_states scene states (0: a DG run's solution.vtu only), or of an
+     * earlier run's results that write_output() removes, or
+     * @p database_file (empty: none) is one of these
+     * (check_earlier_results()).
+     */
+    void
+    check_output(const std::string       &directory,
+                 const report::VtuWriter &vtu,
+                 const unsigned int       n_states,
+                 const std::string       &database_file)
+    {
+      check_writable_in(directory,
+                        {"parameters.prm"},
+                        "Output/Output directory");
+      check_earlier_results(directory, vtu, database_file);
+      vtu.check_writable(directory, n_states);
+    }
+
+    /**
+     * Creates the output directory @p directory, removes the results an
+     * earlier run left there (remove_earlier_results()), writes @p prm as
+     * parameters.prm and runs @p write_results, which writes this run's
+     * results (all after check_output()); returns what @p write_results
+     * returns. If anything throws, what was written is removed again,
+     * parameters.prm and the directories made for it included: a failed
+     * run leaves nothing of its own (a run that is killed leaves the
+     * parameters of what it wrote). A run started from that parameters.prm
+     * (one of its @p inputs, the parameter file and the files it includes)
+     * puts it back as it was instead: it is the run's input.
+     */
+    int
+    write_output(const std::string              &directory,
+                 const std::vector<std::string> &inputs,
+                 const ParameterHandler         &prm,
+                 const std::function<int()>     &write_results)
+    {
+      const std::string          used_file = directory + "/parameters.prm";
+      const std::string          used_path = resolved_path(used_file).string();
+      std::error_code            error;
+      std::optional<std::string> input;
+      if (std::find(inputs.begin(), inputs.end(), used_path) != inputs.end())
+        {
+          std::ifstream      file(used_file, std::ios::binary);
+          std::ostringstream bytes;
+          bytes << file.rdbuf();
+          AssertThrow(file.good() || file.eof(),
+                      ExcMessage("Cannot read \"" + used_file +
+                                 "\", the parameter file of this run, "
+                                 "before replacing it."));
+          input = bytes.str();
+        }
+      const auto made =
+        create_directories(directory, "Output/Output directory");
+      remove_earlier_results(directory);
+      try
+        {
+          ResultFile used(used_file, "Output/Output directory");
+          prm.print_parameters(used.stream(), ParameterHandler::ShortPRM);
+          used.commit();
+          return write_results();
+        }
+      catch (...)
+        {
+          // Best effort: the error to report is the first one. This run's
+          // parameters.prm goes (the run's input goes back) before the
+          // directories made for it are removed where empty.
+          try
+            {
+              std::filesystem::remove(used_file, error);
+              if (input)
+                {
+                  ResultFile restored(used_file, "Output/Output directory");
+                  restored.stream() << *input;
+                  restored.commit();
+                }
+            }
+          catch (...)
+            {}
+          remove_failed_results(directory, made);
+          throw;
+        }
+    }
+
+
+
+    /**
      * One simulation of a scene with a continuous method (fine, ddfem,
      * naive or average) or the DG method: builds the discretization,
      * solves, writes VTU and summary.json.
@@ -440,89 +530,6 @@ namespace ddfem::app
       }
 
     private:
-      /**
-       * Throws before anything is solved or written if a result could not
-       * be written: the output directory cannot be created, or something
-       * other than a regular file is in the way of summary.json,
-       * parameters.prm or the VTU files of @p n_states scene states (0: a
-       * DG run's solution.vtu only), or of an earlier run's results that
-       * write_output() removes, or if Database/File is one of these
-       * (check_earlier_results()).
-       */
-      void
-      check_output(const unsigned int n_states) const
-      {
-        check_writable_in(directory,
-                          {"parameters.prm"},
-                          "Output/Output directory");
-        check_earlier_results(directory,
-                              vtu,
-                              method == "ddfem" ? database.file() : "");
-        vtu.check_writable(directory, n_states);
-      }
-
-      /**
-       * Creates the output directory, removes the results an earlier run
-       * left there (remove_earlier_results()), writes parameters.prm and
-       * runs @p write_results, which writes this run's results (all after
-       * check_output()); returns what @p write_results returns. If anything
-       * throws, what was written is removed again, parameters.prm and the
-       * directories made for it included: a failed run leaves nothing of its
-       * own (a run that is killed leaves the parameters of what it wrote).
-       * A run started from that parameters.prm (or from a file that includes
-       * it) puts it back as it was instead: it is the run's input.
-       */
-      int
-      write_output(const ParameterHandler     &prm,
-                   const std::function<int()> &write_results) const
-      {
-        const std::string used_file = directory + "/parameters.prm";
-        const std::string used_path = resolved_path(used_file).string();
-        std::error_code   error;
-        std::optional<std::string> input;
-        if (std::find(inputs.begin(), inputs.end(), used_path) != inputs.end())
-          {
-            std::ifstream      file(used_file, std::ios::binary);
-            std::ostringstream bytes;
-            bytes << file.rdbuf();
-            AssertThrow(file.good() || file.eof(),
-                        ExcMessage("Cannot read \"" + used_file +
-                                   "\", the parameter file of this run, "
-                                   "before replacing it."));
-            input = bytes.str();
-          }
-        const auto made =
-          create_directories(directory, "Output/Output directory");
-        remove_earlier_results(directory);
-        try
-          {
-            ResultFile used(used_file, "Output/Output directory");
-            prm.print_parameters(used.stream(), ParameterHandler::ShortPRM);
-            used.commit();
-            return write_results();
-          }
-        catch (...)
-          {
-            // Best effort: the error to report is the first one. This run's
-            // parameters.prm goes (the run's input goes back) before the
-            // directories made for it are removed where empty.
-            try
-              {
-                std::filesystem::remove(used_file, error);
-                if (input)
-                  {
-                    ResultFile restored(used_file, "Output/Output directory");
-                    restored.stream() << *input;
-                    restored.commit();
-                  }
-              }
-            catch (...)
-              {}
-            remove_failed_results(directory, made);
-            throw;
-          }
-      }
-
       /// Writes @p summary as summary.json.
       void
       write_summary(const nlohmann::json &summary) const
@@ -538,7 +545,7 @@ namespace ddfem::app
       {
         Timer total;
         // Before the setup, whose penalty check costs most of the solve.
-        check_output(0);
+        check_output(directory, vtu, 0, "");
         dg::SceneSolver solver(scene, dg_parameters, linear_solver);
         solver.setup();
         const auto &n      = scene.grid.size();
@@ -565,7 +572,7 @@ namespace ddfem::app
         // Every VTU file of an earlier run is removed, solution.vtu with
         // them (a DG run writes no continuous states).
         const unsigned int solves = solver.solve();
-        return write_output(prm, [&]() {
+        return write_output(directory, inputs, prm, [&]() {
           if (vtu.enabled())
             solver.write_vtu(directory + "/solution.vtu");
 
@@ -614,7 +621,10 @@ namespace ddfem::app
         Timer total;
         // Files that could not be written are found before a database
         // preparation or a solve.
-        check_output(scene.n_edits() + 1);
+        check_output(directory,
+                     vtu,
+                     scene.n_edits() + 1,
+                     method == "ddfem" ? database.file() : "");
         // The coarse material source: the database (completed lazily for
         // this scene's blocks, in every edited state) or a baseline.
         std::optional<coarsening::Database>    level1;
@@ -675,7 +685,7 @@ namespace ddfem::app
               << linear_solver.method() << std::endl;
 
         // All input is valid: from here on, results are written.
-        return write_output(prm, [&]() {
+        return write_output(directory, inputs, prm, [&]() {
           nlohmann::json summary;
           summary["scene"]           = scene_name;
           summary["method"]          = method;
@@ -802,42 +812,38 @@ namespace ddfem::app
 
     /**
      * Run types "dg convergence" and "dg cost": the DG studies of
-     * subsections "DG convergence" and "DG cost" (the scene is ignored).
-     * Removes an earlier run's results from the output directory first
-     * (remove_earlier_results()), and writes parameters.prm once the study
-     * is done.
+     * subsections "DG convergence" and "DG cost" (the scene is ignored),
+     * read from the parameter file and the files it includes, @p inputs.
+     * Checks the study's settings and its output (check_output()) before it
+     * writes its results as a simulation does (write_output()).
      */
     int
-    run_dg_study(const std::string &run_type,
-                 ParameterHandler  &prm,
-                 std::ostream      &out)
+    run_dg_study(const std::string              &run_type,
+                 ParameterHandler               &prm,
+                 const std::vector<std::string> &inputs,
+                 std::ostream                   &out)
     {
       const OutputSettings output(prm);
       report::VtuWriter    vtu;
       vtu.parse_parameters(prm);
-      check_writable_in(output.directory,
-                        {"parameters.prm"},
-                        "Output/Output directory");
-      check_earlier_results(output.directory, vtu, "");
-      if (std::filesystem::is_directory(output.directory))
-        remove_earlier_results(output.directory);
-      if (run_type == "dg convergence")
+      const bool           convergence = (run_type == "dg convergence");
+      dg::ConvergenceStudy convergence_study;
+      dg::CostStudy        cost_study;
+      if (convergence)
         {
-          dg::ConvergenceStudy study;
-          study.parse_parameters(prm);
-          study.run(output.directory, out);
+          convergence_study.parse_parameters(prm);
+          report::check_gnuplot("dg convergence");
         }
       else
-        {
-          dg::CostStudy study;
-          study.parse_parameters(prm);
-          study.run(output.directory, output.screen_timings, out);
-        }
-      ResultFile used(output.directory + "/parameters.prm",
-                      "Output/Output directory");
-      prm.print_parameters(used.stream(), ParameterHandler::ShortPRM);
-      used.commit();
-      return 0;
+        cost_study.parse_parameters(prm);
+      check_output(output.directory, vtu, 0, "");
+      return write_output(output.directory, inputs, prm, [&]() {
+        if (convergence)
+          convergence_study.run(output.directory, out);
+        else
+          cost_study.run(output.directory, output.screen_timings, out);
+        return 0;
+      });
     }
   } // namespace
 
@@ -1158,7 +1164,7 @@ namespace ddfem::app
         if (run_type == "database")
           return build_database(prm, out);
         if (run_type == "dg convergence" || run_type == "dg cost")
-          return run_dg_study(run_type, prm, out);
+          return run_dg_study(run_type, prm, input_files, out);
         if (run_type == "compare")
           return run_comparison(prm, prm_file, out, err);
         Simulation simulation(out, err);

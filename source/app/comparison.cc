@@ -542,11 +542,31 @@ namespace ddfem::app
                     ExcMessage("Output/Output directory = '" + directory +
                                "': '" + d +
                                "', where a compare run keeps a model's VTU "
-                               "files, holds another run's results (its "
-                               "parameters.prm), whose VTU files this run "
-                               "would remove or add to. Use another output "
-                               "directory, or move that run's results."));
+                               "files (and any run into '" +
+                               directory +
+                               "' removes them as an earlier run's), holds "
+                               "another run's results (its parameters.prm). "
+                               "Use another output directory, or move that "
+                               "run's results."));
       }
+    // Nor may this run's directory be a model directory of a compare run,
+    // whose VTU files it would remove or add to.
+    std::filesystem::path path =
+      std::filesystem::path(directory).lexically_normal();
+    if (!path.has_filename())
+      path = path.parent_path();
+    const std::filesystem::path parent =
+      path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
+    std::error_code error;
+    for (const std::string &d : all_model_directories(parent.string()))
+      AssertThrow(std::filesystem::path(d).filename() != path.filename() ||
+                    !std::filesystem::exists(parent / "comparison.json", error),
+                  ExcMessage("Output/Output directory = '" + directory +
+                             "' is where the compare run in '" +
+                             parent.string() +
+                             "' (its comparison.json) keeps a model's VTU "
+                             "files: this run would remove them or add to "
+                             "them. Use another output directory."));
     if (database_file.empty())
       return;
     // The file and the directory it lies in, with their links followed.

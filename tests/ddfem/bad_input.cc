@@ -1342,22 +1342,53 @@ end
     "summary.json");
   run_in_existing_directory(
     "simulation_after_dg_study", "", cantilever, {}, "dg_cost.txt");
+  // A study whose settings are wrong removes nothing.
+  run_in_existing_directory(
+    "dg_study_bad_refinements",
+    "",
+    "set Run type = dg convergence\nsubsection DG convergence\n"
+    "  set 2D refinements = 3, 1\nend\n",
+    {},
+    "summary.json");
   // Another run's results where a compare run keeps a model's VTU files:
-  // the VTU files would have been removed (or a compare run's added), the
-  // rest of that run's results left.
+  // a simulation or compare run into the parent removed its VTU files (or
+  // a compare run added its own), and left the rest of that run's results.
+  // Nor may a run write into a compare run's model directory. (The runs
+  // write into model_directories, which "output written" does not see:
+  // the listing shows what is there.)
   {
-    const std::string fine = "out_other_run_in_model_directory/fine";
-    run_case("other_run_in_model_directory",
-             cantilever,
-             {"--set", "Output/Output directory=" + fine});
-    run_case("other_run_in_model_directory", cantilever, {}, false, true);
-    std::set<std::string> files;
-    for (const auto &f : std::filesystem::directory_iterator(fine))
-      files.insert(f.path().filename().string());
-    std::cout << "  " << fine << " holds:";
-    for (const std::string &f : files)
-      std::cout << " " << f;
-    std::cout << "\n" << std::endl;
+    const std::string parent = "model_directories", fine = parent + "/fine";
+    const std::string file = parent + ".prm";
+    std::ofstream(file) << cantilever
+                        << "subsection Output\n  set Screen timings = "
+                           "false\nend\n";
+    const auto into = [&](const std::string              &directory,
+                          const std::vector<std::string> &extra) {
+      std::vector<std::string> arguments = {
+        file, "--set", "Output/Output directory=" + directory};
+      arguments.insert(arguments.end(), extra.begin(), extra.end());
+      return arguments;
+    };
+    const auto list = [&](const std::string &directory) {
+      std::set<std::string> files;
+      for (const auto &f : std::filesystem::directory_iterator(directory))
+        files.insert(f.path().filename().string());
+      std::cout << "  " << directory << " holds:";
+      for (const std::string &f : files)
+        std::cout << " " << f;
+      std::cout << "\n" << std::endl;
+    };
+    std::ostringstream ignored;
+    std::filesystem::remove_all(parent);
+    app::run(into(fine, {}), ignored, ignored);
+    report_run("other_run_in_model_directory", into(parent, {}));
+    report_run("other_run_in_model_directory_compare",
+               into(parent, compare_naive));
+    list(fine);
+    std::filesystem::remove_all(parent);
+    app::run(into(parent, compare_naive), ignored, ignored);
+    report_run("run_into_model_directory", into(fine, {}));
+    list(fine);
   }
   // A run that fails once it has begun to write results (here the first
   // VTU file cannot be written) removes them again, with the directories

@@ -27,7 +27,9 @@ namespace ddfem::app
    * from @p directory (VTU files of the directory itself aside, which each
    * run type checks with its own states), or if a directory where a compare
    * run keeps a model's VTU files holds another run's parameters.prm (it is
-   * that run's output directory); and naming Database/File if
+   * that run's output directory), or if @p directory is such a directory
+   * of a compare run (its parent holds comparison.json); and naming
+   * Database/File if
    * @p database_file (empty: the run uses no database) is a result file
    * that a run writes there or removes as an earlier run's, which would
    * overwrite or delete the database, or is the output directory or a

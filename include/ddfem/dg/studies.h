@@ -115,7 +115,8 @@ namespace ddfem::dg
     void
     run(const std::string &directory, std::ostream &out) const;
 
-    /// The files run() writes into its directory (result_files()).
+    /// The tables and both problems' figures that run() may write into its
+    /// directory.
     static std::vector<std::string>
     result_files();
 
