@@ -550,23 +550,31 @@ namespace ddfem::app
                                "run's results."));
       }
     // Nor may this run's directory be a model directory of a compare run,
-    // whose VTU files it would remove or add to.
-    std::filesystem::path path =
+    // whose VTU files it would remove or add to: as named (a link there
+    // may lead elsewhere) and as resolved ('.', '..', links).
+    std::vector<std::string> model_names;
+    for (const std::string &d : all_model_directories("."))
+      model_names.push_back(std::filesystem::path(d).filename().string());
+    std::filesystem::path named =
       std::filesystem::path(directory).lexically_normal();
-    if (!path.has_filename())
-      path = path.parent_path();
-    const std::filesystem::path parent =
-      path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
-    std::error_code error;
-    for (const std::string &d : all_model_directories(parent.string()))
-      AssertThrow(std::filesystem::path(d).filename() != path.filename() ||
-                    !std::filesystem::exists(parent / "comparison.json", error),
-                  ExcMessage("Output/Output directory = '" + directory +
-                             "' is where the compare run in '" +
-                             parent.string() +
-                             "' (its comparison.json) keeps a model's VTU "
-                             "files: this run would remove them or add to "
-                             "them. Use another output directory."));
+    if (!named.has_filename())
+      named = named.parent_path();
+    for (const std::filesystem::path &path : {named, resolved_path(directory)})
+      {
+        const std::filesystem::path parent =
+          path.has_parent_path() ? path.parent_path() : ".";
+        std::error_code error;
+        AssertThrow(
+          std::find(model_names.begin(),
+                    model_names.end(),
+                    path.filename().string()) == model_names.end() ||
+            !std::filesystem::exists(parent / "comparison.json", error),
+          ExcMessage("Output/Output directory = '" + directory +
+                     "' is where the compare run in '" + parent.string() +
+                     "' (its comparison.json) keeps a model's VTU "
+                     "files: this run would remove them or add to "
+                     "them. Use another output directory."));
+      }
     if (database_file.empty())
       return;
     // The file and the directory it lies in, with their links followed.

@@ -445,20 +445,6 @@ namespace ddfem::dg
       std::replace(problem.begin(), problem.end(), ' ', '_');
       return "dg_convergence_" + problem + ".png";
     }
-
-    /**
-     * Throws if a file of @p files in @p directory could not be written;
-     * otherwise removes those an earlier run left, so that a study that
-     * fails leaves none of them, and one of other problems no figure of
-     * another study.
-     */
-    void
-    replace_earlier(const std::string              &directory,
-                    const std::vector<std::string> &files)
-    {
-      check_writable_in(directory, files, "Output/Output directory");
-      remove_earlier_in(directory, files, "Output/Output directory");
-    }
   } // namespace
 
 
@@ -480,10 +466,7 @@ namespace ddfem::dg
   ConvergenceStudy::run(const std::string &directory, std::ostream &out) const
   {
     // The tables are written once the study is complete: a study that
-    // fails (out of memory, say) leaves no partial files; nor does one
-    // whose figures could not be drawn.
-    report::check_gnuplot("dg convergence");
-    replace_earlier(directory, result_files());
+    // fails (out of memory, say) leaves no partial files.
     std::ostringstream text, csv;
     csv << "problem,method,cells,dofs,L2,H1,jump,condition_estimate,eta\n";
     csv << std::setprecision(6);
@@ -586,7 +569,6 @@ namespace ddfem::dg
           table.write_text(text);
           text << verdict;
         }
-    create_directories(directory, "Output/Output directory");
     for (const auto &[name, content] :
          {std::make_pair("dg_convergence.txt", text.str()),
           std::make_pair("dg_convergence.csv", csv.str()),
@@ -737,7 +719,6 @@ namespace ddfem::dg
                  const bool         timings,
                  std::ostream      &out) const
   {
-    replace_earlier(directory, result_files());
     // One thread, as the paper's timings and so that integration and
     // assembly times are separable; the caller's limit again afterwards,
     // also when a solve throws.
@@ -807,7 +788,6 @@ namespace ddfem::dg
         file << row.str() << time_row.str() << "\n";
       }
     out << (timings ? file.str() : screen.str());
-    create_directories(directory, "Output/Output directory");
     ResultFile text(directory + "/dg_cost.txt", "Output/Output directory");
     text.stream() << file.str();
     text.commit();

@@ -1384,10 +1384,15 @@ end
     report_run("other_run_in_model_directory", into(parent, {}));
     report_run("other_run_in_model_directory_compare",
                into(parent, compare_naive));
+    list(parent);
     list(fine);
     std::filesystem::remove_all(parent);
     app::run(into(parent, compare_naive), ignored, ignored);
     report_run("run_into_model_directory", into(fine, {}));
+    // The same directory through a link.
+    std::filesystem::remove("link_to_fine");
+    std::filesystem::create_directory_symlink(fine, "link_to_fine");
+    report_run("run_into_model_directory_link", into("link_to_fine", {}));
     list(fine);
   }
   // A run that fails once it has begun to write results (here the first

@@ -110,13 +110,15 @@ namespace ddfem::dg
     /**
      * Runs the study, prints the tables to @p out, writes them to
      * dg_convergence.txt, .csv and .dat in @p directory, and draws them
-     * (plot()).
+     * (plot(), with gnuplot: report::check_gnuplot() tells beforehand
+     * whether it works). @p directory must exist and hold no earlier run's
+     * results (the application's write_output() sees to both).
      */
     void
     run(const std::string &directory, std::ostream &out) const;
 
-    /// The tables and both problems' figures that run() may write into its
-    /// directory.
+    /// The tables, the gnuplot script and both problems' figures that
+    /// run() may write into its directory.
     static std::vector<std::string>
     result_files();
 
@@ -205,7 +207,8 @@ namespace ddfem::dg
 
     /**
      * Runs the comparison, prints the table to @p out (times only if
-     * @p timings) and writes it with times to dg_cost.txt in @p directory.
+     * @p timings) and writes it with times to dg_cost.txt in @p directory,
+     * which must exist (the application's write_output() makes it).
      */
     void
     run(const std::string &directory,
