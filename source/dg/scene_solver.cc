@@ -215,11 +215,13 @@ namespace ddfem::dg
           if (cell->face(f)->at_boundary())
             {
               faces.push_back(solver::voxel_face(cell, f));
-              face_nodes.push_back(
-                weak ? face_points(cell, f) :
-                       faces.back().node_points(parameters.degree));
-              for (const Point<3> &x : face_points(cell, f))
+              const std::vector<Point<3>> quadrature_points =
+                face_points(cell, f);
+              for (const Point<3> &x : quadrature_points)
                 bc.traction(faces.back().center, x, faces.back().normal);
+              face_nodes.push_back(
+                weak ? quadrature_points :
+                       faces.back().node_points(parameters.degree));
             }
         const std::size_t part = parts.find(cell->active_cell_index());
         for (const Point<3> &x : dirichlet_points(cell))

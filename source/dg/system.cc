@@ -1259,20 +1259,13 @@ namespace ddfem::dg
             for (unsigned int i = 0; i < dofs.size(); ++i)
               F[fe.system_to_component_index(i).first] +=
                 u[dofs[i]] * fv.shape_grad(i, q);
-            // Values equal up to round-off (symmetric cells) go to the
-            // lexicographically first point, so that the place reported
-            // does not depend on the round-off of the solution.
-            const double     J     = determinant(F);
-            const Point<dim> x     = fv.quadrature_point(q) + shift;
-            const auto       first = [&]() {
-              for (unsigned int d = 0; d < dim; ++d)
-                if (x[d] != smallest.second[d])
-                  return x[d] < smallest.second[d];
-              return false;
-            };
-            if (!(J >= smallest.first - 1e-8) ||
-                (J <= smallest.first + 1e-8 && first()))
-              smallest = {std::min(J, smallest.first), x};
+            // Values equal up to round-off (symmetric cells) keep the first
+            // in cell order, as StaticSolver::smallest_vertex_jacobian()
+            // does, so that the place reported does not depend on the
+            // round-off of the solution.
+            const double J = determinant(F);
+            if (!(J >= smallest.first - 1e-9 * std::abs(J)))
+              smallest = {J, fv.quadrature_point(q) + shift};
           }
       }
     return smallest;
