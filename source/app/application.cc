@@ -129,18 +129,28 @@ namespace ddfem::app
       return result;
     }
 
-    /// Whether a parameter file can hold @p value: no line break, no '#'
-    /// (which starts a comment), no tab (which ParameterHandler reads as a
-    /// space), no final '\' (which continues the line), no control
-    /// character, no white space at either end (which ParameterHandler
-    /// trims).
-    bool
-    fits_in_parameter_file(const std::string &value)
+    /// Why a parameter file cannot hold @p value, as the end of a sentence
+    /// ("holds '#'"), or "" if it can: a line break ends the line, '#'
+    /// starts a comment, ParameterHandler reads a tab as a space, a final
+    /// '\' continues the line, a control character is refused, and white
+    /// space at either end is trimmed.
+    std::string
+    parameter_file_misfit(const std::string &value)
     {
-      return value.find_first_of("\n\r\t#") == std::string::npos &&
-             (value.empty() || value.back() != '\\') &&
-             first_control_character(value, "").empty() &&
-             value == Utilities::trim(value);
+      if (value.find_first_of("\n\r") != std::string::npos)
+        return "holds a line break";
+      if (value.find('#') != std::string::npos)
+        return "holds '#'";
+      if (value.find('\t') != std::string::npos)
+        return "holds a tab";
+      if (const std::string control = first_control_character(value, "");
+          !control.empty())
+        return "holds the control character " + control;
+      if (!value.empty() && value.back() == '\\')
+        return "ends in '\\'";
+      if (value != Utilities::trim(value))
+        return "starts or ends with white space";
+      return "";
     }
 
 
@@ -150,7 +160,7 @@ namespace ddfem::app
      * becomes 'Scene name' in @p prm, so that a rerun from the run's
      * parameters.prm keeps it. Throws ExcMessage if it is not UTF-8 text,
      * which the JSON results need, or holds a control character, or is a
-     * stem that a parameter file cannot hold (fits_in_parameter_file()).
+     * stem that a parameter file cannot hold (parameter_file_misfit()).
      */
     std::string
     scene_name_of(ParameterHandler &prm, const std::string &prm_file)
@@ -187,14 +197,15 @@ namespace ddfem::app
                              ". Set 'Scene name', or rename the file."));
       if (given.empty())
         {
-          AssertThrow(fits_in_parameter_file(name),
+          const std::string misfit = parameter_file_misfit(name);
+          AssertThrow(misfit.empty(),
                       ExcMessage("The parameter file's name, the scene's "
-                                 "name while 'Scene name' is empty, holds "
-                                 "'#', ends in '\\' or starts or ends with "
-                                 "white space, which the run's parameters.prm "
-                                 "could not hold (a rerun from it would take "
-                                 "another name). Set 'Scene name', or rename "
-                                 "the file."));
+                                 "name while 'Scene name' is empty, " +
+                                 misfit +
+                                 ", which the run's parameters.prm could not "
+                                 "hold (a rerun from it would take another "
+                                 "name). Set 'Scene name', or rename the "
+                                 "file."));
           prm.set("Scene name", name);
         }
       return name;
@@ -202,7 +213,7 @@ namespace ddfem::app
 
     /**
      * Throws ExcMessage naming the parameter and @p prm_file if a value of
-     * @p prm cannot be held by a parameter file (fits_in_parameter_file()):
+     * @p prm cannot be held by a parameter file (parameter_file_misfit()):
      * only an XML or JSON file can give one (call it for those), and the
      * run's parameters.prm would not repeat it.
      */
@@ -220,19 +231,13 @@ namespace ddfem::app
               {
                 const std::string text =
                   value.is_string() ? value.get<std::string>() : "";
-                const std::string control =
-                  first_control_character(text, "\t\n\r");
-                AssertThrow(fits_in_parameter_file(text),
-                            ExcMessage(
-                              "In parameter file \"" + prm_file +
-                              "\": " + path + name + " holds " +
-                              (control.empty() ?
-                                 "a line break, '#' or a tab, ends in '\\' "
-                                 "or starts or ends with white space," :
-                                 "the control character " + control + ",") +
-                              " which the run's parameters.prm could not "
-                              "hold (a rerun from it would read another "
-                              "value)."));
+                const std::string misfit = parameter_file_misfit(text);
+                AssertThrow(misfit.empty(),
+                            ExcMessage("In parameter file \"" + prm_file +
+                                       "\": " + path + name + " " + misfit +
+                                       ", which the run's parameters.prm "
+                                       "could not hold (a rerun from it would "
+                                       "read another value)."));
               }
         };
       nlohmann::json values;
@@ -324,11 +329,10 @@ namespace ddfem::app
       AssertThrow(text.find_first_of("\n\r") == std::string::npos,
                   ExcMessage("--set \"" + text +
                              "\": a value must not contain a line break."));
-      AssertThrow(fits_in_parameter_file(value),
-                  ExcMessage("--set \"" + text +
-                             "\": a value must not contain '#' or a tab, or "
-                             "end in '\\', which a parameter file cannot "
-                             "hold."));
+      const std::string misfit = parameter_file_misfit(value);
+      AssertThrow(misfit.empty(),
+                  ExcMessage("--set \"" + text + "\": the value " + misfit +
+                             ", which a parameter file cannot hold."));
       // A misspelt subsection or parameter is named as such (deal.II would
       // create the misspelt subsection and then report a missing entry).
       const std::string name     = text.substr(0, equal);
