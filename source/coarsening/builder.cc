@@ -963,8 +963,9 @@ namespace ddfem::coarsening
     lazy.levels            = level;
     lazy.run_scope         = Scope::scene;
     lazy.n_representatives = 0; // only a complete database is compressed
-    const auto held        = lazy.lock(palette, out);
-    Database   database    = lazy.open(palette, level2, out);
+    lazy.check_scene(palette, grids);
+    const auto held     = lazy.lock(palette, out);
+    Database   database = lazy.open(palette, level2, out);
     lazy.build(palette, database, level2, &grids, out, false);
     return database;
   }

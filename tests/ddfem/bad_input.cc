@@ -1291,6 +1291,25 @@ end
   std::cout << "  database directory made: "
             << std::filesystem::exists("level2_void") << "\n"
             << std::endl;
+  // So are a simulation's and a compare run's, which fit lazily.
+  for (const std::string run : {"simulation", "compare"})
+    {
+      const std::string directory = "level2_void_" + run;
+      std::filesystem::remove_all(directory);
+      run_case("database_level2_void_without_void_" + run,
+               testing::cantilever("4, 8, 4", "0; 0; -100") +
+                 "set Run type = " + run +
+                 "\nset Method = ddfem\nset Coarsening levels = 2\n"
+                 "subsection Comparison\n  set Methods = ddfem\n"
+                 "  set Levels = 2\nend\n" +
+                 testing::cheap_lazy_database(directory + "/db.h5") +
+                 "subsection Database\n  set Include void = false\nend\n"
+                 "subsection Layout\n  set Shapes = box 0 0.04 0.02 0.04 "
+                 "0.08 0.04 : 0\nend\n");
+      std::cout << "  database directory made: "
+                << std::filesystem::exists(directory) << "\n"
+                << std::endl;
+    }
   // So are VTU files of any load step (the message names the file; deal.II's
   // writers would throw a generic input/output error), of an edited state,
   // of a DG solve and of a compare run's model.

@@ -116,7 +116,7 @@ namespace ddfem::coarsening
      * Database/Levels cannot coarsen, or a block that the database cannot
      * hold (void next to solid voxels without Database/Include void).
      * build() finds these too, but only after lock() has made the file's
-     * directory and lock file; this writes nothing.
+     * directory and lock file; this writes nothing. prepare() calls it.
      */
     void
     check_scene(const scene::Palette                &palette,
@@ -184,9 +184,10 @@ namespace ddfem::coarsening
 
     /**
      * Lazy mode for a coarse simulation at coarsening @p level (1 or 2):
-     * locks (lock()) and opens the database, fits the metamaterials the blocks
-     * of @p grids (the states of a scene) need at that level if they are
-     * missing (appending them to the file), and returns the database, with
+     * checks the blocks of @p grids (check_scene(), before anything is
+     * written), locks (lock()) and opens the database, fits the metamaterials
+     * the blocks of @p grids (the states of a scene) need at that level if they
+     * are missing (appending them to the file), and returns the database, with
      * the level 2 the file has in @p level2 (at level 2, the tables and
      * entries that the blocks of @p grids need).
      */
