@@ -335,8 +335,8 @@ namespace ddfem::app
      * of the first state against its wall time, log-log, one marker per
      * method and level; the times of the fine runs that reached the full load
      * as vertical lines, and the error of each level's grid fit as a horizontal
-     * one. If no coarse model of the first state has an error, says so on
-     * @p out instead.
+     * one. If no coarse model of the first state has an error above 0,
+     * says so on @p out instead.
      */
     void
     plot(const std::vector<Row> &rows,
@@ -352,8 +352,9 @@ namespace ddfem::app
         {
           out << "No error_vs_time.png: no coarse model of state "
               << rows.front().state
-              << " has a vertex error (none ran, reached the full load, or "
-                 "had a fine solution at the full load to compare with)."
+              << " has a vertex error above 0 (none ran, reached the full "
+                 "load, or had a fine solution at the full load to compare "
+                 "with; or every error is 0, which a log axis cannot show)."
               << std::endl;
           return;
         }

@@ -51,10 +51,14 @@ namespace ddfem::coarsening
     prm.declare_entry("Minimum strain",
                       "0.02",
                       Patterns::Double(1e-6, 1),
-                      "Linearized strain (largest principal strain of the "
-                      "block's linear response) of the smallest magnitude. "
+                      "Linearized strain of the smallest magnitude: the "
+                      "largest principal strain over the block's points of "
+                      "its linear response to a force pattern, or of the "
+                      "homogeneous strain of an embedded pattern (relaxed, "
+                      "the soft children of a mixed block strain more). "
                       "Magnitudes are scaled per block, so soft and stiff "
-                      "blocks are sampled over the same strains.");
+                      "blocks are sampled over the same strains. A build "
+                      "prints the range of finite strains it sampled.");
     prm.declare_entry("Maximum strain",
                       "0.25",
                       Patterns::Double(1e-6, 1),
@@ -73,8 +77,10 @@ namespace ddfem::coarsening
                       "Force patterns are tractions sigma(x) n on the block's "
                       "surface from a random stress sigma0 + sum_d (2 x_d - 1) "
                       "sigma_d, all entries standard normal; this scales the "
-                      "linear part. 0.25 lets the stress vary by a quarter "
-                      "across a block, as in smooth fields two voxels wide.");
+                      "linear part. With 0.25 the stress varies by +-0.25 "
+                      "sigma_d about its value at the block's center (by half "
+                      "of sigma_d across the block), as in smooth fields two "
+                      "voxels wide.");
     prm.declare_entry("Stretch directions",
                       "500",
                       Patterns::Integer(3),

@@ -18,9 +18,10 @@ namespace ddfem::coarsening
                       Patterns::Double(0, max_regularization),
                       "Weight lambda of the regularization toward the fine "
                       "parameters (paper eq. 4; the paper uses 0.01). The "
-                      "energy residuals are relative and the parameters are "
-                      "measured in units of the block's largest fine shear "
-                      "modulus, so the weight is dimensionless.");
+                      "energy residuals are relative, and mu and C are "
+                      "measured in units of the block's largest fine mu, "
+                      "lambda in units of its largest fine lambda, so the "
+                      "weight is dimensionless.");
     prm.declare_entry(
       "Spring regularization",
       "same",

@@ -38,7 +38,9 @@ namespace ddfem::coarsening
     double embedded = 1;
     /// Number of magnitudes per pattern.
     unsigned int n_magnitudes = 5;
-    /// Linearized strain of the smallest and the largest magnitude.
+    /// Linearized strain of the smallest and the largest magnitude: the
+    /// largest over the block's points of a force pattern's linear response
+    /// or of an embedded pattern's homogeneous strain (before relaxation).
     double min_strain = 0.02;
     /// See min_strain.
     double max_strain = 0.25;

@@ -93,8 +93,8 @@ namespace ddfem::report
    * times the first step's mean distance), which never increases the
    * smoothed mean. The weighted residuals of each step, scaled to length at
    * most 1, are a feasible point of the dual problem and give the lower
-   * bound. The steps stop once the field's mean error is within 0.2 % of
-   * the bound, or after 500 steps.
+   * bound. The steps stop once the bound is within 0.2 % of the field's
+   * mean error, or after 500 steps.
    * Both discretizations must have been built from @p grid.
    */
   GridFit
