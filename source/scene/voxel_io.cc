@@ -100,6 +100,10 @@ namespace ddfem::scene
         {
           if (number == 1)
             drop_byte_order_mark(text);
+          // A Windows line end's carriage return would show in messages
+          // that quote the line.
+          if (!text.empty() && text.back() == '\r')
+            text.pop_back();
           const std::string_view view(text);
           f(text, comments ? view.substr(0, view.find('#')) : view, number);
         }
@@ -167,11 +171,15 @@ namespace ddfem::scene
 
 
 
-    // Parses the whole token as a number; false on any junk.
+    // Parses the whole token as a number, which may start with one '+' as
+    // strtod() and the parameter file's numbers allow; false on any junk.
     template <typename Number>
     bool
-    parse(const std::string_view token, Number &value)
+    parse(std::string_view token, Number &value)
     {
+      if (token.size() > 1 && token[0] == '+' && token[1] != '-' &&
+          token[1] != '+')
+        token.remove_prefix(1);
       const char *end    = token.data() + token.size();
       const auto  result = std::from_chars(token.data(), end, value);
       return result.ec == std::errc() && result.ptr == end;
@@ -254,7 +262,7 @@ namespace ddfem::scene
 
     // @p file is the "Surface mesh file ..." prefix for error messages.
     TriangleMesh
-    read_stl(const std::string &file, const std::string &content)
+    read_stl(const std::string &file, std::string content)
     {
       std::vector<Point<3>> corners;
 
@@ -279,10 +287,14 @@ namespace ddfem::scene
           return merge_corners(corners);
         }
 
+      // A binary STL's 80-byte header may start with any bytes, those of a
+      // byte order mark too: a text file's mark is dropped only now.
+      const std::size_t size = content.size();
+      drop_byte_order_mark(content);
       const auto first_word = split(std::string_view(content).substr(0, 80));
       AssertThrow(!first_word.empty() && first_word[0] == "solid",
                   ExcMessage(file + ": is neither a binary STL (its size " +
-                             std::to_string(content.size()) +
+                             std::to_string(size) +
                              " bytes does not equal 84 + 50 * the triangle "
                              "count in its header) nor an ASCII STL (it does "
                              "not start with \"solid\")."));
@@ -635,28 +647,6 @@ namespace ddfem::scene
 
 
 
-  void
-  write_voxel_file(const std::string &filename, const VoxelGrid &grid)
-  {
-    ResultFile    file(filename, "voxel file");
-    std::ostream &out = file.stream();
-    const auto   &n   = grid.size();
-    out << "# ddfem voxel file: nx ny nz, then material ids (i fastest, "
-           "then j, then k)\n"
-        << n[0] << ' ' << n[1] << ' ' << n[2] << '\n';
-    for (unsigned int k = 0; k < n[2]; ++k)
-      for (unsigned int j = 0; j < n[1]; ++j)
-        {
-          for (unsigned int i = 0; i < n[0]; ++i)
-            out << (i > 0 ? " " : "")
-                << static_cast<unsigned int>(grid(i, j, k));
-          out << '\n';
-        }
-    file.commit();
-  }
-
-
-
   TriangleMesh
   read_surface_mesh(const std::string &filename)
   {
@@ -670,10 +660,11 @@ namespace ddfem::scene
     std::ifstream in = open_for_reading(filename, file, std::ios::binary);
     std::string   content((std::istreambuf_iterator<char>(in)),
                         std::istreambuf_iterator<char>());
-    drop_byte_order_mark(content);
-
-    TriangleMesh mesh =
-      extension == ".stl" ? read_stl(file, content) : read_obj(file, content);
+    if (extension == ".obj")
+      drop_byte_order_mark(content);
+    TriangleMesh mesh = extension == ".stl" ?
+                          read_stl(file, std::move(content)) :
+                          read_obj(file, content);
     AssertThrow(
       !mesh.triangles.empty(),
       ExcMessage(file + ": contains no triangle with three distinct corners."));

@@ -1030,6 +1030,19 @@ main(int argc, char **argv)
                               << "1 1 1 1 1 1 1 1 # first layer\n"
                               << "1 1 1 1 1 x 1 1\n";
   run_case("voxel_file_bad_id", from_voxel_file("bad_id.txt"));
+  // The cantilever's palette has 3 materials; 16 voxels.
+  const std::string fifteen_ids = "1 1 1 1 1 1 1 1 1 1 1 1 1 1 1";
+  std::ofstream("id_out_of_range.txt") << "2 4 2\n" << fifteen_ids << " 4\n";
+  run_case("voxel_file_id_out_of_range",
+           from_voxel_file("id_out_of_range.txt"));
+  std::ofstream("too_few_ids.txt") << "2 4 2\n" << fifteen_ids << "\n";
+  run_case("voxel_file_too_few_ids", from_voxel_file("too_few_ids.txt"));
+  std::ofstream("too_many_ids.txt") << "2 4 2\n" << fifteen_ids << " 1 1\n";
+  run_case("voxel_file_too_many_ids", from_voxel_file("too_many_ids.txt"));
+  // Windows line ends: the quoted line shows no carriage return.
+  std::ofstream("bad_header.txt") << "2 4 x\r\n" << fifteen_ids << " 1\r\n";
+  run_case("voxel_file_bad_header", from_voxel_file("bad_header.txt"));
+  run_case("surface_mesh_unknown_extension", from_surface_mesh("part.ply"));
   std::ofstream("damaged.h5.journal") << "not a journal\n";
   run_case("damaged_journal",
            cantilever,

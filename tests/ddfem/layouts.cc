@@ -55,6 +55,28 @@ namespace
               << c[2] << ", id3 " << c[3] << std::endl;
   }
 
+  /// Writes @p grid as a voxel file, with the line end @p eol and each id
+  /// after @p sign.
+  void
+  write_voxel_file(const std::string      &filename,
+                   const scene::VoxelGrid &grid,
+                   const std::string      &eol  = "\n",
+                   const std::string      &sign = "")
+  {
+    std::ofstream out(filename, std::ios::binary);
+    const auto   &n = grid.size();
+    out << "# nx ny nz, then material ids (i fastest, then j, then k)" << eol
+        << n[0] << ' ' << n[1] << ' ' << n[2] << eol;
+    for (unsigned int k = 0; k < n[2]; ++k)
+      for (unsigned int j = 0; j < n[1]; ++j)
+        {
+          for (unsigned int i = 0; i < n[0]; ++i)
+            out << (i > 0 ? " " : "") << sign
+                << static_cast<unsigned int>(grid(i, j, k));
+          out << eol;
+        }
+  }
+
   /// The octahedron |x - c| + |y - c| + |z - c| <= r as 8 triangles.
   scene::TriangleMesh
   octahedron(const double c, const double r)
@@ -169,12 +191,19 @@ main()
   std::cout << "  fiber voxels per layer " << histogram(fibers)[3] / 40.
             << ", 4 pi r^2 / h^2 = " << 4 * numbers::PI * 9 << std::endl;
 
-  // Voxel file round trip.
-  scene::write_voxel_file("roundtrip.txt", random_a);
+  // Voxel file round trip, also with Windows line ends and ids with a
+  // leading '+'.
+  write_voxel_file("roundtrip.txt", random_a);
+  write_voxel_file("roundtrip_crlf.txt", random_a, "\r\n", "+");
   auto read = make_scene("set Type = voxel file\nsubsection Voxel file\n"
                          " set File name = roundtrip.txt\nend")
                 .grid;
   std::cout << "voxel file round trip equal: "
+            << (read.data() == random_a.data()) << std::endl;
+  read = make_scene("set Type = voxel file\nsubsection Voxel file\n"
+                    " set File name = roundtrip_crlf.txt\nend")
+           .grid;
+  std::cout << "  with Windows line ends and '+' equal: "
             << (read.data() == random_a.data()) << std::endl;
   // The same file as a Windows editor may save it, with a UTF-8 byte order
   // mark.
@@ -255,6 +284,21 @@ main()
   for (const std::string file : {"octahedron_ascii.stl", "octahedron.obj"})
     std::ofstream("bom_" + file)
       << "\xEF\xBB\xBF" << std::ifstream(file).rdbuf();
+  // A binary STL's header is free: it may start with those three bytes.
+  {
+    std::ifstream binary("octahedron_binary.stl", std::ios::binary);
+    binary.seekg(3);
+    std::ofstream("bom_header_octahedron_binary.stl", std::ios::binary)
+      << "\xEF\xBB\xBF" << binary.rdbuf();
+  }
+  // Coordinates with a leading '+'.
+  {
+    std::ofstream plus("plus_octahedron.obj");
+    for (const auto &v : mesh.vertices)
+      plus << "v +" << v[0] << " +" << v[1] << " +" << v[2] << "\n";
+    for (const auto &t : mesh.triangles)
+      plus << "f " << t[0] + 1 << " " << t[1] + 1 << " " << t[2] + 1 << "\n";
+  }
   // The ASCII STL with a bare "solid" line (no name), as some writers
   // save it.
   {
@@ -289,6 +333,8 @@ main()
                                  "octahedron_degenerate.obj",
                                  "bom_octahedron_ascii.stl",
                                  "bom_octahedron.obj",
+                                 "bom_header_octahedron_binary.stl",
+                                 "plus_octahedron.obj",
                                  "unnamed_octahedron_ascii.stl"})
     std::cout << "  " << file << ": " << voxels(file, "false") << " voxels"
               << std::endl;

@@ -27,7 +27,7 @@ namespace ddfem::scene
    * Voxel (i,j,k) occupies [origin + h*(i,j,k), origin + h*(i+1,j+1,k+1)],
    * with the origin at (0,0,0). Voxels are stored lexicographically with i
    * running fastest. Vertex (i,j,k), 0 <= i <= nx, is the corner at
-   * origin + h*(i,j,k); vertices are numbered lexicographically as well.
+   * origin + h*(i,j,k).
    */
   class VoxelGrid
   {

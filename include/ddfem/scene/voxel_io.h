@@ -32,13 +32,6 @@ namespace ddfem::scene
                   VoxelGrid         &grid);
 
   /**
-   * Writes @p grid in the format read_voxel_file() reads, in one piece
-   * (ResultFile). Throws ExcMessage naming the file if it cannot.
-   */
-  void
-  write_voxel_file(const std::string &filename, const VoxelGrid &grid);
-
-  /**
    * A closed triangulated surface, in meters.
    */
   struct TriangleMesh
