@@ -821,13 +821,20 @@ namespace ddfem::coarsening
             (scene_grids == nullptr && !level2.required_blocks().empty()))
           {
             Hierarchy  old  = std::move(level2);
-            const bool keep = !old.empty() && old.settings.fingerprint() ==
-                                                hierarchy.fingerprint();
+            const bool keep = !old.empty() && old.settings.fits_like(hierarchy);
+            if (!old.empty() && !keep && !old.entries.empty())
+              out << "Level 2: the file's " << old.entries.size()
+                  << " fits were made with other settings ("
+                  << old.settings.fingerprint()
+                  << "; this run: " << hierarchy.fingerprint()
+                  << ") and are dropped." << std::endl;
             // The fits a killed build journaled are kept like the file's,
             // but their keys index the old tables: the file takes them with
             // those tables before the journal goes.
-            if (keep &&
-                add_journaled(old, level2_journal, level2_fingerprint) > 0)
+            if (keep && add_journaled(old,
+                                      level2_journal,
+                                      database.fingerprint() + " | " +
+                                        old.settings.fingerprint()) > 0)
               database.save(database_file, &old);
             Journal::remove(level2_journal);
             if (scene_grids != nullptr)

@@ -82,6 +82,15 @@ namespace ddfem::coarsening
 
 
 
+  bool
+  HierarchySettings::fits_like(const HierarchySettings &other) const
+  {
+    return regularization == other.regularization &&
+           point_offset == other.point_offset;
+  }
+
+
+
   namespace
   {
     /// Level-1 classes at the positions of a stage-@p s class: positions

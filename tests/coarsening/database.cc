@@ -31,6 +31,7 @@ using namespace ddfem::coarsening;
 namespace
 {
   /// A small palette and cheap sampling: every test build takes a second.
+  /// @p extra is parameter text read last.
   DatabaseBuilder
   builder(const std::string &file,
           const bool         with_void,
@@ -39,7 +40,8 @@ namespace
           const unsigned int k        = 0,
           const unsigned int levels   = 1,
           const unsigned int patterns = 30,
-          const unsigned int seed     = 0)
+          const unsigned int seed     = 0,
+          const std::string &extra    = "")
   {
     ParameterHandler prm;
     DatabaseBuilder::declare_parameters(prm);
@@ -67,6 +69,7 @@ namespace
     prm.set("Laminate springs", true);
     prm.leave_subsection();
     prm.leave_subsection();
+    prm.parse_input_from_string(extra);
     DatabaseBuilder b;
     b.parse_parameters(prm);
     return b;
@@ -1084,6 +1087,38 @@ main()
                       .mu)
                 << std::endl;
     }
+
+    // Other budgets renew the tables and keep the fits of compositions
+    // that are still representatives; another level-2 weight drops the
+    // file's fits, and the build says so.
+    for (const std::string setting :
+         {"Representatives = 12", "Regularization = 0.5"})
+      {
+        std::filesystem::copy_file(
+          "level2.h5",
+          "level2_settings.h5",
+          std::filesystem::copy_options::overwrite_existing);
+        std::ostringstream    log;
+        const DatabaseBuilder b =
+          builder("level2_settings.h5",
+                  false,
+                  "all",
+                  1,
+                  0,
+                  2,
+                  30,
+                  0,
+                  "subsection Database\n  subsection Level 2\n    set " +
+                    setting + "\n  end\nend\n");
+        Hierarchy renewed;
+        Database  db = b.open(palette(), renewed, log);
+        b.build(palette(), db, renewed, nullptr, log, false);
+        std::cout << "Level 2/" << setting << ":" << std::endl;
+        std::istringstream lines(log.str());
+        for (std::string line; std::getline(lines, line);)
+          if (line.rfind("Level 2:", 0) == 0)
+            std::cout << "  " << line << std::endl;
+      }
 
     // The second level's point offset: named in its settings. Files
     // written before it had one of its own name none; their second level

@@ -169,8 +169,11 @@ namespace ddfem::coarsening
      * built anew if they
      * do not know a combination the build covers (built before lazy builds
      * extended level 1) or were not built with @p scene_grids' 4x4x4 blocks
-     * required; the new tables require those and the earlier ones, and
-     * keep the fits of compositions they still represent. With Levels = 2,
+     * required, or with other Database/Level 2 settings; the new tables
+     * require the blocks and the earlier ones, and keep the fits of
+     * compositions they still represent if those were made with the same
+     * level-2 regularization and point offset (HierarchySettings::
+     * fits_like()); otherwise the dropped fits are reported. With Levels = 2,
      * a grid of @p scene_grids whose size is not a multiple of 4 is an
      * error before anything is fitted.
      */

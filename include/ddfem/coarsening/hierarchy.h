@@ -44,6 +44,11 @@ namespace ddfem::coarsening
     /// One line naming every setting.
     std::string
     fingerprint() const;
+    /// Whether a level-2 fit made with @p other is one with these
+    /// settings: the same regularization and point offset. The budgets
+    /// only choose which compositions are fitted.
+    bool
+    fits_like(const HierarchySettings &other) const;
   };
 
   /**
