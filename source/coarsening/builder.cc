@@ -6,6 +6,7 @@
 #include <ddfem/base/statistics.h>
 #include <ddfem/coarsening/builder.h>
 #include <ddfem/coarsening/coarsener.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
@@ -650,6 +651,26 @@ namespace ddfem::coarsening
 
 
     /**
+     * Throws ExcMessage naming Database/File if @p file exists but this
+     * process may not write it. A build replaces the file by renaming its
+     * new content over it, which the directory allows whatever the file's
+     * own permissions: a database made read-only to share it would lose its
+     * protection, and its owner.
+     */
+    void
+    check_file_writable(const std::string &file)
+    {
+      AssertThrow(!std::filesystem::exists(file) ||
+                    access(file.c_str(), W_OK) == 0,
+                  ExcMessage("The metamaterial database '" + file +
+                             "' (Database/File) is read-only, and this run "
+                             "would add to it. Make it writable, or set "
+                             "Database/File to a writable copy."));
+    }
+
+
+
+    /**
      * Reports how many of a scene state's level-1 blocks (@p blocks,
      * all-void ones aside) a plane splits into two one-voxel layers
      * (split_axis()). Without laminate springs such blocks fit too soft along
@@ -756,6 +777,7 @@ namespace ddfem::coarsening
     const CoarseElement element(1, database.point_offset());
     if (!todo.empty())
       {
+        check_file_writable(database_file);
         create_directories(directory(), "Database/File");
         Journal journal(database_file,
                         database.fingerprint(),
@@ -851,6 +873,7 @@ namespace ddfem::coarsening
     if (!todo.empty() || journaled || compressed_now || new_tables ||
         !std::filesystem::exists(database_file))
       {
+        check_file_writable(database_file);
         create_directories(directory(), "Database/File");
         database.save(database_file, &level2);
         Journal::remove(database_file);
@@ -908,6 +931,7 @@ namespace ddfem::coarsening
         Timer timer2;
         if (!needed.empty())
           {
+            check_file_writable(database_file);
             Journal journal(level2_journal,
                             level2_fingerprint,
                             level2.n_representatives(),
