@@ -1031,8 +1031,9 @@ namespace ddfem::coarsening
                       ExcMessage("The build journal " + name +
                                  " belongs to a build with other settings (" +
                                  settings_difference(stored, fingerprint) +
-                                 "). Delete it or restore those "
-                                 "settings."));
+                                 "). Delete it (the entries it held are then "
+                                 "fitted with these settings), or restore "
+                                 "those settings to resume that build."));
         }
       valid_end                    = std::ftell(in);
       const unsigned int  n_header = 9;

@@ -1052,6 +1052,26 @@ main(int argc, char **argv)
             << std::filesystem::exists("damaged.h5.journal") << "\n"
             << std::endl;
 
+  // A fit refused for its settings keeps the entries fitted before it in
+  // the journal, as a killed build does; a rerun with other settings names
+  // the difference and both ways on.
+  {
+    std::filesystem::remove_all("refused");
+    const std::string layers =
+      cantilever + testing::cheap_lazy_database("refused/db.h5") +
+      "set Method = ddfem\nsubsection Layout\n  set Type = layers\n"
+      "  subsection Layers\n    set Axis = y\n    set Materials = 1, 2\n"
+      "    set Thickness = 0.01\n  end\nend\n";
+    run_case("fit_refused",
+             layers,
+             {"--set", "Database/Fitting/Regularization=0"},
+             true);
+    std::cout << "  journal kept: "
+              << std::filesystem::exists("refused/db.h5.journal") << "\n"
+              << std::endl;
+    run_case("journal_of_other_settings", layers);
+  }
+
   // Not an error: white space between words is free.
   run_case(
     "extra_spaces_are_fine",
