@@ -44,8 +44,8 @@ namespace ddfem::scene
 
     /**
      * Throws ExcMessage naming @p p unless it lies in a solid voxel of
-     * @p grid or on its surface (within 1e-9 voxel sizes), so that every
-     * model, fine or coarse, measures the same material point.
+     * @p grid or on its surface (within probe_tolerance voxel sizes), so
+     * that every model, fine or coarse, measures the same material point.
      */
     void
     check_probe(const VoxelGrid &grid, const Point<3> &p)
@@ -54,9 +54,11 @@ namespace ddfem::scene
       std::array<long, 3> lower, upper;
       for (unsigned int d = 0; d < 3; ++d)
         {
-          lower[d] = std::max(0L, std::lround(std::floor(p[d] / h - 1e-9)));
-          upper[d] = std::min(long(grid.size()[d]) - 1,
-                              std::lround(std::floor(p[d] / h + 1e-9)));
+          lower[d] =
+            std::max(0L, std::lround(std::floor(p[d] / h - probe_tolerance)));
+          upper[d] =
+            std::min(long(grid.size()[d]) - 1,
+                     std::lround(std::floor(p[d] / h + probe_tolerance)));
         }
       bool solid = false;
       for (long k = lower[2]; k <= upper[2]; ++k)

@@ -1072,6 +1072,16 @@ main(int argc, char **argv)
     run_case("journal_of_other_settings", layers);
   }
 
+  // Not an error: a probe 4e-10 voxel sizes off the tip, within the
+  // tolerance of 1e-9 voxel sizes, in the fine and a coarse model alike
+  // (their searches used deal.II's tolerance, 1e-10 of a cell, and
+  // rejected it).
+  for (const std::string method : {"fine", "naive"})
+    run_case("probe_within_tolerance_" + method,
+             cantilever + "set Method = " + method +
+               "\nsubsection Geometry\n  set Probe points = 0.01, "
+               "0.040000000004, 0.01\nend\n");
+
   // Not an error: white space between words is free.
   run_case(
     "extra_spaces_are_fine",

@@ -81,6 +81,10 @@ namespace ddfem::scene
     Layout layout;
   };
 
+  /// How far, in voxel sizes, a probe point may lie off the solid's
+  /// surface: round-off in a point given on the surface.
+  constexpr double probe_tolerance = 1e-9;
+
   /**
    * The error that the probe point @p p (m) lies outside the solid, naming
    * Geometry/Probe points (12 digits: a point just outside must not read
