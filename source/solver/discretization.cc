@@ -26,8 +26,9 @@ namespace ddfem::solver
                   format_number(low) + " up to (not including) " +
                   format_number(high) + ", not " + format_number(point_offset) +
                   (level == 2 ?
-                     ": outside, some of the 64 points would leave their "
-                     "voxels." :
+                     ": the range is rounded in from (sqrt(3) - 1) / 2 = "
+                     "0.366 and sqrt(3) - 1 = 0.732, beyond which some of "
+                     "the 64 points leave their voxels." :
                      ". Below " + format_number(low) +
                        " the element nears a mechanism (its bending energy "
                        "scales with the offset squared).")));

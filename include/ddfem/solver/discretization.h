@@ -38,8 +38,9 @@ namespace ddfem::solver
    * [first, second). At level 1 from 0.25, below which the hourglass
    * (bending) modes keep less than a fifth of the Gauss rule's energy and
    * the element nears a mechanism, up to 1, where the points reach the
-   * faces. At level 2 from 0.37 up to 0.73: outside, some of the 64 points
-   * would leave their voxels (coarse_quadrature()).
+   * faces. At level 2 from 0.37 up to 0.73, rounded in from
+   * (sqrt(3) - 1) / 2 = 0.366 and sqrt(3) - 1 = 0.732, beyond which some of
+   * the 64 points leave their voxels (coarse_quadrature()).
    */
   inline std::pair<double, double>
   point_offset_range(const unsigned int level)
