@@ -458,7 +458,15 @@ namespace ddfem::solver
     // fix its rigid motions (examined again whenever a neighbor becomes
     // held); the others form groups joined by shared nodes, each of which
     // must be held as a whole.
-    std::set<std::size_t>   held;
+    std::set<std::size_t> held;
+    // Whether a held part touches vertex v.
+    const auto            at_held = [&](const unsigned int v) {
+      return std::any_of(parts_at_vertex[v].begin(),
+                         parts_at_vertex[v].end(),
+                         [&](const std::size_t q) {
+                           return held.count(q) > 0;
+                         });
+    };
     std::deque<std::size_t> to_examine;
     for (const auto &[p, part] : face_parts)
       to_examine.push_back(p);
@@ -470,11 +478,7 @@ namespace ddfem::solver
           continue;
         std::vector<ConstrainedRow> rows = face_rows[p];
         for (const unsigned int v : shared_vertices[p])
-          if (std::any_of(parts_at_vertex[v].begin(),
-                          parts_at_vertex[v].end(),
-                          [&](const std::size_t q) {
-                            return held.count(q) > 0;
-                          }))
+          if (at_held(v))
             for (unsigned int d = 0; d < 3; ++d)
               rows.emplace_back(vertices[v], d);
         if (fixed_rigid_modes(rows) < 6)
@@ -491,13 +495,6 @@ namespace ddfem::solver
     // The groups of the parts not held, joined at the nodes where no held
     // part holds them, and their conditions (the parts of a group are
     // numbered from 0).
-    const auto at_held = [&](const unsigned int v) {
-      return std::any_of(parts_at_vertex[v].begin(),
-                         parts_at_vertex[v].end(),
-                         [&](const std::size_t q) {
-                           return held.count(q) > 0;
-                         });
-    };
     Components groups(tria.n_active_cells());
     for (unsigned int v = 0; v < vertices.size(); ++v)
       if (parts_at_vertex[v].size() > 1 && !at_held(v))
