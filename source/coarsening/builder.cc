@@ -6,7 +6,6 @@
 #include <ddfem/base/statistics.h>
 #include <ddfem/coarsening/builder.h>
 #include <ddfem/coarsening/coarsener.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
@@ -102,8 +101,9 @@ namespace ddfem::coarsening
       "twice, moved toward the block's centre by the factor offset / "
       "(1/sqrt(3)), so its bending energy scales as at level 1 (from 0.37 "
       "up to, not including, 0.73, rounded in from 0.366 and 0.732, beyond "
-      "which some points leave their voxels). 1/sqrt(3) is the paper's element; the default, 0.4, bends "
-      "like the fine blocks (doc/coarsening.md). The second level's "
+      "which some points leave their voxels). 1/sqrt(3) is the paper's "
+      "element; the default, 0.4, bends like the fine blocks "
+      "(doc/coarsening.md). The second level's "
       "metamaterials are fitted for it, from samples of the level-1 "
       "entries' child fits, which have the Gauss rule whatever the Coarse "
       "point offset; a second level a database file holds for another "
@@ -651,26 +651,6 @@ namespace ddfem::coarsening
 
 
     /**
-     * Throws ExcMessage naming Database/File if @p file exists but this
-     * process may not write it. A build replaces the file by renaming its
-     * new content over it, which the directory allows whatever the file's
-     * own permissions: a database made read-only to share it would lose its
-     * protection, and its owner.
-     */
-    void
-    check_file_writable(const std::string &file)
-    {
-      AssertThrow(!std::filesystem::exists(file) ||
-                    access(file.c_str(), W_OK) == 0,
-                  ExcMessage("The metamaterial database '" + file +
-                             "' (Database/File) is read-only, and this run "
-                             "would add to it. Make it writable, or set "
-                             "Database/File to a writable copy."));
-    }
-
-
-
-    /**
      * Reports how many of a scene state's level-1 blocks (@p blocks,
      * all-void ones aside) a plane splits into two one-voxel layers
      * (split_axis()). Without laminate springs such blocks fit too soft along
@@ -777,7 +757,7 @@ namespace ddfem::coarsening
     const CoarseElement element(1, database.point_offset());
     if (!todo.empty())
       {
-        check_file_writable(database_file);
+        Database::check_writable(database_file);
         create_directories(directory(), "Database/File");
         Journal journal(database_file,
                         database.fingerprint(),
@@ -847,8 +827,8 @@ namespace ddfem::coarsening
             if (!old.empty() && !keep && !old.entries.empty())
               out << "Level 2: the file's " << old.entries.size()
                   << " fits were made with other settings ("
-                  << old.settings.fingerprint()
-                  << "; this run: " << hierarchy.fingerprint()
+                  << settings_difference(old.settings.fingerprint(),
+                                         hierarchy.fingerprint())
                   << ") and are dropped." << std::endl;
             // The fits a killed build journaled are kept like the file's,
             // but their keys index the old tables: the file takes them with
@@ -873,7 +853,6 @@ namespace ddfem::coarsening
     if (!todo.empty() || journaled || compressed_now || new_tables ||
         !std::filesystem::exists(database_file))
       {
-        check_file_writable(database_file);
         create_directories(directory(), "Database/File");
         database.save(database_file, &level2);
         Journal::remove(database_file);
@@ -931,7 +910,7 @@ namespace ddfem::coarsening
         Timer timer2;
         if (!needed.empty())
           {
-            check_file_writable(database_file);
+            Database::check_writable(database_file);
             Journal journal(level2_journal,
                             level2_fingerprint,
                             level2.n_representatives(),

@@ -495,8 +495,22 @@ namespace ddfem::coarsening
 
 
   void
+  Database::check_writable(const std::string &file)
+  {
+    AssertThrow(!std::filesystem::exists(file) ||
+                  access(file.c_str(), W_OK) == 0,
+                ExcMessage("The metamaterial database '" + file +
+                           "' (Database/File) is read-only, and this run "
+                           "would add to it. Make it writable, or set "
+                           "Database/File to a writable copy."));
+  }
+
+
+
+  void
   Database::save(const std::string &file, const Hierarchy *level2) const
   {
+    check_writable(file);
     H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); // our messages only
     const std::string temporary = ResultFile::partial_name(file);
     // The file is written under another name and replaces the old one only

@@ -77,13 +77,14 @@ namespace ddfem::scene
 
 
 
-    // Removes the UTF-8 byte order mark that editors on Windows may write
-    // at the start of a file: it is no token, and no "solid" either.
-    void
-    drop_byte_order_mark(std::string &text)
+    // @p text without the UTF-8 byte order mark that editors on Windows may
+    // write at the start of a file: it is no token, and no "solid" either.
+    std::string_view
+    without_byte_order_mark(std::string_view text)
     {
-      if (text.compare(0, 3, "\xEF\xBB\xBF") == 0)
-        text.erase(0, 3);
+      if (text.substr(0, 3) == "\xEF\xBB\xBF")
+        text.remove_prefix(3);
+      return text;
     }
 
 
@@ -99,7 +100,7 @@ namespace ddfem::scene
       for (unsigned int number = 1; std::getline(in, text); ++number)
         {
           if (number == 1)
-            drop_byte_order_mark(text);
+            text = std::string(without_byte_order_mark(text));
           // A Windows line end's carriage return would show in messages
           // that quote the line.
           if (!text.empty() && text.back() == '\r')
@@ -262,7 +263,7 @@ namespace ddfem::scene
 
     // @p file is the "Surface mesh file ..." prefix for error messages.
     TriangleMesh
-    read_stl(const std::string &file, std::string content)
+    read_stl(const std::string &file, const std::string &content)
     {
       std::vector<Point<3>> corners;
 
@@ -288,13 +289,13 @@ namespace ddfem::scene
         }
 
       // A binary STL's 80-byte header may start with any bytes, those of a
-      // byte order mark too: a text file's mark is dropped only now.
-      const std::size_t size = content.size();
-      drop_byte_order_mark(content);
-      const auto first_word = split(std::string_view(content).substr(0, 80));
+      // byte order mark too: a text file's mark is skipped only here (and
+      // by for_each_text_line()).
+      const auto first_word =
+        split(without_byte_order_mark(content).substr(0, 80));
       AssertThrow(!first_word.empty() && first_word[0] == "solid",
                   ExcMessage(file + ": is neither a binary STL (its size " +
-                             std::to_string(size) +
+                             std::to_string(content.size()) +
                              " bytes does not equal 84 + 50 * the triangle "
                              "count in its header) nor an ASCII STL (it does "
                              "not start with \"solid\")."));
@@ -660,11 +661,8 @@ namespace ddfem::scene
     std::ifstream in = open_for_reading(filename, file, std::ios::binary);
     std::string   content((std::istreambuf_iterator<char>(in)),
                         std::istreambuf_iterator<char>());
-    if (extension == ".obj")
-      drop_byte_order_mark(content);
-    TriangleMesh mesh = extension == ".stl" ?
-                          read_stl(file, std::move(content)) :
-                          read_obj(file, content);
+    TriangleMesh  mesh =
+      extension == ".stl" ? read_stl(file, content) : read_obj(file, content);
     AssertThrow(
       !mesh.triangles.empty(),
       ExcMessage(file + ": contains no triangle with three distinct corners."));

@@ -1196,14 +1196,14 @@ namespace ddfem::solver
                      const Vector<double> &u,
                      const Point<3>       &p)
   {
-    // The tolerance is in a cell's reference coordinates: at least the
-    // 1e-9 voxel sizes that the scene's check of the probe allows (a coarse
-    // cell is 2 or 4 voxels wide), so that every model finds the points it
-    // accepts. deal.II's default, 1e-10, rejected a point 4e-10 voxel sizes
-    // off the solid in every model, and one 1.5e-10 off in the fine model
-    // only.
+    // The tolerance is in a cell's reference coordinates: twice the voxel
+    // sizes that the scene's check of the probe allows (a coarse cell is 2
+    // or 4 voxels wide), so that every model finds the points it accepts
+    // whatever the round-off of either test. deal.II's default, 1e-10,
+    // rejected a point 4e-10 voxel sizes off the solid in every model, and
+    // one 1.5e-10 off in the fine model only.
     const auto cells = GridTools::find_all_active_cells_around_point(
-      mapping, dof_handler, p, scene::probe_tolerance);
+      mapping, dof_handler, p, 2 * scene::probe_tolerance);
     AssertThrow(!cells.empty(), scene::probe_outside(p));
     Tensor<1, 3>                value;
     std::vector<Vector<double>> values(1, Vector<double>(3));

@@ -89,7 +89,10 @@ namespace
   {
     unsigned int dropped;
     double       largest = 0;
-    for (const Sample &s : BlockSampler(children).sample(sampling, 3, dropped))
+    const auto   samples = BlockSampler(children).sample(sampling, 3, dropped);
+    std::cout << "samples: " << samples.size() << ", dropped: " << dropped
+              << std::endl;
+    for (const Sample &s : samples)
       {
         double e;
         element.energy(s.corners, m, e);

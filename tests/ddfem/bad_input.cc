@@ -1052,9 +1052,9 @@ main(int argc, char **argv)
             << std::filesystem::exists("damaged.h5.journal") << "\n"
             << std::endl;
 
-  // A fit refused for its settings keeps the entries fitted before it in
-  // the journal, as a killed build does; a rerun with other settings names
-  // the difference and both ways on.
+  // A build stopped by a fit refused for its settings keeps its journal,
+  // as a killed build does; a rerun with other settings names the
+  // difference and both ways on.
   {
     std::filesystem::remove_all("refused");
     const std::string layers =
