@@ -180,8 +180,8 @@ namespace ddfem::scene
         "",
         Patterns::FileName(),
         "Text file: a header 'nx ny nz' equal to the grid size, then "
-        "nx*ny*nz material ids, x fastest, then y, then z. '#' starts a "
-        "comment line.");
+        "nx*ny*nz material ids, x fastest, then y, then z. A '#' starts a "
+        "comment that runs to the end of its line.");
       prm.leave_subsection();
 
       prm.enter_subsection("Surface mesh");

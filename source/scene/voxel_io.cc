@@ -1,6 +1,7 @@
 #include <deal.II/base/exceptions.h>
 
 #include <ddfem/base/files.h>
+#include <ddfem/base/parsing.h>
 #include <ddfem/scene/voxel_io.h>
 
 #include <algorithm>
@@ -675,14 +676,15 @@ namespace ddfem::scene
     for (const auto &[edge, count] : edges)
       if (count % 2 != 0)
         {
-          std::ostringstream message;
-          message << file << ": is not a closed surface: the edge from ("
-                  << mesh.vertices[edge.first] << ") to ("
-                  << mesh.vertices[edge.second] << ") belongs to " << count
-                  << " triangle" << (count == 1 ? "" : "s")
-                  << ". Layout/Surface mesh needs a closed (watertight) "
-                     "mesh.";
-          AssertThrow(false, ExcMessage(message.str()));
+          AssertThrow(false,
+                      ExcMessage(
+                        file + ": is not a closed surface: the edge from " +
+                        format_point(mesh.vertices[edge.first]) + " to " +
+                        format_point(mesh.vertices[edge.second]) +
+                        " belongs to " + std::to_string(count) + " triangle" +
+                        (count == 1 ? "" : "s") +
+                        ". Layout/Surface mesh needs a closed "
+                        "(watertight) mesh."));
         }
     return mesh;
   }
