@@ -757,7 +757,7 @@ namespace ddfem::coarsening
     const CoarseElement element(1, database.point_offset());
     if (!todo.empty())
       {
-        Database::check_writable(database_file);
+        Database::check_not_read_only(database_file);
         create_directories(directory(), "Database/File");
         Journal journal(database_file,
                         database.fingerprint(),
@@ -813,8 +813,12 @@ namespace ddfem::coarsening
     if (compressed_now)
       level2 = Hierarchy();
     const std::string level2_journal = level2_journal_base(database_file);
-    const std::string level2_fingerprint =
-      database.fingerprint() + " | " + hierarchy.fingerprint();
+    // A level-2 journal holds fits of these level-1 entries and level-2
+    // settings.
+    const auto journal_fingerprint = [&](const HierarchySettings &settings) {
+      return database.fingerprint() + " | " + settings.fingerprint();
+    };
+    const std::string level2_fingerprint = journal_fingerprint(hierarchy);
     if (levels == 2)
       {
         if (level2.empty() ||
@@ -835,8 +839,7 @@ namespace ddfem::coarsening
             // those tables before the journal goes.
             if (keep && add_journaled(old,
                                       level2_journal,
-                                      database.fingerprint() + " | " +
-                                        old.settings.fingerprint()) > 0)
+                                      journal_fingerprint(old.settings)) > 0)
               database.save(database_file, &old);
             Journal::remove(level2_journal);
             if (scene_grids != nullptr)
@@ -910,7 +913,7 @@ namespace ddfem::coarsening
         Timer timer2;
         if (!needed.empty())
           {
-            Database::check_writable(database_file);
+            Database::check_not_read_only(database_file);
             Journal journal(level2_journal,
                             level2_fingerprint,
                             level2.n_representatives(),

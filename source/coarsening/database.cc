@@ -495,7 +495,7 @@ namespace ddfem::coarsening
 
 
   void
-  Database::check_writable(const std::string &file)
+  Database::check_not_read_only(const std::string &file)
   {
     AssertThrow(!std::filesystem::exists(file) ||
                   access(file.c_str(), W_OK) == 0,
@@ -510,7 +510,7 @@ namespace ddfem::coarsening
   void
   Database::save(const std::string &file, const Hierarchy *level2) const
   {
-    check_writable(file);
+    check_not_read_only(file);
     H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); // our messages only
     const std::string temporary = ResultFile::partial_name(file);
     // The file is written under another name and replaces the old one only

@@ -1432,11 +1432,8 @@ end
       return arguments;
     };
     const auto list = [&](const std::string &directory) {
-      std::set<std::string> files;
-      for (const auto &f : std::filesystem::directory_iterator(directory))
-        files.insert(f.path().filename().string());
       std::cout << "  " << directory << " holds:";
-      for (const std::string &f : files)
+      for (const std::string &f : testing::file_names(directory))
         std::cout << " " << f;
       std::cout << "\n" << std::endl;
     };

@@ -179,20 +179,21 @@ namespace ddfem::coarsening
      * Writes the database, with the second level @p level2 if given, to
      * @p file atomically (a temporary file renamed
      * over it), so a reader never sees a partial file. Calls
-     * check_writable() first.
+     * check_not_read_only() first.
      */
     void
     save(const std::string &file, const Hierarchy *level2 = nullptr) const;
 
     /**
      * Throws ExcMessage naming Database/File if @p file exists but this
-     * process may not write it. save() replaces the file by renaming its
-     * new content over it, which the directory allows whatever the file's
-     * own permissions: a database made read-only to share it would lose its
-     * protection, and its owner. A build calls it before it fits too.
+     * process may not write it (unlike ddfem::check_writable() for result
+     * files, whose own permissions do not matter). save() replaces the file by
+     * renaming its new content over it, which the directory allows whatever the
+     * file's own permissions: a database made read-only to share it would lose
+     * its protection, and its owner. A build calls it before it fits too.
      */
     static void
-    check_writable(const std::string &file);
+    check_not_read_only(const std::string &file);
 
     /// The canonical description of the palette it was built for.
     const std::string &
