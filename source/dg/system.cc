@@ -1243,8 +1243,7 @@ namespace ddfem::dg
                      Quadrature<dim>(points),
                      update_gradients | update_quadrature_points);
     std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
-    std::pair<double, Point<dim>>        smallest(
-      std::numeric_limits<double>::infinity(), Point<dim>());
+    FirstSmallest<Point<dim>>            smallest;
     for (const auto &cell : dof_handler.active_cell_iterators())
       {
         // The values may be those of a translate (reference): the cell's
@@ -1259,16 +1258,10 @@ namespace ddfem::dg
             for (unsigned int i = 0; i < dofs.size(); ++i)
               F[fe.system_to_component_index(i).first] +=
                 u[dofs[i]] * fv.shape_grad(i, q);
-            // Values equal up to round-off (symmetric cells) keep the first
-            // in cell order, as StaticSolver::smallest_vertex_jacobian()
-            // does, so that the place reported does not depend on the
-            // round-off of the solution.
-            const double J = determinant(F);
-            if (!(J >= smallest.first - 1e-9 * std::abs(J)))
-              smallest = {J, fv.quadrature_point(q) + shift};
+            smallest.add(determinant(F), fv.quadrature_point(q) + shift);
           }
       }
-    return smallest;
+    return {smallest.value(), smallest.place()};
   }
 
 

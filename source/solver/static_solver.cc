@@ -7,6 +7,7 @@
 
 #include <ddfem/base/cell_values.h>
 #include <ddfem/base/parsing.h>
+#include <ddfem/base/statistics.h>
 #include <ddfem/material/kernel.h>
 #include <ddfem/scene/scene.h>
 #include <ddfem/solver/cell_kernel.h>
@@ -1107,8 +1108,7 @@ namespace ddfem::solver
                           update_gradients | update_quadrature_points);
     Vector<double>            local_u(discretization.fe.n_dofs_per_cell());
     std::vector<Tensor<2, 3>> F;
-    double                    smallest = infinity;
-    Point<3>                  where;
+    FirstSmallest<Point<3>>   smallest;
     const auto reference = discretization.dof_handler.begin_active();
     for (const auto &cell : discretization.dof_handler.active_cell_iterators())
       {
@@ -1120,19 +1120,12 @@ namespace ddfem::solver
           discretization.solid_voxels[cell->active_cell_index()];
         for (unsigned int q = 0; q < corners.size(); ++q)
           {
-            // Of values equal up to round-off (symmetric vertices), the
-            // first in cell order, so that the vertex reported does not
-            // depend on the solver's round-off.
-            const double J = determinant(F[q]);
-            if ((solid & voxels_at[q]) != 0 &&
-                J < smallest - 1e-9 * std::abs(J))
-              {
-                smallest = J;
-                where    = fe_values.quadrature_point(q) + shift;
-              }
+            if ((solid & voxels_at[q]) != 0)
+              smallest.add(determinant(F[q]),
+                           fe_values.quadrature_point(q) + shift);
           }
       }
-    return {smallest, where};
+    return {smallest.value(), smallest.place()};
   }
 
 

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <vector>
 
 namespace ddfem
@@ -38,6 +39,51 @@ namespace ddfem
       return std::isfinite(v);
     });
   }
+
+  /**
+   * The smallest of a sequence of values and where it was seen.
+   *
+   * Of values equal up to round-off (a relative 1e-9), the first seen is
+   * kept, so that the place reported for symmetric cells or vertices does
+   * not depend on the round-off of whatever computed the values. A NaN
+   * compares below every number: the first NaN seen is kept, so that a
+   * check such as `!(value() > 0)` fails on it.
+   */
+  template <typename Place>
+  class FirstSmallest
+  {
+  public:
+    /// Offers @p value, seen at @p place.
+    void
+    add(const double value, const Place &place)
+    {
+      if (std::isnan(smallest))
+        return;
+      if (std::isnan(value) || value < smallest - 1e-9 * std::abs(value))
+        {
+          smallest = value;
+          where    = place;
+        }
+    }
+
+    /// The smallest value offered; infinity if none was.
+    double
+    value() const
+    {
+      return smallest;
+    }
+
+    /// Where value() was seen; a default Place if nothing was offered.
+    const Place &
+    place() const
+    {
+      return where;
+    }
+
+  private:
+    double smallest = std::numeric_limits<double>::infinity();
+    Place  where{};
+  };
 } // namespace ddfem
 
 #endif

@@ -351,8 +351,9 @@ namespace ddfem::dg
 
     /**
      * The smallest det(I + grad @p u) over the vertices and quadrature
-     * points of every cell, and where it is. Elasticity only (as many
-     * components as dimensions).
+     * points of every cell, and where it is: of values equal up to
+     * round-off, the first in cell order (FirstSmallest). Elasticity only
+     * (as many components as dimensions).
      */
     std::pair<double, Point<dim>>
     smallest_jacobian(const Vector<double> &u) const;

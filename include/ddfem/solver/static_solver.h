@@ -252,7 +252,8 @@ namespace ddfem::solver
      * voxels (of a coarse cell's block: its vertices and the points
      * between them), and that corner. Where it is not positive, a cell is
      * turned inside out there although det F may be positive at every
-     * quadrature point.
+     * quadrature point. Of corners with values equal up to round-off, the
+     * first in cell order (FirstSmallest).
      */
     std::pair<double, Point<3>>
     smallest_vertex_jacobian(const Vector<double> &u) const;
