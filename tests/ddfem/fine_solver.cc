@@ -498,10 +498,12 @@ namespace
    * pass it: the two reductions are printed too, and the output's
    * comparison holds the last (5.5e-5) to about 2 % (numdiff's absolute
    * tolerance, 1e-6).
-   * At these 189 unknowns CG's steps are exact as well (ML's coarsest
-   * level takes up to 2000 rows; the Cholesky factor is the tangent's):
-   * doc/fine_solver.md says why a larger model does not show inexact
-   * steps' convergence this way.
+   * At these 189 unknowns cg-cholesky's steps are exact as well (CG on a
+   * reused factor solves to 1e-8), but cg-amg's are not: a fresh
+   * hierarchy is one direct solve (ML's coarsest level takes up to 2000
+   * rows), and every other step reuses it and stops at the forcing term.
+   * doc/fine_solver.md says why a larger model does not show the order
+   * this way.
    */
   void
   newton_rate()

@@ -1,5 +1,6 @@
-// The coarse models on the fine solver's 180 degree twist of a layered bar,
-// solved with the ddfem, naive and average coarse models at level 1 (also
+// The coarse models on the fine solver's 180 degree twist of a layered bar
+// (twist_180.prm) on 4 x 12 x 4 voxels, as the fine test's 3 x 12 x 3 grid
+// cannot be coarsened, solved with the ddfem, naive and average coarse models at level 1 (also
 // with the level-1 point offset 0.45, which softens the element in bending)
 // and at level 2, whose default point offset softens the element in bending
 // (the metamaterials fitted lazily into a fresh database per level-1
