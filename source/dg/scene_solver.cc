@@ -1,7 +1,6 @@
 #include <deal.II/base/timer.h>
 #include <deal.II/numerics/data_out.h>
 
-#include <ddfem/base/exceptions.h>
 #include <ddfem/dg/scene_solver.h>
 #include <ddfem/report/output.h>
 #include <ddfem/solver/probe.h>
@@ -193,9 +192,7 @@ namespace ddfem::dg
     // through shared faces only.
     const QGauss<3>    cell_quadrature(parameters.degree + 1);
     solver::Components parts = solver::face_connected_parts(triangulation);
-    std::vector<scene::BoundaryFace> faces;
-    // Where Dirichlet conditions act on each of faces.
-    std::vector<std::vector<Point<3>>>                         face_nodes;
+    std::vector<scene::BoundaryFace>                           faces;
     std::vector<Point<3>>                                      points;
     std::map<std::size_t, std::vector<solver::ConstrainedRow>> rows;
     for (const auto &cell : triangulation.active_cell_iterators())
@@ -215,13 +212,8 @@ namespace ddfem::dg
           if (cell->face(f)->at_boundary())
             {
               faces.push_back(solver::voxel_face(cell, f));
-              const std::vector<Point<3>> quadrature_points =
-                face_points(cell, f);
-              for (const Point<3> &x : quadrature_points)
+              for (const Point<3> &x : face_points(cell, f))
                 bc.traction(faces.back().center, x, faces.back().normal);
-              face_nodes.push_back(
-                weak ? quadrature_points :
-                       faces.back().node_points(parameters.degree));
             }
         const std::size_t part = parts.find(cell->active_cell_index());
         for (const Point<3> &x : dirichlet_points(cell))
@@ -234,40 +226,13 @@ namespace ddfem::dg
       }
 
     // Every condition must act somewhere.
-    try
-      {
-        bc.check_regions(points, faces);
-      }
-    catch (const ExceptionBase &e)
-      {
-        // Where the nodes would do, the quadrature points are the cause.
-        if (weak)
-          {
-            std::vector<Point<3>> nodes;
-            for (const auto &cell : triangulation.active_cell_iterators())
-              for (const unsigned int v : cell->vertex_indices())
-                nodes.push_back(cell->vertex(v));
-            bool nodes_do = true;
-            try
-              {
-                bc.check_regions(nodes, faces);
-              }
-            catch (const ExceptionBase &)
-              {
-                nodes_do = false;
-              }
-            AssertThrow(!nodes_do,
-                        ExcMessage(message_of(e) +
-                                   " With DG/Dirichlet = weak, conditions "
-                                   "act at the quadrature points of faces: "
-                                   "use regions that cover faces, or "
-                                   "DG/Dirichlet = strong."));
-          }
-        throw;
-      }
-    bc.check_effects(points, faces, [&](const std::size_t i) {
-      return face_nodes[i];
-    });
+    std::vector<Point<3>> vertices;
+    if (weak)
+      for (const auto &cell : triangulation.active_cell_iterators())
+        for (const unsigned int v : cell->vertex_indices())
+          vertices.push_back(cell->vertex(v));
+    bc.check_regions(points, faces, vertices);
+    bc.check_effects(points, faces, parameters.degree, weak);
 
     // The conditions must fix all six rigid motions of every face-connected
     // part. The definiteness check of the penalty cannot be relied on for

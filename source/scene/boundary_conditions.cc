@@ -1,3 +1,4 @@
+#include <deal.II/base/quadrature_lib.h>
 #include <deal.II/base/utilities.h>
 #include <deal.II/lac/vector.h>
 
@@ -171,8 +172,8 @@ namespace ddfem::scene
                   << (std::isnan(value) ? "nan" :
                       value > 0         ? "inf" :
                                           "-inf")
-                  << " at (" << p
-                  << ") m. Give expressions that are finite wherever they "
+                  << " at " << format_point(p, 6)
+                  << " m. Give expressions that are finite wherever they "
                      "act.";
           AssertThrow(false, ExcMessage(message.str()));
         }
@@ -535,21 +536,44 @@ namespace ddfem::scene
   BoundaryFace::node_points(const unsigned int degree) const
   {
     Assert(degree == 1 || degree == 2, ExcIndexRange(degree, 1, 3));
+    std::vector<double> unit;
+    for (unsigned int i = 0; i <= degree; ++i)
+      unit.push_back(double(i) / degree);
+    return points(unit);
+  }
+
+
+
+  std::vector<Point<3>>
+  BoundaryFace::gauss_points(const unsigned int n) const
+  {
+    std::vector<double> unit;
+    const QGauss<1> quadrature(n);
+    for (const Point<1> &q : quadrature.get_points())
+      unit.push_back(q[0]);
+    return points(unit);
+  }
+
+
+
+  std::vector<Point<3>>
+  BoundaryFace::points(const std::vector<double> &unit) const
+  {
     unsigned int axis = 0;
     for (unsigned int d = 1; d < 3; ++d)
       if (std::abs(normal[d]) > std::abs(normal[axis]))
         axis = d;
     const unsigned int    a = (axis + 1) % 3, b = (axis + 2) % 3;
-    std::vector<Point<3>> points;
-    for (unsigned int i = 0; i <= degree; ++i)
-      for (unsigned int j = 0; j <= degree; ++j)
+    std::vector<Point<3>> result;
+    for (const double u_a : unit)
+      for (const double u_b : unit)
         {
           Point<3> p = center;
-          p[a] += (double(i) / degree - 0.5) * size;
-          p[b] += (double(j) / degree - 0.5) * size;
-          points.push_back(p);
+          p[a] += (u_a - 0.5) * size;
+          p[b] += (u_b - 0.5) * size;
+          result.push_back(p);
         }
-    return points;
+    return result;
   }
 
 
@@ -557,10 +581,18 @@ namespace ddfem::scene
   void
   BoundaryConditions::check_regions(
     const std::vector<Point<3>>     &nodes,
-    const std::vector<BoundaryFace> &boundary_faces) const
+    const std::vector<BoundaryFace> &boundary_faces,
+    const std::vector<Point<3>>     &vertices) const
   {
     for (const Condition &condition : conditions)
       {
+        const auto holds_one_of = [&](const std::vector<Point<3>> &points) {
+          return std::any_of(points.begin(),
+                             points.end(),
+                             [&](const Point<3> &p) {
+                               return condition.region->contains(p);
+                             });
+        };
         const bool is_load = condition.constrained.empty();
         const bool reached =
           is_load ?
@@ -569,9 +601,15 @@ namespace ddfem::scene
                         [&](const BoundaryFace &face) {
                           return condition.region->contains(face.center);
                         }) :
-            std::any_of(nodes.begin(), nodes.end(), [&](const Point<3> &p) {
-              return condition.region->contains(p);
-            });
+            holds_one_of(nodes);
+        AssertThrow(reached || is_load || !holds_one_of(vertices),
+                    ExcMessage(condition.where + " (" + condition.type +
+                               " on \"" + condition.region->name +
+                               "\") holds vertices of the solid but no "
+                               "quadrature point of a face. With "
+                               "DG/Dirichlet = weak, conditions act at the "
+                               "quadrature points of faces: use regions that "
+                               "cover faces, or DG/Dirichlet = strong."));
         AssertThrow(reached,
                     ExcMessage(condition.where + " (" + condition.type +
                                " on \"" + condition.region->name +
@@ -585,11 +623,12 @@ namespace ddfem::scene
 
   void
   BoundaryConditions::check_effects(
-    const std::vector<Point<3>>                             &nodes,
-    const std::vector<BoundaryFace>                         &boundary_faces,
-    const std::function<std::vector<Point<3>>(std::size_t)> &face_nodes) const
+    const std::vector<Point<3>>     &nodes,
+    const std::vector<BoundaryFace> &boundary_faces,
+    const unsigned int               degree,
+    const bool                       weak) const
   {
-    // A load on components held at every node of its faces goes into the
+    // A load on components held wherever it would act goes into the
     // reactions whole. A load that is zero on its faces is left alone: it
     // says so itself.
     for (const Condition &condition : conditions)
@@ -597,30 +636,40 @@ namespace ddfem::scene
         {
           bool       nonzero = false;
           const auto acts    = [&]() {
-            for (std::size_t i = 0; i < boundary_faces.size(); ++i)
-              if (const BoundaryFace &face = boundary_faces[i];
-                  condition.region->contains(face.center))
-                for (const Point<3> &p : face_nodes(i))
-                  {
-                    // A value that is not finite here is the assembly's
-                    // error, at its quadrature points.
-                    Tensor<1, 3> t;
-                    try
-                      {
-                        t = load(condition, p, face.normal);
-                      }
-                    catch (const ExceptionBase &)
-                      {
-                        continue;
-                      }
-                    for (unsigned int d = 0; d < 3; ++d)
-                      if (t[d] != 0)
+            for (const BoundaryFace &face : boundary_faces)
+              if (condition.region->contains(face.center))
+                {
+                  const std::vector<Point<3>> face_nodes =
+                    weak ? std::vector<Point<3>>() : face.node_points(degree);
+                  const auto free_node = [&](const unsigned int d) {
+                    return std::any_of(face_nodes.begin(),
+                                       face_nodes.end(),
+                                       [&](const Point<3> &x) {
+                                         return !prescribes(x, d);
+                                       });
+                  };
+                  for (const Point<3> &p : face.gauss_points(degree + 1))
+                    {
+                      // A value that is not finite here is the assembly's
+                      // error.
+                      Tensor<1, 3> t;
+                      try
                         {
-                          nonzero = true;
-                          if (!prescribes(p, d))
-                            return true;
+                          t = load(condition, p, face.normal);
                         }
-                  }
+                      catch (const ExceptionBase &)
+                        {
+                          continue;
+                        }
+                      for (unsigned int d = 0; d < 3; ++d)
+                        if (t[d] != 0)
+                          {
+                            nonzero = true;
+                            if (weak ? !prescribes(p, d) : free_node(d))
+                              return true;
+                          }
+                    }
+                }
             return false;
           };
           AssertThrow(acts() || !nonzero,
@@ -628,7 +677,8 @@ namespace ddfem::scene
                         condition.where + " (" + condition.type + " on \"" +
                         condition.region->name +
                         "\") loads only components that Dirichlet conditions "
-                        "prescribe at every node of the faces it acts on: "
+                        "prescribe at every node of the faces where it is not "
+                        "zero: "
                         "all of it would go into the reactions and move "
                         "nothing. Move its region off the held nodes, or free "
                         "the components it loads."));

@@ -413,10 +413,7 @@ namespace ddfem::solver
     // to itself in the fine model: coarse models leave this check to the
     // fine voxels (check_voxel_scene(), or a compare run's fine model).
     if (discretization.level == 0)
-      boundary_conditions.check_effects(
-        points, load_faces, [&](const std::size_t i) {
-          return load_faces[i].node_points(fe.degree);
-        });
+      boundary_conditions.check_effects(points, load_faces, fe.degree, false);
     const std::vector<unsigned int> component = dof_components(dof_handler);
     dirichlet_dofs.clear();
     for (types::global_dof_index i = 0; i < n; ++i)

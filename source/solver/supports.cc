@@ -460,7 +460,7 @@ namespace ddfem::solver
     // must be held as a whole.
     std::set<std::size_t> held;
     // Whether a held part touches vertex v.
-    const auto            at_held = [&](const unsigned int v) {
+    const auto at_held = [&](const unsigned int v) {
       return std::any_of(parts_at_vertex[v].begin(),
                          parts_at_vertex[v].end(),
                          [&](const std::size_t q) {
@@ -584,9 +584,7 @@ namespace ddfem::solver
             faces.push_back(voxel_face(cell, f));
     const std::vector<Point<3>> &vertices = tria.get_vertices();
     bc.check_regions(vertices, faces);
-    bc.check_effects(vertices, faces, [&](const std::size_t i) {
-      return faces[i].node_points(1); // the vertices are the nodes
-    });
+    bc.check_effects(vertices, faces, 1, false);
 
     // The held components of each vertex, then the rows of each cell.
     std::vector<std::vector<unsigned int>> held(vertices.size());

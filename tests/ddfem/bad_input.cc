@@ -614,6 +614,20 @@ main(int argc, char **argv)
              "    set Region = box 0 0.04 0 0 0.04 0.02\n  end\n"
              "  subsection Condition 4\n    set Type = fixed\n"
              "    set Region = box 0.01 0.04 0 0.01 0.04 0.02\n  end\nend\n");
+  // A load on the same strip, held on one line only, that is zero on the
+  // free line: it is not zero at the faces' Gauss points, and the free
+  // nodes' shape functions carry it there, so it moves the part.
+  const std::string tapering_to_held_line =
+    cantilever +
+    "subsection Boundary conditions\n  subsection Condition 2\n"
+    "    set Region = box 0 0.04 0 0.01 0.04 0.02\n"
+    "    set Value = 0; 0; -1e7*(0.01-x)\n  end\n"
+    "  subsection Condition 3\n    set Type = fixed\n"
+    "    set Region = box 0 0.04 0 0 0.04 0.02\n  end\nend\n";
+  run_case("load_tapering_to_held_line", tapering_to_held_line);
+  run_case("load_tapering_to_held_line_dg",
+           tapering_to_held_line,
+           {"--set", "Method=dg", "--set", "DG/Dirichlet=strong"});
   run_case("pressure_on_sliding_face",
            cantilever +
              "subsection Boundary conditions\n  subsection Condition 3\n"

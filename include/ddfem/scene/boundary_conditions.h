@@ -5,7 +5,6 @@
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/point.h>
 
-#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -71,6 +70,17 @@ namespace ddfem::scene
     /// corners, and at degree 2 its edge midpoints and center too.
     std::vector<Point<3>>
     node_points(const unsigned int degree) const;
+
+    /// The points of the @p n x @p n Gauss rule on it, where an element of
+    /// degree n - 1 evaluates a load.
+    std::vector<Point<3>>
+    gauss_points(const unsigned int n) const;
+
+  private:
+    /// The points (u_i, u_j) of the face, with the coordinates @p unit in
+    /// [0, 1] along each of its two sides.
+    std::vector<Point<3>>
+    points(const std::vector<double> &unit) const;
   };
 
   /**
@@ -136,29 +146,39 @@ namespace ddfem::scene
      * condition contains none of @p nodes, or the region of a traction or
      * pressure condition the center of none of @p boundary_faces: such a
      * condition would silently do nothing.
+     *
+     * Where Dirichlet conditions act weakly, @p nodes are the quadrature
+     * points of faces, and @p vertices the solid's vertices: a condition
+     * that holds vertices but no such point is told so, for its region
+     * meets the solid.
      */
     void
     check_regions(const std::vector<Point<3>>     &nodes,
-                  const std::vector<BoundaryFace> &boundary_faces) const;
+                  const std::vector<BoundaryFace> &boundary_faces,
+                  const std::vector<Point<3>>     &vertices = {}) const;
 
     /**
      * Throws ExcMessage naming the condition if, where its region meets
      * the solid (check_regions()), a condition would still do nothing: a
      * traction or pressure, not zero on its faces among @p boundary_faces,
-     * that loads only components Dirichlet conditions prescribe at every
-     * point of those faces where they act, @p face_nodes(i) of face i (the
-     * element's nodes, BoundaryFace::node_points(), or the face's
-     * quadrature points where they act weakly; it would go into the
-     * reactions whole); or a
-     * Dirichlet condition whose every component, at every one of @p nodes
-     * it holds, a higher-numbered condition prescribes too (the highest
-     * number wins).
+     * that would go into the reactions whole; or a Dirichlet condition
+     * whose every component, at every one of @p nodes it holds, a
+     * higher-numbered condition prescribes too (the highest number wins).
+     *
+     * The load is taken where an element of degree @p degree evaluates it,
+     * at the Gauss points of each face (BoundaryFace::gauss_points()). A
+     * component of it moves the part if it is not zero at one of a face's
+     * Gauss points and some node of that face (BoundaryFace::node_points())
+     * is free in that component: the node's shape function carries it
+     * there. With @p weak, Dirichlet conditions act at the Gauss points
+     * instead, where they take the load's held components off: a component
+     * moves the part if it is not zero at a Gauss point where it is free.
      */
     void
     check_effects(const std::vector<Point<3>>     &nodes,
                   const std::vector<BoundaryFace> &boundary_faces,
-                  const std::function<std::vector<Point<3>>(std::size_t)>
-                    &face_nodes) const;
+                  const unsigned int               degree,
+                  const bool                       weak) const;
 
     /**
      * Throws ExcMessage naming the condition and @p parameter if a rotation
