@@ -1218,7 +1218,8 @@ namespace ddfem::dg
                     << " in a state that turns a cell inside out at "
                     << format_point(where)
                     << " m (det F = " << std::setprecision(3) << J
-                    << " there): no deformation. Use more DG/Load steps.";
+                    << " there): no deformation. Use more DG/Load steps, or "
+                       "prescribe motions that every cell can follow.";
             AssertThrow(false, ExcMessage(message.str()));
           }
       }

@@ -556,13 +556,19 @@ main(int argc, char **argv)
            cantilever +
              "subsection Boundary conditions\n  subsection Condition 2\n"
              "    set Type = rotation\n    set Angle = -3600\n  end\nend\n");
-  // Exactly 180 degrees per step leaves the direction open (1620 degrees
-  // read back from radians as a hair less).
-  run_case("rotation_step_exactly_180",
+  // At most 90 degrees per step: 1620 degrees in 17 steps are 95.3 per
+  // step, and 180 degrees in 2 steps, read back from radians as a hair
+  // more, are exactly 90.
+  run_case("rotation_step_above_90",
            cantilever +
              "subsection Boundary conditions\n  subsection Condition 2\n"
              "    set Type = rotation\n    set Angle = 1620\n  end\nend\n"
-             "subsection Nonlinear solver\n  set Load steps = 9\nend\n");
+             "subsection Nonlinear solver\n  set Load steps = 17\nend\n");
+  run_case("rotation_step_exactly_90",
+           cantilever +
+             "subsection Boundary conditions\n  subsection Condition 2\n"
+             "    set Type = rotation\n    set Angle = 180\n  end\nend\n"
+             "subsection Nonlinear solver\n  set Load steps = 2\nend\n");
   run_case("displacement_all_free",
            cantilever +
              "subsection Boundary conditions\n  subsection Condition 2\n"
