@@ -589,6 +589,51 @@ namespace ddfem::coarsening
 
   namespace
   {
+    /**
+     * fit_in_parallel() with every entry appended to the journal of
+     * @p journal_of (Journal, with @p fingerprint, @p n_keys and @p level)
+     * before store() takes it, so that a killed build resumes. A build that
+     * stops on an error instead (a fit refused for its settings, a full
+     * disk) removes a journal it started: its entries would be resumed only
+     * under the same settings, which stop the build again, and another
+     * setting refuses the journal.
+     */
+    void
+    fit_journaled(const std::string                             &journal_of,
+                  const std::string                             &fingerprint,
+                  const std::size_t                              n_keys,
+                  const unsigned int                             level,
+                  const std::size_t                              n,
+                  const unsigned int                             n_threads,
+                  const std::function<Entry(const std::size_t)> &fit,
+                  const std::function<void(const Entry &)>      &store,
+                  std::ostream                                  &out,
+                  const bool                                     show_progress)
+    {
+      const bool started = !Journal::exists(journal_of);
+      try
+        {
+          Journal journal(journal_of, fingerprint, n_keys, level);
+          fit_in_parallel(
+            n,
+            n_threads,
+            fit,
+            [&](const Entry &entry) {
+              journal.append(entry);
+              store(entry);
+            },
+            out,
+            show_progress);
+        }
+      catch (...)
+        {
+          if (started)
+            Journal::remove(journal_of);
+          throw;
+        }
+    }
+
+
     /// Prints the statistics of a level's entries.
     void
     report(const std::vector<Entry> &entries, std::ostream &out)
@@ -759,11 +804,11 @@ namespace ddfem::coarsening
       {
         Database::check_not_read_only(database_file);
         create_directories(directory(), "Database/File");
-        Journal journal(database_file,
-                        database.fingerprint(),
-                        database.combinations().size(),
-                        1);
-        fit_in_parallel(
+        fit_journaled(
+          database_file,
+          database.fingerprint(),
+          database.combinations().size(),
+          1,
           todo.size(),
           n_threads,
           [&](const std::size_t i) {
@@ -778,10 +823,7 @@ namespace ddfem::coarsening
                              0x9E3779B97F4A7C15ULL *
                                (key + 1 + sampling.seed * 1000003ULL));
           },
-          [&](const Entry &entry) {
-            journal.append(entry);
-            database.add(entry);
-          },
+          [&](const Entry &entry) { database.add(entry); },
           out,
           show_progress);
       }
@@ -914,11 +956,11 @@ namespace ddfem::coarsening
         if (!needed.empty())
           {
             Database::check_not_read_only(database_file);
-            Journal journal(level2_journal,
-                            level2_fingerprint,
-                            level2.n_representatives(),
-                            2);
-            fit_in_parallel(
+            fit_journaled(
+              level2_journal,
+              level2_fingerprint,
+              level2.n_representatives(),
+              2,
               needed.size(),
               n_threads,
               [&](const std::size_t i) {
@@ -938,10 +980,7 @@ namespace ddfem::coarsening
                                         element2,
                                         seed);
               },
-              [&](const Entry &entry) {
-                journal.append(entry);
-                level2.entries.push_back(entry);
-              },
+              [&](const Entry &entry) { level2.entries.push_back(entry); },
               out,
               show_progress);
           }

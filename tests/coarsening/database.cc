@@ -326,6 +326,12 @@ main()
               << !std::filesystem::exists("killed.h5")
               << ", at least 20 entries journaled: " << (journaled >= 20)
               << std::endl;
+    // Another seed makes other entries: a build with it refuses the
+    // journal, naming the difference and both ways on.
+    expect_error("the journal opened with another seed", [] {
+      std::ostringstream log;
+      open(builder("killed.h5", true, "all", 1, 0, 1, 30, 1), palette(), log);
+    });
 
     std::ostringstream    log;
     const DatabaseBuilder b = builder("killed.h5", true);

@@ -1072,9 +1072,10 @@ main(int argc, char **argv)
             << std::filesystem::exists("damaged.h5.journal") << "\n"
             << std::endl;
 
-  // A build stopped by a fit refused for its settings keeps its journal,
-  // as a killed build does; a rerun with other settings names the
-  // difference and both ways on.
+  // A build stopped by a fit refused for its settings removes the journal
+  // it started (a killed build keeps it: tests/coarsening/database.cc):
+  // its entries would be resumed only under the same settings, which stop
+  // it again. The rerun with valid settings then runs.
   {
     std::filesystem::remove_all("refused");
     const std::string layers =
@@ -1089,7 +1090,7 @@ main(int argc, char **argv)
     std::cout << "  journal kept: "
               << std::filesystem::exists("refused/db.h5.journal") << "\n"
               << std::endl;
-    run_case("journal_of_other_settings", layers);
+    run_case("rerun_after_refused_fit", layers);
   }
 
   // Not an error: a probe 4e-10 voxel sizes off the tip, within the
