@@ -944,8 +944,12 @@ namespace ddfem::coarsening
             out << "  " << n_own << " of " << distinct.size()
                 << " distinct 4x4x4 blocks fitted as they are";
             if (n_own < distinct.size())
-              out << "; the others exceed the Level 2 budgets and share "
-                     "the nearest representative's fit";
+              out << (level2.required_blocks().empty() ?
+                        "; the others take the nearest representative's "
+                        "fit of the file's tables, which a build with "
+                        "Scope = all made for every composition" :
+                        "; the others exceed the Level 2 budgets and share "
+                        "the nearest representative's fit");
             out << std::endl;
           }
 

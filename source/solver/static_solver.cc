@@ -263,7 +263,8 @@ namespace ddfem::solver
       Patterns::Double(1e-14, 1e-2),
       "From 1e-14 to 1e-2. Converged when the residual at the free unknowns is this "
       "fraction of the largest of (the largest residual seen in the "
-      "increment, the external load at the free unknowns), or when a Newton "
+      "increment, the external load at the free unknowns at the step's load "
+      "factor), or when a Newton "
       "step with the unshifted tangent changed no unknown by more than 1e-13 "
       "of the bounding box's diagonal (a residual of round-off in stiff "
       "parts).");
