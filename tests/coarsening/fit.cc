@@ -435,10 +435,13 @@ main()
     std::vector<double> naive_errors =
       relative_energy_errors(element, prior, samples);
     std::sort(naive_errors.begin(), naive_errors.end());
-    std::cout << "median held-out error below a tenth of the naive element's: "
-              << (fit.median_error <
-                  0.1 * naive_errors[naive_errors.size() / 2])
-              << std::endl;
+    const double naive_median = naive_errors[naive_errors.size() / 2];
+    const auto   precision    = std::cout.precision(2);
+    std::cout << "median held-out error " << fit.median_error
+              << ", the naive element's " << naive_median
+              << ": below a tenth of it: "
+              << (fit.median_error < 0.1 * naive_median) << std::endl;
+    std::cout.precision(precision);
   }
 
   // Blocks whose solid children touch only at a corner or along an edge

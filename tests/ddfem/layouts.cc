@@ -12,9 +12,11 @@
 
 #include <ddfem/scene/voxel_io.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <fstream>
+#include <functional>
 #include <set>
 
 #include "../tests.h"
@@ -421,8 +423,10 @@ main()
   // Voxel meshes of the sphere scene, fine and one level coarser, and of
   // three slabs of 8 x 8 x 2 voxels at z = 0, 4 and 6 voxels: at level 1
   // the first two are a void plane of blocks apart, the last two touch.
-  // Every vertex of every cell is its block's corner, and no two vertices
-  // coincide (make_voxel_mesh numbers them two vertex planes at a time).
+  // Every vertex of every cell is its block's corner, no two vertices
+  // coincide (make_voxel_mesh numbers them two vertex planes at a time),
+  // and the cells come in increasing block order, lexicographic, which
+  // Discretization::cell_of_voxel() searches by bisection.
   const auto sphere =
     make_scene("set Material = 0\nset Shapes = sphere 0.04 0.04 0.04 0.025 : 1")
       .grid;
@@ -462,6 +466,11 @@ main()
                   << tria.n_active_cells() << " cells, " << tria.n_vertices()
                   << " vertices (" << distinct.size()
                   << " places), cells match their blocks: " << ordered
+                  << ", blocks increase: "
+                  << (std::adjacent_find(blocks.begin(),
+                                         blocks.end(),
+                                         std::greater_equal<std::size_t>()) ==
+                      blocks.end())
                   << std::endl;
       }
 }
