@@ -592,11 +592,11 @@ namespace ddfem::coarsening
     /**
      * fit_in_parallel() with every entry appended to the journal of
      * @p journal_of (Journal, with @p fingerprint, @p n_keys and @p level)
-     * before store() takes it, so that a killed build resumes. A build that
-     * stops on an error instead (a fit refused for its settings, a full
-     * disk) removes a journal it started: its entries would be resumed only
-     * under the same settings, which stop the build again, and another
-     * setting refuses the journal.
+     * before store() takes it, so that a killed build resumes, as does one
+     * stopped by another error (a full disk). A build stopped by a fit its
+     * settings cannot give (ExcFitRefused) removes the journal: its
+     * entries would be resumed only under the same settings, which stop the
+     * build again, and other settings refuse the journal.
      */
     void
     fit_journaled(const std::string                             &journal_of,
@@ -610,7 +610,6 @@ namespace ddfem::coarsening
                   std::ostream                                  &out,
                   const bool                                     show_progress)
     {
-      const bool started = !Journal::exists(journal_of);
       try
         {
           Journal journal(journal_of, fingerprint, n_keys, level);
@@ -625,10 +624,10 @@ namespace ddfem::coarsening
             out,
             show_progress);
         }
-      catch (...)
+      catch (const ExcFitRefused &)
         {
-          if (started)
-            Journal::remove(journal_of);
+          std::error_code ignored; // the refusal is the error to report
+          std::filesystem::remove(Journal::file_name(journal_of), ignored);
           throw;
         }
     }

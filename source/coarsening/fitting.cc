@@ -251,11 +251,12 @@ namespace ddfem::coarsening
           }
       }
     AssertThrow(optimal,
-                ExcMessage("The bounded least squares of a metamaterial fit "
-                           "did not end in " +
-                           std::to_string(max_passes) +
-                           " passes (an ill-conditioned fit? Database/"
-                           "Fitting/Regularization > 0 keeps it definite)."));
+                ExcFitRefused(
+                  "The bounded least squares of a metamaterial fit "
+                  "did not end in " +
+                  std::to_string(max_passes) +
+                  " passes (an ill-conditioned fit? Database/"
+                  "Fitting/Regularization > 0 keeps it definite)."));
     return x;
   }
 
@@ -408,15 +409,15 @@ namespace ddfem::coarsening
       }
     n_fit = rows.size();
     AssertThrow(n_fit > 0,
-                ExcMessage("A metamaterial fit has no sample to fit: of " +
-                           std::to_string(samples.size()) + ", " +
-                           std::to_string(n_rejected) +
-                           " were rejected (energies that are not finite "
-                           "and positive, or motions that invert the coarse "
-                           "element) and " +
-                           std::to_string(held_out.size()) +
-                           " held out (Database/Fitting/Held-out every). "
-                           "Give more Database/Sampling/Patterns."));
+                ExcFitRefused("A metamaterial fit has no sample to fit: of " +
+                              std::to_string(samples.size()) + ", " +
+                              std::to_string(n_rejected) +
+                              " were rejected (energies that are not finite "
+                              "and positive, or motions that invert the coarse "
+                              "element) and " +
+                              std::to_string(held_out.size()) +
+                              " held out (Database/Fitting/Held-out every). "
+                              "Give more Database/Sampling/Patterns."));
     // The rows in the unknowns: an unknown's column sums its parameters'.
     const unsigned int m = unknowns.size();
     H.reinit(m, m);
@@ -470,19 +471,19 @@ namespace ddfem::coarsening
     // arbitrarily (stiff children soft) and report a fit without error.
     AssertThrow(
       (regularization > 0 && spring_weight > 0) || determines_unknowns(A),
-      ExcMessage("A metamaterial fit with the regularization weights " +
-                 Utilities::to_string(regularization) + " (mu, lambda) and " +
-                 Utilities::to_string(spring_weight) + " (springs) has " +
-                 std::to_string(n_fit) +
-                 " samples that fix only combinations of its " +
-                 std::to_string(unknowns.size()) + " unknowns, not each one." +
-                 undetermined_advice));
+      ExcFitRefused("A metamaterial fit with the regularization weights " +
+                    Utilities::to_string(regularization) +
+                    " (mu, lambda) and " + Utilities::to_string(spring_weight) +
+                    " (springs) has " + std::to_string(n_fit) +
+                    " samples that fix only combinations of its " +
+                    std::to_string(unknowns.size()) +
+                    " unknowns, not each one." + undetermined_advice));
 
     const Vector<double> x = nonnegative_least_squares(A, b);
     AssertThrow(all_finite(x),
-                ExcMessage("A metamaterial fit gave parameters that are not "
-                           "finite: its samples do not determine them." +
-                           std::string(undetermined_advice)));
+                ExcFitRefused("A metamaterial fit gave parameters that are not "
+                              "finite: its samples do not determine them." +
+                              std::string(undetermined_advice)));
     std::vector<double> p(3 * prior.points.size());
     for (unsigned int q = 0; q < prior.points.size(); ++q)
       for (unsigned int t = 0; t < 3; ++t)

@@ -131,19 +131,7 @@ namespace ddfem::dg
   SceneSolver::face_points(const Triangulation<3>::active_cell_iterator &cell,
                            const unsigned int f) const
   {
-    // Bilinear map of the planar voxel face.
-    const auto            face = cell->face(f);
-    std::vector<Point<3>> points;
-    const QGauss<2>       quadrature(parameters.degree + 1);
-    for (const Point<2> &q : quadrature.get_points())
-      {
-        Point<3> x;
-        for (unsigned int v = 0; v < 4; ++v)
-          x += face->vertex(v) *
-               ((v % 2 ? q[0] : 1 - q[0]) * (v / 2 ? q[1] : 1 - q[1]));
-        points.push_back(x);
-      }
-    return points;
+    return solver::voxel_face(cell, f).gauss_points(parameters.degree + 1);
   }
 
 
@@ -226,12 +214,10 @@ namespace ddfem::dg
       }
 
     // Every condition must act somewhere.
-    std::vector<Point<3>> vertices;
-    if (weak)
-      for (const auto &cell : triangulation.active_cell_iterators())
-        for (const unsigned int v : cell->vertex_indices())
-          vertices.push_back(cell->vertex(v));
-    bc.check_regions(points, faces, vertices);
+    bc.check_regions(points,
+                     faces,
+                     weak ? triangulation.get_vertices() :
+                            std::vector<Point<3>>());
     bc.check_effects(points, faces, parameters.degree, weak);
 
     // The conditions must fix all six rigid motions of every face-connected

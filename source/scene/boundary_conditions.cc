@@ -549,7 +549,7 @@ namespace ddfem::scene
   BoundaryFace::gauss_points(const unsigned int n) const
   {
     std::vector<double> unit;
-    const QGauss<1> quadrature(n);
+    const QGauss<1>     quadrature(n);
     for (const Point<1> &q : quadrature.get_points())
       unit.push_back(q[0]);
     return points(unit);
@@ -678,10 +678,12 @@ namespace ddfem::scene
                         condition.where + " (" + condition.type + " on \"" +
                         condition.region->name +
                         "\") loads only components that Dirichlet conditions "
-                        "prescribe at every node of the faces where it is not "
-                        "zero: "
-                        "all of it would go into the reactions and move "
-                        "nothing. Move its region off the held nodes, or free "
+                        "prescribe at every " +
+                        (weak ? "quadrature point of its faces where it is not "
+                                "zero (they act weakly there)" :
+                                "node of the faces where it is not zero") +
+                        ": all of it would go into the reactions and move "
+                        "nothing. Move its region off what they hold, or free "
                         "the components it loads."));
         }
 
@@ -729,18 +731,19 @@ namespace ddfem::scene
             std::abs(condition.angle) / (numbers::PI / 2 * (1 + 1e-12));
           const double degrees = std::abs(condition.angle) * 180. / numbers::PI;
           std::ostringstream message;
-          message << condition.where << "/Angle turns by " << degrees
-                  << " degrees in " << parameter << " = " << load_steps
-                  << " equal steps, " << degrees / load_steps
-                  << " degrees per step: a step may turn by at most 90 "
-                     "degrees, since it prescribes only where each node "
-                     "ends, and its first iterate moves the nodes along "
-                     "the chords of their arcs, which squeezes the part "
-                     "(a twisted bar midway by det F = 0.5 at 90 degrees, "
-                     "0.002 at 175, where solvers found states that were "
-                     "no solution of the turn). Use at least "
-                  << static_cast<unsigned int>(std::ceil(quarter_turns))
-                  << " load steps.";
+          message
+            << condition.where << "/Angle turns by " << degrees
+            << " degrees in " << parameter << " = " << load_steps
+            << " equal steps, " << degrees / load_steps
+            << " degrees per step: a step may turn by at most 90 "
+               "degrees, since it prescribes only where each node "
+               "ends, and the first step's first iterate moves the "
+               "nodes along the chords of their arcs, which squeezes the part "
+               "(a twisted bar midway by det F = 0.5 at 90 degrees, "
+               "0.002 at 175, where solvers found states that were "
+               "no solution of the turn). Use at least "
+            << static_cast<unsigned int>(std::ceil(quarter_turns))
+            << " load steps.";
           AssertThrow(quarter_turns <= load_steps, ExcMessage(message.str()));
         }
   }

@@ -7,7 +7,8 @@
 //
 // FirstSmallest, which the fine solver and DG use to report the most
 // compressed corner: of values equal up to round-off the first is kept, a
-// smaller value beyond round-off replaces it, and a NaN is kept once seen.
+// smaller value beyond round-off replaces it (also -inf), and a NaN is
+// kept once seen.
 
 #include <ddfem/base/statistics.h>
 
@@ -45,6 +46,7 @@ main()
     print(thousand, q);
 
   const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
   const auto   smallest_of =
     [](const std::vector<std::pair<double, std::string>> &values) {
       ddfem::FirstSmallest<std::string> smallest;
@@ -60,4 +62,5 @@ main()
   smallest_of({{-2, "a"}, {-2 * (1 + 1e-12), "b"}, {-2 * (1 + 1e-8), "c"}});
   smallest_of({{0.5, "a"}, {nan, "b"}, {-1, "c"}, {nan, "d"}});
   smallest_of({{nan, "a"}, {0.5, "b"}});
+  smallest_of({{0.5, "a"}, {-inf, "b"}, {-1, "c"}});
 }

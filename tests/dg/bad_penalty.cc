@@ -150,6 +150,14 @@ main(int argc, char **argv)
              "    set Type = displacement\n    set Value = 0; -0.1; 0\n"
              "  end\nend\n",
            "set Formulation = corotated\nset Load steps = 1\n");
+  // A load on the clamped face alone: with weak conditions it is taken
+  // off at every quadrature point, where they act, and would move nothing.
+  run_case("weak_load_on_held_face",
+           testing::cantilever("2, 6, 2", "0; 0; -100") +
+             "set Method = dg\n"
+             "subsection Boundary conditions\n  subsection Condition 2\n"
+             "    set Region = y-\n  end\nend\n",
+           "set Dirichlet = weak\n");
   // One iteration could not converge (a step's first solve moves the
   // solution); the range says so before any setup.
   run_case("one_corotation_iteration",

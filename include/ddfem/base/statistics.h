@@ -59,7 +59,9 @@ namespace ddfem
     {
       if (std::isnan(smallest))
         return;
-      if (std::isnan(value) || value < smallest - 1e-9 * std::abs(value))
+      if (std::isnan(value) ||
+          value <
+            smallest - (std::isfinite(value) ? 1e-9 * std::abs(value) : 0))
         {
           smallest = value;
           where    = place;

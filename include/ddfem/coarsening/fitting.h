@@ -26,6 +26,15 @@ namespace ddfem::coarsening
   constexpr double max_regularization = 1e6;
 
   /**
+   * A metamaterial fit that its samples and settings cannot give (no
+   * sample left, unknowns the samples leave free at a weight of 0,
+   * parameters that are not finite, a bounded least squares that does not
+   * end). The fit depends only on its combination's seed and the settings,
+   * so the same settings fail it again.
+   */
+  DeclException1(ExcFitRefused, std::string, << arg1);
+
+  /**
    * Settings of the metamaterial fit (paper eq. 4). Declared in the prm
    * subsection "Fitting".
    */

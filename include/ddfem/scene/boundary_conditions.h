@@ -184,8 +184,8 @@ namespace ddfem::scene
      * Throws ExcMessage naming the condition and @p parameter if a rotation
      * turns by more than 90 degrees in one of @p load_steps equal load
      * steps. A step prescribes only where each node ends, which carries no
-     * winding (a turn of 360 degrees looks like none), and the step's first
-     * iterate moves the turned face along the chords of its nodes' arcs,
+     * winding (a turn of 360 degrees looks like none), and the first step's
+     * first iterate moves the turned face along the chords of its nodes' arcs,
      * which squeezes a twisted bar midway to det F = cos^2(theta / 2) for a
      * step of theta: 0.5 at 90 degrees, 0.002 at 175, where the fine solver
      * and corotated DG settled in states that were no solution of the

@@ -176,7 +176,7 @@ namespace ddfem::solver
      * A solver for @p discretization under @p boundary_conditions. The
      * objects passed must outlive the solver. @p timer receives the
      * sections "assembly" and "line search" (and the linear solver's).
-     * Throws ExcMessage if a rotation turns by 180 degrees or more per
+     * Throws ExcMessage if a rotation turns by more than 90 degrees per
      * load step (BoundaryConditions::check_rotation_steps()).
      */
     StaticSolver(const Discretization            &discretization,
