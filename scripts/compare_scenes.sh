@@ -5,7 +5,8 @@
 # fibers, bridge, bridge_arch, shoe_sole, character) with the Release build,
 # one after the other, and writes output/compare/<scene>/comparison.{csv,json},
 # error_vs_time.png and VTU. EXTRA holds further arguments of every run, as
-# shell words (quoted as on a command line). The metamaterials a scene needs
+# shell words (quoted as on a command line; split as words only, so '$' and
+# backquotes stay as they are). The metamaterials a scene needs
 # are fitted into the database file on its first run (lazy mode); later runs
 # find them there.
 # A compare run in which a model does not converge exits with 1 but writes
@@ -37,12 +38,15 @@ for s in "${scenes[@]}"; do
     exit 1
   fi
 done
-# EXTRA's words, with their quotes: the settings every run gets.
-extra=()
-eval "extra=(${EXTRA:-})" || {
+# EXTRA's words, with their quotes: the settings every run gets. Split by
+# Python's shlex, one word a line, without running or expanding anything.
+words=$(python3 -c 'import shlex, sys
+print("\n".join(shlex.split(sys.argv[1])))' "${EXTRA:-}" 2>/dev/null) || {
   echo "Error: EXTRA is not a list of shell words: ${EXTRA}" >&2
   exit 1
 }
+extra=()
+[ -z "$words" ] || mapfile -t extra <<< "$words"
 failed=()
 with_results=()
 for s in "${scenes[@]}"; do
