@@ -23,6 +23,8 @@
 #include <limits>
 #include <memory>
 #include <sstream>
+#include <string>
+#include <tuple>
 
 namespace ddfem::dg
 {
@@ -428,10 +430,17 @@ namespace ddfem::dg
     max_3d          = l3d[1];
     condition_limit = prm.get_integer("Condition number limit");
     prm.leave_subsection();
-    AssertThrow(min_2d <= max_2d && min_3d <= max_3d,
-                ExcMessage("DG convergence/2D refinements and 3D "
-                           "refinements: expected 'smallest, largest' with "
-                           "smallest <= largest."));
+    for (const auto &[name, smallest, largest] :
+         {std::tuple<const char *, unsigned int, unsigned int>{"2D refinements",
+                                                               min_2d,
+                                                               max_2d},
+          {"3D refinements", min_3d, max_3d}})
+      AssertThrow(smallest <= largest,
+                  ExcMessage(std::string("DG convergence/") + name + " = " +
+                             std::to_string(smallest) + ", " +
+                             std::to_string(largest) +
+                             ": expected 'smallest, largest' with smallest "
+                             "<= largest."));
   }
 
 
@@ -786,6 +795,19 @@ namespace ddfem::dg
                  << total / total_cg;
         screen << row.str() << "\n";
         file << row.str() << time_row.str() << "\n";
+      }
+    // A fixed penalty below the stable one gives an indefinite system whose
+    // error means nothing: say which systems were not checked.
+    std::string unchecked;
+    for (const auto &[method, r] : results)
+      if (!r.checked && !method.continuous)
+        unchecked += (unchecked.empty() ? "" : ", ") + method.name;
+    if (!unchecked.empty())
+      {
+        const std::string note = "positive definiteness NOT checked for " +
+                                 unchecked + " (DG/Definiteness check limit)\n";
+        screen << note;
+        file << note;
       }
     out << (timings ? file.str() : screen.str());
     ResultFile text(directory + "/dg_cost.txt", "Output/Output directory");

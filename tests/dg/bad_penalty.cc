@@ -236,7 +236,9 @@ main(int argc, char **argv)
              "    set Value = 0; 0; sqrt(-1)\n  end\nend\n",
            "");
   // Not bad input: a cost study runs on one thread and gives its caller
-  // the caller's limit back (it used to set the default, every core).
+  // the caller's limit back (it used to set the default, every core). The
+  // caller's limit is 2 here, so that a study that kept its own 1 fails.
+  MultithreadInfo::set_thread_limit(2);
   const unsigned int threads = MultithreadInfo::n_threads();
   run_case("cost_study_threads",
            "set Run type = dg cost\n"
@@ -244,4 +246,5 @@ main(int argc, char **argv)
            "set Penalty = 10\n");
   std::cout << "threads before the cost study: " << threads
             << ", after: " << MultithreadInfo::n_threads() << std::endl;
+  MultithreadInfo::set_thread_limit(1);
 }
