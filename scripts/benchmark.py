@@ -35,7 +35,8 @@ BINARY = os.path.join(ROOT, "build", "ddfem")
 
 
 def run(name):
-    """Runs benchmark @p name; its summary.json, or exits with a message."""
+    """Runs benchmark @p name; its exit code and its summary.json (None if
+    it wrote none)."""
     prm, overrides = BENCHMARKS[name]
     out = os.path.join(ROOT, "benchmark-output", name)
     os.makedirs(out, exist_ok=True)
@@ -56,11 +57,9 @@ def run(name):
     # None, and the queue goes on.
     try:
         with open(summary_file) as f:
-            summary = json.load(f)
+            return code, json.load(f)
     except (OSError, ValueError):
-        return code
-    summary["exit_code"] = code
-    return summary
+        return code, None
 
 
 def main():
@@ -85,10 +84,10 @@ def main():
           "| s / Newton it | total s | peak MB | reference s / it |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")
     for name in names:
-        s = run(name)
-        if not isinstance(s, dict):
+        code, s = run(name)
+        if s is None:
             failed.append(name)
-            print(f"| {name} (exit code {s}, no readable summary.json) "
+            print(f"| {name} (exit code {code}, no readable summary.json) "
                   "| | | | | | | | | | |", flush=True)
             continue
         ref = REFERENCE.get(name)
@@ -99,8 +98,8 @@ def main():
         status = ""
         if not s["converged"]:
             status = " (NOT converged)"
-        elif s["exit_code"] != 0:
-            status = " (exit code %d)" % s["exit_code"]
+        elif code != 0:
+            status = " (exit code %d)" % code
         if status:
             failed.append(name)
         print("| %s%s | %s | %d | %s | %d | %d | %d | %.3f | %.1f | %.0f | %s |" % (

@@ -38,15 +38,16 @@ for s in "${scenes[@]}"; do
     exit 1
   fi
 done
-# EXTRA's words, with their quotes: the settings every run gets. Split by
-# Python's shlex, one word a line, without running or expanding anything.
-words=$(python3 -c 'import shlex, sys
-print("\n".join(shlex.split(sys.argv[1])))' "${EXTRA:-}" 2>/dev/null) || {
-  echo "Error: EXTRA is not a list of shell words: ${EXTRA}" >&2
-  exit 1
-}
-extra=()
-[ -z "$words" ] || mapfile -t extra <<< "$words"
+# EXTRA's words, with their quotes: the settings every run gets. Python's
+# shlex splits them and quotes each one again, so the eval below expands
+# and runs nothing.
+quoted=$(python3 -c 'import shlex, sys
+try:
+    words = shlex.split(sys.argv[1])
+except ValueError as error:
+    sys.exit(f"Error: EXTRA is not a list of shell words ({error}): {sys.argv[1]}")
+print(" ".join(shlex.quote(word) for word in words))' "${EXTRA:-}")
+eval "extra=($quoted)"
 failed=()
 with_results=()
 for s in "${scenes[@]}"; do

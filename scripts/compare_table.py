@@ -145,8 +145,9 @@ def ratio(a, b):
 
 
 def main(argv):
-    if len(argv) > 1 and argv[1].startswith("-"):
-        sys.exit(__doc__)
+    if len(argv) > 1 and argv[1] in ("-h", "--help"):
+        print(__doc__)
+        return
     directory = argv[1] if len(argv) > 1 else os.path.join(
         os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
         "output", "compare")

@@ -594,9 +594,10 @@ namespace ddfem::coarsening
      * @p journal_of (Journal, with @p fingerprint, @p n_keys and @p level)
      * before store() takes it, so that a killed build resumes, as does one
      * stopped by another error (a full disk). A build stopped by a fit its
-     * settings cannot give (ExcFitRefused) removes the journal: its
-     * entries would be resumed only under the same settings, which stop the
-     * build again, and other settings refuse the journal.
+     * settings cannot give (ExcFitRefused) removes a journal it started:
+     * the same settings fail that fit again, and other settings refuse the
+     * journal. A journal it resumed may hold another scene's fits, which
+     * those settings give, and stays.
      */
     void
     fit_journaled(const std::string                             &journal_of,
@@ -610,6 +611,7 @@ namespace ddfem::coarsening
                   std::ostream                                  &out,
                   const bool                                     show_progress)
     {
+      const bool started = !Journal::exists(journal_of);
       try
         {
           Journal journal(journal_of, fingerprint, n_keys, level);
@@ -627,7 +629,8 @@ namespace ddfem::coarsening
       catch (const ExcFitRefused &)
         {
           std::error_code ignored; // the refusal is the error to report
-          std::filesystem::remove(Journal::file_name(journal_of), ignored);
+          if (started)
+            std::filesystem::remove(Journal::file_name(journal_of), ignored);
           throw;
         }
     }

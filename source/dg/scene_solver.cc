@@ -199,9 +199,10 @@ namespace ddfem::dg
         for (const unsigned int f : cell->face_indices())
           if (cell->face(f)->at_boundary())
             {
-              faces.push_back(solver::voxel_face(cell, f));
-              for (const Point<3> &x : face_points(cell, f))
-                bc.traction(faces.back().center, x, faces.back().normal);
+              const scene::BoundaryFace &face =
+                faces.emplace_back(solver::voxel_face(cell, f));
+              for (const Point<3> &x : face.gauss_points(parameters.degree + 1))
+                bc.traction(face.center, x, face.normal);
             }
         const std::size_t part = parts.find(cell->active_cell_index());
         for (const Point<3> &x : dirichlet_points(cell))

@@ -24,7 +24,6 @@
 #include <memory>
 #include <sstream>
 #include <string>
-#include <tuple>
 
 namespace ddfem::dg
 {
@@ -188,8 +187,10 @@ namespace ddfem::dg
       double condition   = std::numeric_limits<double>::quiet_NaN();
       double eta         = 0;
       double integration = 0, assembly = 0, solve = 0;
-      /// Whether the matrix was checked to be positive definite (a DG one
-      /// larger than DG/Definiteness check limit is not).
+      /// Whether the matrix is known to be positive definite: CG's is, a
+      /// DG one was checked unless larger than DG/Definiteness check limit.
+      /// A fixed penalty below the stable one gives an indefinite system
+      /// whose errors mean nothing, so the studies say where it is not.
       bool checked = true;
     };
 
@@ -248,7 +249,8 @@ namespace ddfem::dg
       system.solve();
 
       Result r;
-      r.checked        = definiteness != Definiteness::not_checked;
+      r.checked =
+        method.continuous || definiteness != Definiteness::not_checked;
       r.cells          = tria.n_active_cells();
       r.dofs           = system.dof_handler.n_dofs();
       r.nonzeros       = system.matrix.n_nonzero_elements();
@@ -430,17 +432,18 @@ namespace ddfem::dg
     max_3d          = l3d[1];
     condition_limit = prm.get_integer("Condition number limit");
     prm.leave_subsection();
-    for (const auto &[name, smallest, largest] :
-         {std::tuple<const char *, unsigned int, unsigned int>{"2D refinements",
-                                                               min_2d,
-                                                               max_2d},
-          {"3D refinements", min_3d, max_3d}})
+    const auto check_order = [](const std::string &name,
+                                const unsigned int smallest,
+                                const unsigned int largest) {
       AssertThrow(smallest <= largest,
-                  ExcMessage(std::string("DG convergence/") + name + " = " +
+                  ExcMessage("DG convergence/" + name + " = " +
                              std::to_string(smallest) + ", " +
                              std::to_string(largest) +
                              ": expected 'smallest, largest' with smallest "
                              "<= largest."));
+    };
+    check_order("2D refinements", min_2d, max_2d);
+    check_order("3D refinements", min_3d, max_3d);
   }
 
 
@@ -559,11 +562,9 @@ namespace ddfem::dg
           if (!method.continuous)
             heading << " (" << dg.element_name() << ", eta = " << fixed.penalty
                     << (dg.automatic_penalty() ? ", automatic" : "") << ")";
-          // A fixed penalty below the stable one gives an indefinite
-          // system whose errors mean nothing: say where that is unchecked.
           std::vector<unsigned int> unchecked;
           for (const Result &r : results)
-            if (!r.checked && !method.continuous)
+            if (!r.checked)
               unchecked.push_back(r.cells);
           if (!unchecked.empty())
             heading << ", positive definiteness NOT checked on "
@@ -796,11 +797,9 @@ namespace ddfem::dg
         screen << row.str() << "\n";
         file << row.str() << time_row.str() << "\n";
       }
-    // A fixed penalty below the stable one gives an indefinite system whose
-    // error means nothing: say which systems were not checked.
     std::string unchecked;
     for (const auto &[method, r] : results)
-      if (!r.checked && !method.continuous)
+      if (!r.checked)
         unchecked += (unchecked.empty() ? "" : ", ") + method.name;
     if (!unchecked.empty())
       {

@@ -1072,10 +1072,10 @@ main(int argc, char **argv)
             << std::filesystem::exists("damaged.h5.journal") << "\n"
             << std::endl;
 
-  // A build stopped by a fit refused for its settings removes its journal
-  // (a killed build keeps it: tests/coarsening/database.cc): its entries
-  // would be resumed only under the same settings, which refuse the fit
-  // again. The rerun with valid settings then runs.
+  // A build stopped by a fit refused for its settings removes the journal
+  // it started (a killed build keeps it: tests/coarsening/database.cc):
+  // the same settings refuse the fit again. The rerun with valid settings
+  // then runs.
   {
     std::filesystem::remove_all("refused");
     const std::string layers =
