@@ -128,26 +128,18 @@ namespace ddfem::dg
 
 
   std::vector<Point<3>>
-  SceneSolver::face_points(const Triangulation<3>::active_cell_iterator &cell,
-                           const unsigned int f) const
-  {
-    return solver::voxel_face(cell, f).gauss_points(parameters.degree + 1);
-  }
-
-
-
-  std::vector<Point<3>>
   SceneSolver::dirichlet_points(
     const Triangulation<3>::active_cell_iterator &cell) const
   {
-    // Weak conditions act at the quadrature points of every face, strong
-    // ones at every support point of the element (the cell is an
-    // axis-aligned box), as the system asks them
+    // Weak conditions act at the quadrature points of every face (its Gauss
+    // points), strong ones at every support point of the element (the cell
+    // is an axis-aligned box), as the system asks them
     // (ProblemData::dirichlet_inside).
     std::vector<Point<3>> points;
     if (parameters.dirichlet == Parameters::Dirichlet::weak)
       for (const unsigned int f : cell->face_indices())
-        for (const Point<3> &x : face_points(cell, f))
+        for (const Point<3> &x :
+             solver::voxel_face(cell, f).gauss_points(parameters.degree + 1))
           points.push_back(x);
     else
       for (const Point<3> &q : element->get_unit_support_points())

@@ -7,6 +7,7 @@
 #include <ddfem/scene/boundary_conditions.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <cstring>
@@ -640,15 +641,12 @@ namespace ddfem::scene
             for (const BoundaryFace &face : boundary_faces)
               if (condition.region->contains(face.center))
                 {
-                  const std::vector<Point<3>> face_nodes =
-                    weak ? std::vector<Point<3>>() : face.node_points(degree);
-                  const auto free_node = [&](const unsigned int d) {
-                    return std::any_of(face_nodes.begin(),
-                                       face_nodes.end(),
-                                       [&](const Point<3> &x) {
-                                         return !prescribes(x, d);
-                                       });
-                  };
+                  // Whether some node of the face is free in each component.
+                  std::array<bool, 3> node_free{};
+                  if (!weak)
+                    for (const Point<3> &x : face.node_points(degree))
+                      for (unsigned int d = 0; d < 3; ++d)
+                        node_free[d] = node_free[d] || !prescribes(x, d);
                   for (const Point<3> &p : face.gauss_points(degree + 1))
                     {
                       // A value that is not finite here is the assembly's
@@ -666,7 +664,7 @@ namespace ddfem::scene
                         if (t[d] != 0)
                           {
                             nonzero = true;
-                            if (weak ? !prescribes(p, d) : free_node(d))
+                            if (weak ? !prescribes(p, d) : node_free[d])
                               return true;
                           }
                     }

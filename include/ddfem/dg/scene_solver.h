@@ -96,14 +96,6 @@ namespace ddfem::dg
                const Point<3>                               &unit_point) const;
 
     /**
-     * The points where the assembly evaluates loads and weak Dirichlet
-     * data on face @p f of @p cell: its Gauss points.
-     */
-    std::vector<Point<3>>
-    face_points(const Triangulation<3>::active_cell_iterator &cell,
-                const unsigned int                            f) const;
-
-    /**
      * The points where Dirichlet conditions act on @p cell: with weak
      * conditions the Gauss points of its faces, with strong ones the
      * element's support points (needs the element). Interior ones count
