@@ -149,8 +149,10 @@ namespace ddfem::coarsening
 
   BlockSampler::BlockSampler(
     const std::array<std::vector<material::MaterialPoint>, 8> &children,
-    const double child_point_offset)
+    const double                     child_point_offset,
+    const std::optional<VoidVoxels> &void_voxels)
     : materials(children)
+    , void_octants(void_voxels.value_or(VoidVoxels{}))
     , fe(FE_Q<3>(1), 3)
   {
     scene::VoxelGrid grid({{2, 2, 2}}, 0.5);
@@ -267,31 +269,75 @@ namespace ddfem::coarsening
           constraints(r, i) /= std::sqrt(norm);
       }
 
-    // Corners and the trilinear least-squares fit for void corners.
-    std::vector<Point<3>> node_points;
-    for (const auto &dofs : node_dofs)
-      node_points.push_back(support_points[dofs[0]]);
-    FullMatrix<double> B(node_points.size(), 8), BtB(8, 8);
-    for (unsigned int n = 0; n < node_points.size(); ++n)
-      for (unsigned int v = 0; v < 8; ++v)
-        B(n, v) = GeometryInfo<3>::d_linear_shape_function(node_points[n], v);
+    // Corners, and the trilinear least-squares fit for those whose voxel
+    // is void: the fit of the field at the corners of the solid voxels
+    // (the fine nodes), each the trilinear interpolation of its child's
+    // nodes. Where the children are voxels, these are the nodes.
+    std::map<unsigned int, unsigned int> node_of_vertex;
+    for (const auto &vertex : vertices)
+      node_of_vertex.emplace(vertex.first, node_of_vertex.size());
+    const unsigned int voxels_per_edge = void_voxels ? 2 : 1;
+    const double       h               = 0.5 / voxels_per_edge;
+    std::map<std::array<long, 3>, std::pair<Point<3>, Vector<double>>>
+      fine_nodes;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      for (unsigned int j = 0;
+           j < voxels_per_edge * voxels_per_edge * voxels_per_edge;
+           ++j)
+        if (solid_octant(cell_child[cell->active_cell_index()], j))
+          for (const unsigned int w : GeometryInfo<3>::vertex_indices())
+            {
+              Point<3>            x = cell->vertex(0);
+              std::array<long, 3> key;
+              for (unsigned int d = 0; d < 3; ++d)
+                {
+                  x[d] += h * (((j >> d) & 1) + ((w >> d) & 1));
+                  key[d] = std::lround(x[d] / h);
+                }
+              auto &node = fine_nodes[key];
+              node.first = x;
+              node.second.reinit(node_dofs.size());
+              for (const unsigned int v : cell->vertex_indices())
+                node.second(node_of_vertex.at(cell->vertex_index(v))) =
+                  GeometryInfo<3>::d_linear_shape_function(
+                    Point<3>((x - cell->vertex(0)) / 0.5), v);
+            }
+    FullMatrix<double> B(fine_nodes.size(), 8),
+      P(fine_nodes.size(), node_dofs.size()), BtB(8, 8),
+      BtP(8, node_dofs.size());
+    unsigned int row = 0;
+    for (const auto &node : fine_nodes)
+      {
+        for (unsigned int v = 0; v < 8; ++v)
+          B(row, v) =
+            GeometryInfo<3>::d_linear_shape_function(node.second.first, v);
+        for (unsigned int n = 0; n < node_dofs.size(); ++n)
+          P(row, n) = node.second.second(n);
+        ++row;
+      }
     B.Tmmult(BtB, B);
     BtB.gauss_jordan();
-    corner_weights.reinit(8, node_points.size());
-    BtB.mTmult(corner_weights, B);
+    B.Tmmult(BtP, P);
+    corner_weights.reinit(8, node_dofs.size());
+    BtB.mmult(corner_weights, BtP);
     for (unsigned int v = 0; v < 8; ++v)
       {
         const Point<3> corner(v & 1, (v >> 1) & 1, (v >> 2) & 1);
         corner_dofs[v] = {{-1, -1, -1}};
-        for (unsigned int i = 0; i < dof_handler.n_dofs(); ++i)
-          if (support_points[i].distance(corner) < 1e-12)
-            corner_dofs[v][dof_component[i]] = i;
+        if (solid_octant(v, v))
+          for (unsigned int i = 0; i < dof_handler.n_dofs(); ++i)
+            if (support_points[i].distance(corner) < 1e-12)
+              corner_dofs[v][dof_component[i]] = i;
       }
 
     // Periodic classes of nodes (embedded samples): a node's class is the
     // set of its coordinates at mid-block, so opposite faces and edges
     // share one; corners (the empty set) follow the field exactly.
-    has_void = grid.n_solid_voxels() < 8;
+    has_void =
+      grid.n_solid_voxels() < 8 ||
+      std::any_of(void_octants.begin(),
+                  void_octants.end(),
+                  [](const std::uint8_t octants) { return octants != 0; });
     std::map<unsigned int, unsigned int> class_number;
     periodic_dof.assign(dof_handler.n_dofs(), -1);
     for (unsigned int i = 0; i < dof_handler.n_dofs(); ++i)
@@ -693,8 +739,9 @@ namespace ddfem::coarsening
         for (unsigned int i = 0; i < local.size(); ++i)
           local(i) = u(cell_dofs[cell][i]);
         solver::deformation_gradients(*fe_values, local, F);
-        for (const auto &Fq : F)
-          largest = std::max(largest, measure(Fq));
+        for (unsigned int q = 0; q < F.size(); ++q)
+          if (solid_octant(cell_child[cell], q))
+            largest = std::max(largest, measure(F[q]));
       }
     return largest;
   }
@@ -753,8 +800,15 @@ namespace ddfem::coarsening
           normal[d] = (face % 2 == 0) ? -1. : 1.;
           for (const unsigned int v : cell->face(face)->vertex_indices())
             {
-              const Point<3> &x = cell->face(face)->vertex(v);
-              // Lumped: a quarter of the child face's area per vertex.
+              // Lumped: the quarter of the child face's area at a vertex
+              // (none if that quarter is a void voxel's face).
+              const Point<3> &x      = cell->face(face)->vertex(v);
+              unsigned int    octant = 0;
+              for (unsigned int d = 0; d < 3; ++d)
+                if (x[d] > cell->center()[d])
+                  octant |= 1u << d;
+              if (!solid_octant(cell_child[cell->active_cell_index()], octant))
+                continue;
               const Tensor<1, 3> t = stress(x) * normal * (0.25 / 4);
               for (unsigned int i = 0; i < 3; ++i)
                 f(cell->face(face)->vertex_dof_index(v, i)) += t[i];

@@ -485,9 +485,15 @@ namespace ddfem::coarsening
     std::vector<scene::MaterialId> voxels;
     for (const Combination &block : blocks)
       voxels.insert(voxels.end(), block.begin(), block.end());
-    // The children are level-1 elements with the child fits' offset.
-    const BlockSampler        sampler(children, child_point_offset);
-    Entry                     entry;
+    // The children are level-1 elements with the child fits' offset, and
+    // blocks of voxels.
+    BlockSampler::VoidVoxels void_voxels{};
+    for (unsigned int k = 0; k < 8; ++k)
+      for (unsigned int j = 0; j < 8; ++j)
+        if (blocks[k][j] == scene::void_id)
+          void_voxels[k] |= 1u << j;
+    const BlockSampler sampler(children, child_point_offset, void_voxels);
+    Entry              entry;
     const std::vector<Sample> samples =
       sampler.sample(sampling.for_block(voxels), seed, entry.n_dropped);
     const FitResult fit = fit_metamaterial(element, samples, prior, fitting);

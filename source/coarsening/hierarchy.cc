@@ -76,7 +76,8 @@ namespace ddfem::coarsening
       << ", intermediate: " << n_intermediate
       << ", representatives: " << n_representatives
       << ", regularization: " << regularization
-      << ", point offset: " << point_offset;
+      << ", point offset: " << point_offset
+      << ", sampler version: " << sampler_version;
     return s.str();
   }
 
@@ -86,7 +87,8 @@ namespace ddfem::coarsening
   HierarchySettings::fits_like(const HierarchySettings &other) const
   {
     return regularization == other.regularization &&
-           point_offset == other.point_offset;
+           point_offset == other.point_offset &&
+           sampler_version == other.sampler_version;
   }
 
 
@@ -488,21 +490,30 @@ namespace ddfem::coarsening
     in >> word >> word >> settings.n_classes >> comma >> word >>
       settings.n_intermediate >> comma >> word >> settings.n_representatives >>
       comma >> word >> settings.regularization;
-    // Files written before the second level had an offset of its own
-    // name none. Their second level was fitted for the Gauss rule where
-    // the first level's offset is the default; for another one, it was
-    // fitted for a rule no longer used, and is dropped (builds fit it anew).
+    // Files written before the second level had a point offset or a
+    // sampler version of its own name neither, or just the offset (sampler
+    // version 1). Their second level is dropped (builds fit it anew).
     const bool named_offset = bool(in >> comma);
     settings.point_offset   = solver::gauss_point_offset;
     if (named_offset)
       in >> word >> word >> settings.point_offset;
+    const bool              named_version = bool(in >> comma);
+    const HierarchySettings current;
+    settings.sampler_version = current.sampler_version;
+    if (named_version)
+      in >> word >> word >> settings.sampler_version;
     std::string expected = settings.fingerprint();
-    if (!named_offset)
-      expected.erase(expected.rfind(", point offset: "));
+    if (!named_version)
+      expected.erase(expected.rfind(named_offset ? ", sampler version: " :
+                                                   ", point offset: "));
     check(expected == text &&
             solver::valid_point_offset(settings.point_offset, 2),
           "has unreadable level-2 settings '" + text + "'");
-    if (!named_offset && level1.point_offset() != solver::gauss_point_offset)
+    check(settings.sampler_version == current.sampler_version,
+          "has level-2 fits of sampler version " +
+            std::to_string(settings.sampler_version) + ", this program's is " +
+            std::to_string(current.sampler_version));
+    if (!named_version)
       return false;
 
     class_of         = read_dataset<std::int32_t>(file,

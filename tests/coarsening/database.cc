@@ -1138,28 +1138,27 @@ main()
             std::cout << "  " << line << std::endl;
       }
 
-    // The second level's point offset: named in its settings. Files
-    // written before it had one of its own name none; their second level
-    // is the Gauss rule's where the first level has the default offset, and
-    // is dropped otherwise (0.45 in the edited copy).
+    // The second level's point offset and sampler version: named in its
+    // settings. Files written before either had one of its own name none
+    // or just the offset (sampler version 1, which fitted blocks with
+    // partly void children far too soft); their second level is dropped.
     const std::string settings = level2.settings.fingerprint();
     std::cout << "level-2 settings: " << settings << std::endl;
-    const std::string unnamed =
-      settings.substr(0, settings.rfind(", point offset: "));
     edited_copy("level2.h5",
                 "level2_unnamed.h5",
-                {{"level 2 settings", unnamed}});
+                {{"level 2 settings",
+                  settings.substr(0, settings.rfind(", point offset: "))}});
     edited_copy("level2.h5",
-                "level2_unnamed_045.h5",
-                {{"level 2 settings", unnamed},
-                 {"coarse point offset", "0.45"}});
+                "level2_version_1.h5",
+                {{"level 2 settings",
+                  settings.substr(0, settings.rfind(", sampler version: "))}});
     HierarchySettings other = level2.settings;
     other.point_offset      = 0.45;
     edited_copy("level2.h5",
                 "level2_045.h5",
                 {{"level 2 settings", other.fingerprint()}});
     for (const std::string file :
-         {"level2_unnamed.h5", "level2_unnamed_045.h5", "level2_045.h5"})
+         {"level2_unnamed.h5", "level2_version_1.h5", "level2_045.h5"})
       {
         Hierarchy read;
         Database::load(file, &read);
@@ -1179,6 +1178,15 @@ main()
     expect_error("level-2 point offset 0.2", [] {
       Hierarchy read;
       Database::load("level2_bad_offset.h5", &read);
+    });
+    other.point_offset    = level2.settings.point_offset;
+    other.sampler_version = 3;
+    edited_copy("level2.h5",
+                "level2_version_3.h5",
+                {{"level 2 settings", other.fingerprint()}});
+    expect_error("level-2 sampler version 3", [] {
+      Hierarchy read;
+      Database::load("level2_version_3.h5", &read);
     });
   }
 

@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <vector>
 
 namespace ddfem::coarsening
@@ -106,6 +107,16 @@ namespace ddfem::coarsening
    * for level-1 metamaterials (8 fitted records). Both are sampled by the
    * same code.
    *
+   * A level-1 child is a block of 2x2x2 voxels, one per point, and may be
+   * partly void. The block then follows its voxels, as a block of voxels
+   * does: the corners of void voxels are read from the least-squares fit
+   * (corners()), force patterns act on the faces of solid voxels only, and
+   * the strain measures skip the points of void voxels. Otherwise a node
+   * that only void voxels touch, nearly free in its child's fit, is read
+   * as a block corner, and the fit learns a block far too soft
+   * (doc/coarsening.md, "Level 2 on blocks whose children are partly
+   * void").
+   *
    * The zero-energy modes of the block at rest are removed by linear
    * constraints (Lagrange multipliers): the six rigid motions and, where
    * children touch only at an edge or a corner (a mechanism), the hinge's
@@ -119,6 +130,10 @@ namespace ddfem::coarsening
   class BlockSampler
   {
   public:
+    /// The void voxels of children that are blocks of 2x2x2 voxels: bit j
+    /// of entry k is set if voxel j (octant j) of child k is void.
+    using VoidVoxels = std::array<std::uint8_t, 8>;
+
     /**
      * Sets up the block. @p children[k] is empty for a void child, or has
      * 8 records, one per point of the child's rule
@@ -127,10 +142,15 @@ namespace ddfem::coarsening
      * default offset; level-1 metamaterials (their child fits,
      * Database::lookup(c, Fit::child)) have coarsening::child_point_offset,
      * the Gauss rule too. At least one child must be solid.
+     *
+     * Without @p void_voxels every child is one voxel; with them every
+     * child is a block of 2x2x2 voxels (a level-1 metamaterial) whose void
+     * voxels they name.
      */
     explicit BlockSampler(
       const std::array<std::vector<material::MaterialPoint>, 8> &children,
-      const double child_point_offset = solver::gauss_point_offset);
+      const double child_point_offset              = solver::gauss_point_offset,
+      const std::optional<VoidVoxels> &void_voxels = std::nullopt);
 
     /// Number of nodal degrees of freedom.
     unsigned int
@@ -165,13 +185,13 @@ namespace ddfem::coarsening
      * Newton's method. A magnitude whose solve fails ends its pattern: it
      * and the larger ones are dropped and counted in @p n_dropped.
      *
-     * A block with a void child lies on a part's surface and is sampled by
+     * A block with a void voxel lies on a part's surface and is sampled by
      * force patterns (paper section 4.2): the traction of a random,
      * linearly varying stress on the block's surface (boundary_forces())
      * with its resultant force and moment removed, the deformations of a
      * free block.
      *
-     * A block without void children lies inside the part, where its
+     * A block without void voxels lies inside the part, where its
      * neighbours hold its boundary. A fraction SamplingSettings::embedded
      * of its patterns, spread evenly, are embedded patterns instead: a
      * random homogeneous strain H (symmetric, standard normal entries)
@@ -221,8 +241,10 @@ namespace ddfem::coarsening
 
     /**
      * The corner displacements the coarse element sees (the restriction r
-     * of paper eq. 3): the nodal value at corners that exist; at corners
-     * of void children, the least-squares trilinear fit of all nodes.
+     * of paper eq. 3): the nodal value at a corner whose voxel is solid;
+     * at a corner whose voxel is void, the least-squares trilinear fit of
+     * the field at the corners of the solid voxels (the fine nodes; where
+     * the children are voxels, the nodes).
      */
     CornerDisplacements
     corners(const Vector<double> &u) const;
@@ -235,7 +257,7 @@ namespace ddfem::coarsening
     /**
      * Minimizes the fine energy over the periodic fluctuation @p w added
      * to the nodal displacements @p u_base (see sample()); @p w is the
-     * initial guess on input. Needs a block without void children.
+     * initial guess on input. Needs a block without void voxels.
      * Returns false if Newton's method fails.
      */
     bool
@@ -270,7 +292,8 @@ namespace ddfem::coarsening
     /**
      * Nodal forces of the traction sigma(x) n on the block's outer
      * boundary (lumped to the vertices of the solid children's faces that
-     * lie on the unit cube's surface).
+     * lie on the unit cube's surface, a quarter of the face per vertex;
+     * none from a quarter that is a void voxel's face).
      */
     Vector<double>
     boundary_forces(
@@ -330,7 +353,8 @@ namespace ddfem::coarsening
                      std::vector<Sample>           &samples,
                      unsigned int                  &n_dropped) const;
 
-    /// The largest value of @p measure(F) over the block's Gauss points.
+    /// The largest value of @p measure(F) over the Gauss points of the
+    /// block's solid voxels.
     double
     largest_over_points(
       const Vector<double>                              &u,
@@ -348,14 +372,23 @@ namespace ddfem::coarsening
     Sample
     sample_of(const Vector<double> &u, const unsigned int p) const;
 
+    /// Whether point (octant) @p j of child @p k lies in a solid voxel.
+    bool
+    solid_octant(const unsigned int k, const unsigned int j) const
+    {
+      return !materials[k].empty() && (void_octants[k] & (1u << j)) == 0;
+    }
+
     std::array<std::vector<material::MaterialPoint>, 8> materials;
-    Triangulation<3>                                    triangulation;
-    FESystem<3>                                         fe;
-    DoFHandler<3>                                       dof_handler;
-    std::unique_ptr<FEValues<3>>                        fe_values;
-    std::vector<std::vector<types::global_dof_index>>   cell_dofs;
-    std::vector<unsigned int>                           cell_child;
-    std::vector<Point<3>>                               support_points;
+    /// The void voxels of the children (none where children are voxels).
+    VoidVoxels                                        void_octants;
+    Triangulation<3>                                  triangulation;
+    FESystem<3>                                       fe;
+    DoFHandler<3>                                     dof_handler;
+    std::unique_ptr<FEValues<3>>                      fe_values;
+    std::vector<std::vector<types::global_dof_index>> cell_dofs;
+    std::vector<unsigned int>                         cell_child;
+    std::vector<Point<3>>                             support_points;
     /// The vector component of every degree of freedom.
     std::vector<unsigned int> dof_component;
     /// The x/y/z degrees of freedom of every node.
@@ -363,11 +396,12 @@ namespace ddfem::coarsening
     unsigned int                                        n_components = 0;
     /// Constraint rows G (the zero-energy modes at rest), orthonormalized.
     FullMatrix<double> constraints;
-    /// Per corner, its x/y/z dofs or none (void corner).
+    /// Per corner, its x/y/z dofs or none (a void voxel at the corner).
     std::array<std::array<int, 3>, 8> corner_dofs;
-    /// Least-squares trilinear fit: corner value = sum_n weights(v, n) u_n.
+    /// Least-squares trilinear fit: corner value = sum_n weights(v, n) u_n
+    /// over the nodes n.
     FullMatrix<double> corner_weights;
-    /// Whether the block has a void child.
+    /// Whether the block has a void voxel.
     bool has_void = false;
     /// Per degree of freedom, its fluctuation unknown, or -1 at corners.
     std::vector<int> periodic_dof;

@@ -34,6 +34,12 @@ namespace ddfem::coarsening
     /// metamaterials are fitted for: "Discretization/Level-2 point
     /// offset", set by DatabaseBuilder, not by parse_parameters().
     double point_offset = solver::default_level2_point_offset;
+    /// How the second level's blocks are sampled: 2 since the children
+    /// follow their voxels (BlockSampler::VoidVoxels). Before, a partly
+    /// void child was one full cell, and blocks with one were fitted far
+    /// too soft; files of that sampling (which named none) have their
+    /// second level dropped on loading, and builds fit it anew.
+    unsigned int sampler_version = 2;
 
     /// Declares the subsection "Level 2".
     static void
@@ -45,7 +51,8 @@ namespace ddfem::coarsening
     std::string
     fingerprint() const;
     /// Whether a level-2 fit made with @p other is one with these
-    /// settings: the same regularization and point offset. The budgets
+    /// settings: the same regularization, point offset and sampler
+    /// version. The budgets
     /// only choose which compositions are fitted.
     bool
     fits_like(const HierarchySettings &other) const;
