@@ -330,6 +330,43 @@ namespace ddfem::coarsening
               corner_dofs[v][dof_component[i]] = i;
       }
 
+    // The quarters of the children's faces on the block's surface that
+    // force patterns load: those of solid voxels, or all of them if no
+    // solid voxel reaches the surface (an island inside the block, which
+    // a condition holds in its scene).
+    for (const bool whole_faces : {false, true})
+      {
+        for (const auto &cell : dof_handler.active_cell_iterators())
+          for (const unsigned int face : cell->face_indices())
+            {
+              const unsigned int d    = face / 2;
+              const double       side = (face % 2 == 0) ? 0. : 1.;
+              if (std::abs(cell->face(face)->center()[d] - side) > 1e-12)
+                continue;
+              Tensor<1, 3> normal;
+              normal[d] = (face % 2 == 0) ? -1. : 1.;
+              for (const unsigned int v : cell->face(face)->vertex_indices())
+                {
+                  const Point<3> &x      = cell->face(face)->vertex(v);
+                  unsigned int    octant = 0;
+                  for (unsigned int e = 0; e < 3; ++e)
+                    if (x[e] > cell->center()[e])
+                      octant |= 1u << e;
+                  if (whole_faces ||
+                      solid_octant(cell_child[cell->active_cell_index()],
+                                   octant))
+                    surface_quarters.push_back(
+                      {x,
+                       normal,
+                       {{cell->face(face)->vertex_dof_index(v, 0),
+                         cell->face(face)->vertex_dof_index(v, 1),
+                         cell->face(face)->vertex_dof_index(v, 2)}}});
+                }
+            }
+        if (!surface_quarters.empty())
+          break;
+      }
+
     // Periodic classes of nodes (embedded samples): a node's class is the
     // set of its coordinates at mid-block, so opposite faces and edges
     // share one; corners (the empty set) follow the field exactly.
@@ -789,31 +826,14 @@ namespace ddfem::coarsening
     const std::function<Tensor<2, 3>(const Point<3> &)> &stress) const
   {
     Vector<double> f(dof_handler.n_dofs());
-    for (const auto &cell : dof_handler.active_cell_iterators())
-      for (const unsigned int face : cell->face_indices())
-        {
-          const unsigned int d    = face / 2;
-          const double       side = (face % 2 == 0) ? 0. : 1.;
-          if (std::abs(cell->face(face)->center()[d] - side) > 1e-12)
-            continue;
-          Tensor<1, 3> normal;
-          normal[d] = (face % 2 == 0) ? -1. : 1.;
-          for (const unsigned int v : cell->face(face)->vertex_indices())
-            {
-              // Lumped: the quarter of the child face's area at a vertex
-              // (none if that quarter is a void voxel's face).
-              const Point<3> &x      = cell->face(face)->vertex(v);
-              unsigned int    octant = 0;
-              for (unsigned int d = 0; d < 3; ++d)
-                if (x[d] > cell->center()[d])
-                  octant |= 1u << d;
-              if (!solid_octant(cell_child[cell->active_cell_index()], octant))
-                continue;
-              const Tensor<1, 3> t = stress(x) * normal * (0.25 / 4);
-              for (unsigned int i = 0; i < 3; ++i)
-                f(cell->face(face)->vertex_dof_index(v, i)) += t[i];
-            }
-        }
+    for (const SurfaceQuarter &quarter : surface_quarters)
+      {
+        // Lumped: a quarter of the child face's area per vertex.
+        const Tensor<1, 3> t =
+          stress(quarter.vertex) * quarter.normal * (0.25 / 4);
+        for (unsigned int i = 0; i < 3; ++i)
+          f(quarter.dofs[i]) += t[i];
+      }
     return f;
   }
 

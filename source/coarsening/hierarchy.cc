@@ -490,16 +490,17 @@ namespace ddfem::coarsening
     in >> word >> word >> settings.n_classes >> comma >> word >>
       settings.n_intermediate >> comma >> word >> settings.n_representatives >>
       comma >> word >> settings.regularization;
-    // Files written before the second level had a point offset or a
-    // sampler version of its own name neither, or just the offset (sampler
-    // version 1). Their second level is dropped (builds fit it anew).
+    // Files written before the second level had an offset of its own
+    // name none (their second level was fitted for the Gauss rule), and
+    // those written before it had a sampler version name none either
+    // (version 1). A level-2 build drops the fits of another version and
+    // says so (DatabaseBuilder::build(), HierarchySettings::fits_like()).
     const bool named_offset = bool(in >> comma);
     settings.point_offset   = solver::gauss_point_offset;
     if (named_offset)
       in >> word >> word >> settings.point_offset;
-    const bool              named_version = bool(in >> comma);
-    const HierarchySettings current;
-    settings.sampler_version = current.sampler_version;
+    const bool named_version = bool(in >> comma);
+    settings.sampler_version = 1;
     if (named_version)
       in >> word >> word >> settings.sampler_version;
     std::string expected = settings.fingerprint();
@@ -509,12 +510,11 @@ namespace ddfem::coarsening
     check(expected == text &&
             solver::valid_point_offset(settings.point_offset, 2),
           "has unreadable level-2 settings '" + text + "'");
-    check(settings.sampler_version == current.sampler_version,
+    const unsigned int current = HierarchySettings().sampler_version;
+    check(settings.sampler_version >= 1 && settings.sampler_version <= current,
           "has level-2 fits of sampler version " +
-            std::to_string(settings.sampler_version) + ", this program's is " +
-            std::to_string(current.sampler_version));
-    if (!named_version)
-      return false;
+            std::to_string(settings.sampler_version) +
+            ", this program knows versions 1 to " + std::to_string(current));
 
     class_of         = read_dataset<std::int32_t>(file,
                                           "level2/class of",

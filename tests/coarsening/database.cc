@@ -1106,42 +1106,48 @@ main()
                 << std::endl;
     }
 
+    // A level-2 build with @p setting on a copy of @p file prints its
+    // "Level 2:" lines.
+    const auto build_level2 = [](const std::string &file,
+                                 const std::string &setting) {
+      std::filesystem::copy_file(
+        file,
+        "level2_settings.h5",
+        std::filesystem::copy_options::overwrite_existing);
+      std::ostringstream    log;
+      const DatabaseBuilder b =
+        builder("level2_settings.h5",
+                false,
+                "all",
+                1,
+                0,
+                2,
+                30,
+                0,
+                "subsection Database\n  subsection Level 2\n    set " +
+                  setting + "\n  end\nend\n");
+      Hierarchy renewed;
+      Database  db = b.open(palette(), renewed, log);
+      b.build(palette(), db, renewed, nullptr, log, false);
+      std::cout << file << " with Level 2/" << setting << ":" << std::endl;
+      std::istringstream lines(log.str());
+      for (std::string line; std::getline(lines, line);)
+        if (line.rfind("Level 2:", 0) == 0)
+          std::cout << "  " << line << std::endl;
+    };
     // Other budgets renew the tables and keep the fits of compositions
     // that are still representatives; another level-2 weight drops the
     // file's fits, and the build says so.
     for (const std::string setting :
          {"Representatives = 12", "Regularization = 0.5"})
-      {
-        std::filesystem::copy_file(
-          "level2.h5",
-          "level2_settings.h5",
-          std::filesystem::copy_options::overwrite_existing);
-        std::ostringstream    log;
-        const DatabaseBuilder b =
-          builder("level2_settings.h5",
-                  false,
-                  "all",
-                  1,
-                  0,
-                  2,
-                  30,
-                  0,
-                  "subsection Database\n  subsection Level 2\n    set " +
-                    setting + "\n  end\nend\n");
-        Hierarchy renewed;
-        Database  db = b.open(palette(), renewed, log);
-        b.build(palette(), db, renewed, nullptr, log, false);
-        std::cout << "Level 2/" << setting << ":" << std::endl;
-        std::istringstream lines(log.str());
-        for (std::string line; std::getline(lines, line);)
-          if (line.rfind("Level 2:", 0) == 0)
-            std::cout << "  " << line << std::endl;
-      }
+      build_level2("level2.h5", setting);
 
     // The second level's point offset and sampler version: named in its
     // settings. Files written before either had one of its own name none
-    // or just the offset (sampler version 1, which fitted blocks with
-    // partly void children far too soft); their second level is dropped.
+    // (their second level is the Gauss rule's), or just the offset
+    // (sampler version 1, which fitted blocks with partly void children
+    // far too soft). A level-2 build drops the fits of version 1 and says
+    // so.
     const std::string settings = level2.settings.fingerprint();
     std::cout << "level-2 settings: " << settings << std::endl;
     edited_copy("level2.h5",
@@ -1167,10 +1173,12 @@ main()
           std::cout << "level 2 dropped" << std::endl;
         else
           std::cout << "level-2 point offset " << read.settings.point_offset
+                    << ", sampler version " << read.settings.sampler_version
                     << ", entries kept: "
                     << same_level2_entries(read.entries, level2.entries)
                     << std::endl;
       }
+    build_level2("level2_version_1.h5", "Regularization = 1");
     other.point_offset = 0.2;
     edited_copy("level2.h5",
                 "level2_bad_offset.h5",

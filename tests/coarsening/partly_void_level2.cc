@@ -4,7 +4,11 @@
 //    least-squares trilinear fit of the field at the solid voxels' corners,
 //    which an affine field meets exactly, and a corner whose voxel is solid
 //    from its node;
-// 2. a cube of 8^3 voxels clamped on one side, under a body force, with a
+// 2. a level-2 block whose solid voxels do not reach its surface (an island
+//    of the 8 voxels at its centre) is sampled by force patterns on its
+//    children's whole faces, and samples (with forces on solid voxels'
+//    faces alone it had none, and dropped every pattern);
+// 3. a cube of 8^3 voxels clamped on one side, under a body force, with a
 //    spherical cavity where its eight level-2 blocks meet (in each block,
 //    the child at the cavity has 4 of its 8 voxels void): the ddfem level-2
 //    model's mean vertex error stays within twice the naive level-2
@@ -14,7 +18,6 @@
 #include <deal.II/base/tensor.h>
 
 #include <ddfem/coarsening/block_sampler.h>
-
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
@@ -45,7 +48,7 @@ main(int argc, char **argv)
     void_voxels[6] = 1u << 6;
     void_voxels[7] = 1u << 0;
     const BlockSampler sampler(children, child_point_offset, void_voxels);
-    std::mt19937                     generator(5);
+    std::mt19937       generator(5);
     std::normal_distribution<double> normal;
     dealii::Tensor<2, 3>             H;
     for (unsigned int i = 0; i < 3; ++i)
@@ -64,6 +67,34 @@ main(int argc, char **argv)
     testing::check_below("affine field, largest corner deviation",
                          deviation,
                          1e-12);
+  }
+
+  {
+    std::cout << "Island inside a level-2 block" << std::endl;
+    // Voxel 7 - k of child k is solid; the others carry the stiffness
+    // floor of a fit (1e-3).
+    material::MaterialPoint solid, floor;
+    solid.mu     = 1;
+    solid.lambda = 2;
+    floor.mu     = 1e-3;
+    floor.lambda = 2e-3;
+    std::array<std::vector<material::MaterialPoint>, 8> children;
+    BlockSampler::VoidVoxels                            void_voxels{};
+    for (unsigned int k = 0; k < 8; ++k)
+      {
+        children[k].assign(8, floor);
+        children[k][7 - k] = solid;
+        void_voxels[k]     = 0xFF & ~(1u << (7 - k));
+      }
+    const BlockSampler sampler(children, child_point_offset, void_voxels);
+    SamplingSettings   settings;
+    settings.embedded     = 0;
+    settings.n_directions = 5;
+    settings.n_magnitudes = 2;
+    unsigned int n_dropped;
+    const auto   samples = sampler.sample(settings, 7, n_dropped);
+    std::cout << "samples: " << samples.size() << ", dropped: " << n_dropped
+              << std::endl;
   }
 
   {
@@ -127,7 +158,7 @@ main(int argc, char **argv)
     const int status = app::run({"cavity.prm"}, std::cout, std::cout);
     std::cout << "exit status " << status << std::endl;
     std::ifstream        json_file("cavity/comparison.json");
-    const nlohmann::json json = nlohmann::json::parse(json_file);
+    const nlohmann::json json        = nlohmann::json::parse(json_file);
     double               ddfem_error = 0, naive_error = 0;
     for (const auto &run : json.at("runs"))
       if (run.at("level") == 2)

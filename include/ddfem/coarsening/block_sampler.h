@@ -110,12 +110,12 @@ namespace ddfem::coarsening
    * A level-1 child is a block of 2x2x2 voxels, one per point, and may be
    * partly void. The block then follows its voxels, as a block of voxels
    * does: the corners of void voxels are read from the least-squares fit
-   * (corners()), force patterns act on the faces of solid voxels only, and
-   * the strain measures skip the points of void voxels. Otherwise a node
-   * that only void voxels touch, nearly free in its child's fit, is read
-   * as a block corner, and the fit learns a block far too soft
-   * (doc/coarsening.md, "Level 2 on blocks whose children are partly
-   * void").
+   * (corners()), force patterns act on the faces of solid voxels only
+   * (where some reach the block's surface), and the strain measures skip
+   * the points of void voxels. Otherwise a node that only void voxels
+   * touch, nearly free in its child's fit, is read as a block corner, and
+   * the fit learns a block far too soft (doc/coarsening.md, "Level 2 on
+   * blocks whose children are partly void").
    *
    * The zero-energy modes of the block at rest are removed by linear
    * constraints (Lagrange multipliers): the six rigid motions and, where
@@ -291,9 +291,9 @@ namespace ddfem::coarsening
 
     /**
      * Nodal forces of the traction sigma(x) n on the block's outer
-     * boundary (lumped to the vertices of the solid children's faces that
-     * lie on the unit cube's surface, a quarter of the face per vertex;
-     * none from a quarter that is a void voxel's face).
+     * boundary, lumped to the vertices of the solid children's faces that
+     * lie on the unit cube's surface: a quarter of the face per vertex
+     * (surface_quarters).
      */
     Vector<double>
     boundary_forces(
@@ -396,6 +396,17 @@ namespace ddfem::coarsening
     unsigned int                                        n_components = 0;
     /// Constraint rows G (the zero-energy modes at rest), orthonormalized.
     FullMatrix<double> constraints;
+    /// A quarter of a child's face on the block's surface: the face's
+    /// vertex it lies at, the outward normal, the vertex's x/y/z dofs.
+    struct SurfaceQuarter
+    {
+      Point<3>                               vertex;
+      Tensor<1, 3>                           normal;
+      std::array<types::global_dof_index, 3> dofs;
+    };
+    /// The quarters that force patterns load: those of solid voxels, or,
+    /// if no solid voxel reaches the block's surface, all of them.
+    std::vector<SurfaceQuarter> surface_quarters;
     /// Per corner, its x/y/z dofs or none (a void voxel at the corner).
     std::array<std::array<int, 3>, 8> corner_dofs;
     /// Least-squares trilinear fit: corner value = sum_n weights(v, n) u_n

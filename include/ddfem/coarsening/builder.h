@@ -172,8 +172,9 @@ namespace ddfem::coarsening
      * required, or with other Database/Level 2 settings; the new tables
      * require the blocks and the earlier ones, and keep the fits of
      * compositions they still represent if those were made with the same
-     * level-2 regularization and point offset (HierarchySettings::
-     * fits_like()); otherwise the dropped fits are reported. With Levels = 2,
+     * level-2 regularization, point offset and sampler version
+     * (HierarchySettings::fits_like()); otherwise the dropped fits are
+     * reported. With Levels = 2,
      * a grid of @p scene_grids whose size is not a multiple of 4 is an
      * error before anything is fitted.
      */

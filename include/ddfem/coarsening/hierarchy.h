@@ -35,10 +35,10 @@ namespace ddfem::coarsening
     /// offset", set by DatabaseBuilder, not by parse_parameters().
     double point_offset = solver::default_level2_point_offset;
     /// How the second level's blocks are sampled: 2 since the children
-    /// follow their voxels (BlockSampler::VoidVoxels). Before, a partly
-    /// void child was one full cell, and blocks with one were fitted far
-    /// too soft; files of that sampling (which named none) have their
-    /// second level dropped on loading, and builds fit it anew.
+    /// follow their voxels (BlockSampler::VoidVoxels). Version 1 took a
+    /// partly void child as one full cell and fitted blocks with one far
+    /// too soft; files of that version name none, and a level-2 build
+    /// drops their fits (fits_like()) and says so.
     unsigned int sampler_version = 2;
 
     /// Declares the subsection "Level 2".
