@@ -278,8 +278,8 @@ namespace ddfem::coarsening
       node_of_vertex.emplace(vertex.first, node_of_vertex.size());
     const unsigned int voxels_per_edge = void_voxels ? 2 : 1;
     const double       h               = 0.5 / voxels_per_edge;
-    std::map<std::array<long, 3>, std::pair<Point<3>, Vector<double>>>
-      fine_nodes;
+    // Per fine node (its coordinates in steps h), its interpolation.
+    std::map<std::array<long, 3>, Vector<double>> fine_nodes;
     for (const auto &cell : dof_handler.active_cell_iterators())
       for (unsigned int j = 0;
            j < voxels_per_edge * voxels_per_edge * voxels_per_edge;
@@ -294,11 +294,10 @@ namespace ddfem::coarsening
                   x[d] += h * (((j >> d) & 1) + ((w >> d) & 1));
                   key[d] = std::lround(x[d] / h);
                 }
-              auto &node = fine_nodes[key];
-              node.first = x;
-              node.second.reinit(node_dofs.size());
+              Vector<double> &interpolation = fine_nodes[key];
+              interpolation.reinit(node_dofs.size());
               for (const unsigned int v : cell->vertex_indices())
-                node.second(node_of_vertex.at(cell->vertex_index(v))) =
+                interpolation(node_of_vertex.at(cell->vertex_index(v))) =
                   GeometryInfo<3>::d_linear_shape_function(
                     Point<3>((x - cell->vertex(0)) / 0.5), v);
             }
@@ -306,13 +305,13 @@ namespace ddfem::coarsening
       P(fine_nodes.size(), node_dofs.size()), BtB(8, 8),
       BtP(8, node_dofs.size());
     unsigned int row = 0;
-    for (const auto &node : fine_nodes)
+    for (const auto &[key, interpolation] : fine_nodes)
       {
+        const Point<3> x(key[0] * h, key[1] * h, key[2] * h);
         for (unsigned int v = 0; v < 8; ++v)
-          B(row, v) =
-            GeometryInfo<3>::d_linear_shape_function(node.second.first, v);
+          B(row, v) = GeometryInfo<3>::d_linear_shape_function(x, v);
         for (unsigned int n = 0; n < node_dofs.size(); ++n)
-          P(row, n) = node.second.second(n);
+          P(row, n) = interpolation(n);
         ++row;
       }
     B.Tmmult(BtB, B);
