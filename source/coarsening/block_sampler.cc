@@ -52,7 +52,8 @@ namespace ddfem::coarsening
                       "0.02",
                       Patterns::Double(1e-6, 1),
                       "Linearized strain of the smallest magnitude: the "
-                      "largest principal strain over the block's points of "
+                      "largest principal strain over the points of the "
+                      "block's solid voxels of "
                       "its linear response to a force pattern, or of the "
                       "homogeneous strain of an embedded pattern (relaxed, "
                       "the soft children of a mixed block strain more). "

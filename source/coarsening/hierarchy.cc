@@ -491,10 +491,12 @@ namespace ddfem::coarsening
       settings.n_intermediate >> comma >> word >> settings.n_representatives >>
       comma >> word >> settings.regularization;
     // Files written before the second level had an offset of its own
-    // name none (their second level was fitted for the Gauss rule), and
-    // those written before it had a sampler version name none either
-    // (version 1). A level-2 build drops the fits of another version and
-    // says so (DatabaseBuilder::build(), HierarchySettings::fits_like()).
+    // name none. Their second level was fitted for the Gauss rule where
+    // the first level's offset is the default; for another one, it was
+    // fitted for a rule no longer used, and is dropped (builds fit it anew).
+    // Files written before the second level had a sampler version name
+    // none either (version 1); a level-2 build drops their fits and says
+    // so (DatabaseBuilder::build(), HierarchySettings::fits_like()).
     const bool named_offset = bool(in >> comma);
     settings.point_offset   = solver::gauss_point_offset;
     if (named_offset)
@@ -515,6 +517,8 @@ namespace ddfem::coarsening
           "has level-2 fits of sampler version " +
             std::to_string(settings.sampler_version) +
             ", this program knows versions 1 to " + std::to_string(current));
+    if (!named_offset && level1.point_offset() != solver::gauss_point_offset)
+      return false;
 
     class_of         = read_dataset<std::int32_t>(file,
                                           "level2/class of",

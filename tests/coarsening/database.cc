@@ -1143,17 +1143,24 @@ main()
       build_level2("level2.h5", setting);
 
     // The second level's point offset and sampler version: named in its
-    // settings. Files written before either had one of its own name none
-    // (their second level is the Gauss rule's), or just the offset
-    // (sampler version 1, which fitted blocks with partly void children
-    // far too soft). A level-2 build drops the fits of version 1 and says
-    // so.
+    // settings. Files written before either had one of its own name none;
+    // their second level is the Gauss rule's where the first level has the
+    // default offset, and is dropped otherwise (0.45 in the edited copy).
+    // Files that name just the offset are of sampler version 1 (which read
+    // a corner over a void voxel from its node, and fitted blocks with
+    // partly void children far too soft). A level-2 build drops the fits
+    // of version 1 and says so.
     const std::string settings = level2.settings.fingerprint();
     std::cout << "level-2 settings: " << settings << std::endl;
     edited_copy("level2.h5",
                 "level2_unnamed.h5",
                 {{"level 2 settings",
                   settings.substr(0, settings.rfind(", point offset: "))}});
+    edited_copy("level2.h5",
+                "level2_unnamed_045.h5",
+                {{"level 2 settings",
+                  settings.substr(0, settings.rfind(", point offset: "))},
+                 {"coarse point offset", "0.45"}});
     edited_copy("level2.h5",
                 "level2_version_1.h5",
                 {{"level 2 settings",
@@ -1163,8 +1170,10 @@ main()
     edited_copy("level2.h5",
                 "level2_045.h5",
                 {{"level 2 settings", other.fingerprint()}});
-    for (const std::string file :
-         {"level2_unnamed.h5", "level2_version_1.h5", "level2_045.h5"})
+    for (const std::string file : {"level2_unnamed.h5",
+                                   "level2_unnamed_045.h5",
+                                   "level2_version_1.h5",
+                                   "level2_045.h5"})
       {
         Hierarchy read;
         Database::load(file, &read);

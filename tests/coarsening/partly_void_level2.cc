@@ -1,9 +1,9 @@
 // Level 2 on blocks whose level-1 children are partly void
 // (doc/coarsening.md, "Level 2 on blocks whose children are partly void"):
-// 1. a level-2 block sampler reads a corner whose voxel is void from the
-//    least-squares trilinear fit of the field at the solid voxels' corners,
-//    which an affine field meets exactly, and a corner whose voxel is solid
-//    from its node;
+// 1. a level-2 block sampler reads the corners of an affine field exactly,
+//    also those whose voxel is void, which come from the least-squares
+//    trilinear fit of the field at the solid voxels' corners (the node
+//    would give the same here: item 3 tells the two apart);
 // 2. a level-2 block whose solid voxels do not reach its surface (an island
 //    of the 8 voxels at its centre) is sampled by force patterns on its
 //    children's whole faces, and samples (with forces on solid voxels'
@@ -12,8 +12,8 @@
 //    spherical cavity where its eight level-2 blocks meet (in each block,
 //    the child at the cavity has 4 of its 8 voxels void): the ddfem level-2
 //    model's mean vertex error stays within twice the naive level-2
-//    model's. While a partly void child was one full cell, it was 173
-//    times naive's, the model 45 times too soft.
+//    model's. While the corner over the cavity was read from its node, it
+//    was 173 times naive's, the model 45 times too soft.
 
 #include <deal.II/base/tensor.h>
 

@@ -110,12 +110,13 @@ namespace ddfem::coarsening
    * A level-1 child is a block of 2x2x2 voxels, one per point, and may be
    * partly void. The block then follows its voxels, as a block of voxels
    * does: the corners of void voxels are read from the least-squares fit
-   * (corners()), force patterns act on the faces of solid voxels only
-   * (where some reach the block's surface), and the strain measures skip
-   * the points of void voxels. Otherwise a node that only void voxels
-   * touch, nearly free in its child's fit, is read as a block corner, and
-   * the fit learns a block far too soft (doc/coarsening.md, "Level 2 on
-   * blocks whose children are partly void").
+   * (corners()), force patterns load the faces of solid voxels only
+   * (all faces where none reaches the block's surface; the removal of
+   * their resultant spreads over all nodes, project_out_zero_energy()),
+   * and the strain measures skip the points of void voxels. Otherwise a node
+   * that only void voxels touch, nearly free in its child's fit, is read as a
+   * block corner, and the fit learns a block far too soft (doc/coarsening.md,
+   * "Level 2 on blocks whose children are partly void").
    *
    * The zero-energy modes of the block at rest are removed by linear
    * constraints (Lagrange multipliers): the six rigid motions and, where
@@ -291,9 +292,9 @@ namespace ddfem::coarsening
 
     /**
      * Nodal forces of the traction sigma(x) n on the block's outer
-     * boundary, lumped to the vertices of the solid children's faces that
-     * lie on the unit cube's surface: a quarter of the face per vertex
-     * (surface_quarters).
+     * boundary, lumped to the vertices of the children's faces that lie
+     * on the unit cube's surface: a quarter of the face per vertex, where
+     * it is a solid voxel's face (surface_quarters).
      */
     Vector<double>
     boundary_forces(

@@ -34,11 +34,12 @@ namespace ddfem::coarsening
     /// metamaterials are fitted for: "Discretization/Level-2 point
     /// offset", set by DatabaseBuilder, not by parse_parameters().
     double point_offset = solver::default_level2_point_offset;
-    /// How the second level's blocks are sampled: 2 since the children
-    /// follow their voxels (BlockSampler::VoidVoxels). Version 1 took a
-    /// partly void child as one full cell and fitted blocks with one far
-    /// too soft; files of that version name none, and a level-2 build
-    /// drops their fits (fits_like()) and says so.
+    /// How the second level's blocks are sampled: 2 since the sampler
+    /// follows the voxels of partly void children (BlockSampler::
+    /// VoidVoxels). Version 1 read a corner over a void voxel from its
+    /// node, loaded the children's whole faces and fitted blocks with
+    /// such children far too soft; files of that version name none, and a
+    /// level-2 build drops their fits (fits_like()) and says so.
     unsigned int sampler_version = 2;
 
     /// Declares the subsection "Level 2".
