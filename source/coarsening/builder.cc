@@ -464,11 +464,25 @@ namespace ddfem::coarsening
                                     const CoarseElement    &element,
                                     const std::uint64_t     seed)
   {
+    // The children are level-1 elements with the child fits' offset, and
+    // blocks of voxels. The sampling follows the block's 64 voxels: a void
+    // voxel inside a child puts the block on a part's surface even if no
+    // child is void.
     const std::array<Combination, 8> blocks = level2.composition(level1, r);
     std::array<std::vector<material::MaterialPoint>, 8> children;
+    std::vector<scene::MaterialId>                      voxels;
+    BlockSampler::VoidVoxels                            void_voxels{};
     for (unsigned int k = 0; k < 8; ++k)
-      if (!all_void(blocks[k]))
-        children[k] = level1.lookup(blocks[k], Fit::child).points;
+      {
+        if (!all_void(blocks[k]))
+          children[k] = level1.lookup(blocks[k], Fit::child).points;
+        for (unsigned int j = 0; j < 8; ++j)
+          {
+            voxels.push_back(blocks[k][j]);
+            if (blocks[k][j] == scene::void_id)
+              void_voxels[k] |= 1u << j;
+          }
+      }
     // Point q starts from its child's sub-point and keeps its direction.
     Metamaterial prior;
     for (unsigned int q = 0; q < element.n_points(); ++q)
@@ -480,18 +494,6 @@ namespace ddfem::coarsening
           p = child[element.subpoint_of_point(q)];
         prior.points.push_back(p);
       }
-    // The sampling follows the block's 64 voxels: a void voxel inside a
-    // child puts the block on a part's surface even if no child is void.
-    std::vector<scene::MaterialId> voxels;
-    for (const Combination &block : blocks)
-      voxels.insert(voxels.end(), block.begin(), block.end());
-    // The children are level-1 elements with the child fits' offset, and
-    // blocks of voxels.
-    BlockSampler::VoidVoxels void_voxels{};
-    for (unsigned int k = 0; k < 8; ++k)
-      for (unsigned int j = 0; j < 8; ++j)
-        if (blocks[k][j] == scene::void_id)
-          void_voxels[k] |= 1u << j;
     const BlockSampler sampler(children, child_point_offset, void_voxels);
     Entry              entry;
     const std::vector<Sample> samples =
