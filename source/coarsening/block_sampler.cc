@@ -14,9 +14,58 @@
 #include <map>
 #include <numeric>
 #include <random>
+#include <set>
 
 namespace ddfem::coarsening
 {
+  namespace
+  {
+    /// The orthonormal basis (modified Gram-Schmidt, twice, in order) of
+    /// the span of @p rows; rows that depend on the earlier ones are
+    /// dropped.
+    FullMatrix<double>
+    orthonormal_rows(const FullMatrix<double> &rows)
+    {
+      std::vector<Vector<double>> basis;
+      for (unsigned int r = 0; r < rows.m(); ++r)
+        {
+          Vector<double> row(rows.n());
+          for (unsigned int i = 0; i < rows.n(); ++i)
+            row(i) = rows(r, i);
+          const double length = row.l2_norm();
+          // The second pass restores what round-off lost in the first.
+          for (unsigned int pass = 0; pass < 2; ++pass)
+            for (const Vector<double> &b : basis)
+              row.add(-(row * b), b);
+          if (row.l2_norm() > 1e-10 * length)
+            basis.push_back(row /= row.l2_norm());
+        }
+      FullMatrix<double> result(basis.size(), rows.n());
+      for (unsigned int r = 0; r < basis.size(); ++r)
+        for (unsigned int i = 0; i < rows.n(); ++i)
+          result(r, i) = basis[r](i);
+      return result;
+    }
+
+
+
+    /// Removes from @p f its components along the orthonormal @p rows.
+    void
+    project_out(const FullMatrix<double> &rows, Vector<double> &f)
+    {
+      for (unsigned int r = 0; r < rows.m(); ++r)
+        {
+          double dot = 0;
+          for (unsigned int i = 0; i < f.size(); ++i)
+            dot += rows(r, i) * f(i);
+          for (unsigned int i = 0; i < f.size(); ++i)
+            f(i) -= dot * rows(r, i);
+        }
+    }
+  } // namespace
+
+
+
   void
   SamplingSettings::declare_parameters(ParameterHandler &prm)
   {
@@ -251,24 +300,8 @@ namespace ddfem::coarsening
         for (unsigned int m = 0; m < 6; ++m)
           constraints(r, i) +=
             rigid_modes[i][m] * null_space(6 * first_group[i] + m, r);
-    // Orthonormalized (Gram-Schmidt).
-    for (unsigned int r = 0; r < constraints.m(); ++r)
-      {
-        for (unsigned int s = 0; s < r; ++s)
-          {
-            double dot = 0;
-            for (unsigned int i = 0; i < constraints.n(); ++i)
-              dot += constraints(r, i) * constraints(s, i);
-            for (unsigned int i = 0; i < constraints.n(); ++i)
-              constraints(r, i) -= dot * constraints(s, i);
-          }
-        double norm = 0;
-        for (unsigned int i = 0; i < constraints.n(); ++i)
-          norm += constraints(r, i) * constraints(r, i);
-        Assert(norm > 1e-20, ExcInternalError());
-        for (unsigned int i = 0; i < constraints.n(); ++i)
-          constraints(r, i) /= std::sqrt(norm);
-      }
+    constraints = orthonormal_rows(constraints);
+    Assert(constraints.m() == null_space.n(), ExcInternalError());
 
     // Corners, and the trilinear least-squares fit for those whose voxel
     // is void: the fit of the field at the corners of the solid voxels
@@ -334,37 +367,58 @@ namespace ddfem::coarsening
     // force patterns load: those of solid voxels, or all of them if no
     // solid voxel reaches the surface (an island inside the block, which
     // a condition holds in its scene).
-    for (const bool whole_faces : {false, true})
-      {
-        for (const auto &cell : dof_handler.active_cell_iterators())
-          for (const unsigned int face : cell->face_indices())
+    std::vector<SurfaceQuarter> void_quarters;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      for (const unsigned int face : cell->face_indices())
+        {
+          const unsigned int d    = face / 2;
+          const double       side = (face % 2 == 0) ? 0. : 1.;
+          if (std::abs(cell->face(face)->center()[d] - side) > 1e-12)
+            continue;
+          Tensor<1, 3> normal;
+          normal[d] = (face % 2 == 0) ? -1. : 1.;
+          for (const unsigned int v : cell->face(face)->vertex_indices())
             {
-              const unsigned int d    = face / 2;
-              const double       side = (face % 2 == 0) ? 0. : 1.;
-              if (std::abs(cell->face(face)->center()[d] - side) > 1e-12)
-                continue;
-              Tensor<1, 3> normal;
-              normal[d] = (face % 2 == 0) ? -1. : 1.;
-              for (const unsigned int v : cell->face(face)->vertex_indices())
-                {
-                  const Point<3> &x      = cell->face(face)->vertex(v);
-                  unsigned int    octant = 0;
-                  for (unsigned int e = 0; e < 3; ++e)
-                    if (x[e] > cell->center()[e])
-                      octant |= 1u << e;
-                  if (whole_faces ||
-                      solid_octant(cell_child[cell->active_cell_index()],
-                                   octant))
-                    surface_quarters.push_back(
-                      {x,
-                       normal,
-                       {{cell->face(face)->vertex_dof_index(v, 0),
-                         cell->face(face)->vertex_dof_index(v, 1),
-                         cell->face(face)->vertex_dof_index(v, 2)}}});
-                }
+              const Point<3> &x      = cell->face(face)->vertex(v);
+              unsigned int    octant = 0;
+              for (unsigned int e = 0; e < 3; ++e)
+                if (x[e] > cell->center()[e])
+                  octant |= 1u << e;
+              (solid_octant(cell_child[cell->active_cell_index()], octant) ?
+                 surface_quarters :
+                 void_quarters)
+                .push_back({x,
+                            normal,
+                            {{cell->face(face)->vertex_dof_index(v, 0),
+                              cell->face(face)->vertex_dof_index(v, 1),
+                              cell->face(face)->vertex_dof_index(v, 2)}}});
             }
-        if (!surface_quarters.empty())
-          break;
+        }
+    // The constraint rows on the loaded degrees of freedom, orthonormalized:
+    // a force on these is self-equilibrated if orthogonal to them. Where the
+    // solid voxels' quarters leave no such force (none reaches the block's
+    // surface, an island, or all meet it at one node), all quarters are
+    // loaded; a solid child's own faces always leave some.
+    const auto free_directions = [this]() {
+      std::set<types::global_dof_index> dofs;
+      FullMatrix<double>                rows(constraints.m(), constraints.n());
+      for (const SurfaceQuarter &quarter : surface_quarters)
+        for (const auto i : quarter.dofs)
+          {
+            dofs.insert(i);
+            for (unsigned int r = 0; r < constraints.m(); ++r)
+              rows(r, i) = constraints(r, i);
+          }
+      load_constraints = orthonormal_rows(rows);
+      return dofs.size() - load_constraints.m();
+    };
+    if (free_directions() == 0)
+      {
+        surface_quarters.insert(surface_quarters.end(),
+                                void_quarters.begin(),
+                                void_quarters.end());
+        [[maybe_unused]] const auto n_free = free_directions();
+        Assert(n_free > 0, ExcInternalError());
       }
 
     // Periodic classes of nodes (embedded samples): a node's class is the
@@ -515,21 +569,6 @@ namespace ddfem::coarsening
 
 
 
-  void
-  BlockSampler::project_out_zero_energy(Vector<double> &f) const
-  {
-    for (unsigned int r = 0; r < constraints.m(); ++r)
-      {
-        double dot = 0;
-        for (unsigned int i = 0; i < f.size(); ++i)
-          dot += constraints(r, i) * f(i);
-        for (unsigned int i = 0; i < f.size(); ++i)
-          f(i) -= dot * constraints(r, i);
-      }
-  }
-
-
-
   namespace
   {
     /**
@@ -606,7 +645,7 @@ namespace ddfem::coarsening
         Vector<double> g = f;
         g -= r;
         Vector<double> projected = g;
-        project_out_zero_energy(projected);
+        project_out(constraints, projected);
         const double residual = projected.l2_norm() / f_norm;
         if (residual <= 1e-9)
           return true;
@@ -628,7 +667,7 @@ namespace ddfem::coarsening
               if (!assemble(v, false, unused_energy, trial_residual, unused))
                 return false;
               trial_residual.sadd(-1., 1., f);
-              project_out_zero_energy(trial_residual);
+              project_out(constraints, trial_residual);
               norm = trial_residual.l2_norm();
               return true;
             };
@@ -834,6 +873,11 @@ namespace ddfem::coarsening
         for (unsigned int i = 0; i < 3; ++i)
           f(quarter.dofs[i]) += t[i];
       }
+    const double traction = f.l2_norm();
+    project_out(load_constraints, f);
+    // What is left at round-off is no force.
+    if (f.l2_norm() <= 1e-12 * traction)
+      f = 0;
     return f;
   }
 
@@ -929,7 +973,11 @@ namespace ddfem::coarsening
         sigma += settings.traction_gradient * (2 * x[d] - 1) * gradient[d];
       return sigma;
     });
-    project_out_zero_energy(f);
+    if (f.l2_norm() == 0)
+      {
+        n_dropped += settings.n_magnitudes;
+        return;
+      }
     f /= f.l2_norm();
     const Vector<double> linear   = constrained_solve(initial_saddle, f);
     const double         strain_1 = linearized_strain(linear);
@@ -1062,7 +1110,10 @@ namespace ddfem::coarsening
         const Tensor<1, 3> d = sphere_direction(s, n_d);
         Vector<double>     f = boundary_forces(
           [&d](const Point<3> &) { return outer_product(d, d); });
-        project_out_zero_energy(f);
+        // A stress whose traction on the loaded faces is in equilibrium by
+        // itself stretches nothing.
+        if (f.l2_norm() == 0)
+          continue;
         Vector<double> u = constrained_solve(initial_saddle, f);
         u *= 0.01 / linearized_strain(u);
         element.deformation_gradients(corners(u), F);

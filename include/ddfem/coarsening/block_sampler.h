@@ -111,8 +111,8 @@ namespace ddfem::coarsening
    * partly void. The block then follows its voxels, as a block of voxels
    * does: the corners of void voxels are read from the least-squares fit
    * (corners()), force patterns load the faces of solid voxels only
-   * (all faces where none reaches the block's surface; the removal of
-   * their resultant spreads over all nodes, project_out_zero_energy()),
+   * (all faces where they admit no self-equilibrated force; the resultant
+   * is removed over the nodes they load, boundary_forces()),
    * and the strain measures skip the points of void voxels. Otherwise a node
    * that only void voxels touch, nearly free in its child's fit, is read as a
    * block corner, and the fit learns a block far too soft (doc/coarsening.md,
@@ -121,10 +121,11 @@ namespace ddfem::coarsening
    * The zero-energy modes of the block at rest are removed by linear
    * constraints (Lagrange multipliers): the six rigid motions and, where
    * children touch only at an edge or a corner (a mechanism), the hinge's
-   * relative rotations. The force patterns are projected on their
-   * complement, so they may pull or push one face-connected group of
-   * children against another through the nodes they share, and the hinge
-   * carries load in the samples; its free rotation is kept out of them.
+   * relative rotations. The force patterns are made orthogonal to them over
+   * the nodes they load (boundary_forces()), so they may pull or push one
+   * face-connected group of children against another through the nodes
+   * they share, and the hinge carries load in the samples; its free
+   * rotation is kept out of them.
    *
    * All sampling functions are const and thread safe.
    */
@@ -276,6 +277,26 @@ namespace ddfem::coarsening
       return n_periodic;
     }
 
+    /**
+     * The nodal forces of a force pattern: the traction sigma(x) n on the
+     * block's outer boundary, lumped to the vertices of the children's
+     * faces that lie on the unit cube's surface (a quarter of the face per
+     * vertex, where it is a solid voxel's face; all quarters where those
+     * admit no self-equilibrated force: no solid voxel reaches the surface,
+     * or all meet it at one node), less its resultant force and moment (and
+     * a hinge's, see n_zero_energy_modes()) removed over the nodes it
+     * loads. The nodes it does not load, inside the block or touched by
+     * void voxels only, stay free of force. Zero where the traction is in
+     * equilibrium by itself up to round-off (then no pattern, no stretch).
+     */
+    Vector<double>
+    boundary_forces(
+      const std::function<Tensor<2, 3>(const Point<3> &)> &stress) const;
+
+    /// The nodal vector of a displacement field given at every node.
+    Vector<double>
+    interpolate(const std::function<Tensor<1, 3>(const Point<3> &)> &u) const;
+
   private:
     /**
      * Solves the block under nodal forces @p f; @p u is the initial guess
@@ -289,20 +310,6 @@ namespace ddfem::coarsening
     bool
     child_energies(const Vector<double>  &u,
                    std::array<double, 8> &energies) const;
-
-    /**
-     * Nodal forces of the traction sigma(x) n on the block's outer
-     * boundary, lumped to the vertices of the children's faces that lie
-     * on the unit cube's surface: a quarter of the face per vertex, where
-     * it is a solid voxel's face (surface_quarters).
-     */
-    Vector<double>
-    boundary_forces(
-      const std::function<Tensor<2, 3>(const Point<3> &)> &stress) const;
-
-    /// The nodal vector of a displacement field given at every node.
-    Vector<double>
-    interpolate(const std::function<Tensor<1, 3>(const Point<3> &)> &u) const;
 
     /// Energy, internal forces and, if @p tangent, stiffness at @p u.
     bool
@@ -320,10 +327,6 @@ namespace ddfem::coarsening
     Vector<double>
     constrained_solve(const LAPACKFullMatrix<double> &A,
                       const Vector<double>           &b) const;
-
-    /// @p f minus its component along the constraint rows.
-    void
-    project_out_zero_energy(Vector<double> &f) const;
 
     /// The stiffest direction per point of the free block under uniaxial
     /// stress (see anisotropy_directions()).
@@ -406,8 +409,13 @@ namespace ddfem::coarsening
       std::array<types::global_dof_index, 3> dofs;
     };
     /// The quarters that force patterns load: those of solid voxels, or,
-    /// if no solid voxel reaches the block's surface, all of them.
+    /// if these admit no self-equilibrated force, all of them.
     std::vector<SurfaceQuarter> surface_quarters;
+    /// The constraint rows restricted to the loaded degrees of freedom
+    /// (those of surface_quarters), orthonormalized: a pattern's resultant
+    /// force and moment (and a hinge's) are removed over the nodes it
+    /// loads, so the nodes it does not load stay free of force.
+    FullMatrix<double> load_constraints;
     /// Per corner, its x/y/z dofs or none (a void voxel at the corner).
     std::array<std::array<int, 3>, 8> corner_dofs;
     /// Least-squares trilinear fit: corner value = sum_n weights(v, n) u_n
