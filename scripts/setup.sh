@@ -59,5 +59,5 @@ if [ "${1:-}" = "--test" ]; then
   cmake --build build-debug -j2
   (cd build-debug && ctest -j2 --output-on-failure --no-tests=error \
     -E "^ddfem/threads\\.|^stability/(uniaxial_compression|rigid_rotation)\\." -R \
-    "^(ddfem|stability)/|^coarsening/(fit|embedded_samples|parallel_fit|partly_void_level2)\\.|^dg/(bad_penalty|contrast_1e6|corotated|jump_norm|large_penalty|linear_stress|rigid_body)\\.")
+    "^(ddfem|stability)/|^coarsening/(fit|embedded_samples|parallel_fit|partly_void_level2|force_patterns)\\.|^dg/(bad_penalty|contrast_1e6|corotated|jump_norm|large_penalty|linear_stress|rigid_body)\\.")
 fi
