@@ -363,10 +363,8 @@ namespace ddfem::coarsening
               corner_dofs[v][dof_component[i]] = i;
       }
 
-    // The quarters of the children's faces on the block's surface that
-    // force patterns load: those of solid voxels, or all of them if no
-    // solid voxel reaches the surface (an island inside the block, which
-    // a condition holds in its scene).
+    // The quarters of the children's faces on the block's surface, those
+    // of solid voxels (which force patterns load) and those of void ones.
     std::vector<SurfaceQuarter> void_quarters;
     for (const auto &cell : dof_handler.active_cell_iterators())
       for (const unsigned int face : cell->face_indices())
@@ -394,12 +392,14 @@ namespace ddfem::coarsening
                               cell->face(face)->vertex_dof_index(v, 2)}}});
             }
         }
-    // The constraint rows on the loaded degrees of freedom, orthonormalized:
-    // a force on these is self-equilibrated if orthogonal to them. Where the
-    // solid voxels' quarters leave no such force (none reaches the block's
-    // surface, an island, or all meet it at one node), all quarters are
-    // loaded; a solid child's own faces always leave some.
-    const auto free_directions = [this]() {
+    // Sets load_constraints to the constraint rows on the loaded degrees of
+    // freedom, orthonormalized (a force on these is self-equilibrated if
+    // orthogonal to them), and returns the number of such forces' free
+    // directions. Where the solid voxels' quarters leave none (none reaches
+    // the block's surface, an island held inside it by its scene, or all
+    // meet it at one node), all quarters are loaded; a solid child's own
+    // faces always leave some.
+    const auto restrict_constraints_to_loads = [this]() {
       std::set<types::global_dof_index> dofs;
       FullMatrix<double>                rows(constraints.m(), constraints.n());
       for (const SurfaceQuarter &quarter : surface_quarters)
@@ -412,12 +412,12 @@ namespace ddfem::coarsening
       load_constraints = orthonormal_rows(rows);
       return dofs.size() - load_constraints.m();
     };
-    if (free_directions() == 0)
+    if (restrict_constraints_to_loads() == 0)
       {
         surface_quarters.insert(surface_quarters.end(),
                                 void_quarters.begin(),
                                 void_quarters.end());
-        [[maybe_unused]] const auto n_free = free_directions();
+        [[maybe_unused]] const auto n_free = restrict_constraints_to_loads();
         Assert(n_free > 0, ExcInternalError());
       }
 
