@@ -72,10 +72,12 @@ namespace ddfem::coarsening
     std::ostringstream s;
     s << std::setprecision(17) << "palette: " << palette
       << " | void: " << with_void << " | patterns: " << sampling.n_directions
-      << ", embedded (mixed blocks): " << sampling.embedded
+      << ", embedded (mixed blocks): "
+      << without_negative_zero(sampling.embedded)
       << ", magnitudes: " << sampling.n_magnitudes
       << ", strains: " << sampling.min_strain << "-" << sampling.max_strain
-      << ", traction gradient: " << sampling.traction_gradient
+      << ", traction gradient: "
+      << without_negative_zero(sampling.traction_gradient)
       << ", stretch directions: " << sampling.n_stretch_directions;
     // Named only where it is not 0: files built before the seed was a
     // setting keep their fingerprint.
@@ -88,17 +90,19 @@ namespace ddfem::coarsening
     // Named only where it is not the default, likewise.
     if (sampling.geometric_spacing)
       s << ", geometric magnitudes";
-    s << " | regularization: " << fitting.regularization
-      << ", child regularization: " << fitting.child_regularization
+    s << " | regularization: " << without_negative_zero(fitting.regularization)
+      << ", child regularization: "
+      << without_negative_zero(fitting.child_regularization)
       << ", stiffness floor: " << fitting.stiffness_floor
-      << ", point floor: " << fitting.point_floor
+      << ", point floor: " << without_negative_zero(fitting.point_floor)
       << ", held-out every: " << fitting.held_out_every;
     // Named only where it is on, as the seed above.
     if (fitting.laminate_springs)
       s << ", laminate springs";
     // Named only where it is set, likewise.
     if (fitting.spring_regularization)
-      s << ", spring regularization: " << *fitting.spring_regularization;
+      s << ", spring regularization: "
+        << without_negative_zero(*fitting.spring_regularization);
     s << " | coarse point offset: " << point_offset;
     // Named only where the child fits' offset differs from the coarse
     // element's: before, child fits had the coarse element's offset.

@@ -1,5 +1,6 @@
 #include <deal.II/base/geometry_info.h>
 
+#include <ddfem/base/parsing.h>
 #include <ddfem/coarsening/hierarchy.h>
 #include <ddfem/material/kernel.h>
 
@@ -75,7 +76,7 @@ namespace ddfem::coarsening
     s << std::setprecision(17) << "level-1 classes: " << n_classes
       << ", intermediate: " << n_intermediate
       << ", representatives: " << n_representatives
-      << ", regularization: " << regularization
+      << ", regularization: " << without_negative_zero(regularization)
       << ", point offset: " << point_offset
       << ", sampler version: " << sampler_version;
     return s.str();

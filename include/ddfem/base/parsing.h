@@ -112,6 +112,17 @@ namespace ddfem
     check_each_once(split_list(text, ',', parameter), text, parameter);
   }
 
+  /**
+   * @p x, or +0 where @p x is -0, for the texts that identify settings (a
+   * database's fingerprints): a parameter given as -0 is the setting 0,
+   * which a stream writes as "-0".
+   */
+  inline double
+  without_negative_zero(const double x)
+  {
+    return x == 0 ? 0. : x;
+  }
+
   /// @p x with @p digits significant digits, for messages.
   inline std::string
   format_number(const double x, const int digits = 4)
