@@ -21,6 +21,18 @@ namespace ddfem::scene
       return name == "x" ? 0 : (name == "y" ? 1 : 2);
     }
 
+    /// The error for the material id @p id (as given in @p where) outside
+    /// a palette of @p n_materials materials.
+    ExcMessage
+    not_in_palette(const std::string &id,
+                   const unsigned int n_materials,
+                   const std::string &where)
+    {
+      return ExcMessage(where + ": material id " + id +
+                        " is not in the palette; allowed are 0 (void) to " +
+                        std::to_string(n_materials) + ".");
+    }
+
     /// Converts @p value to a material id, checking it against the palette.
     MaterialId
     checked_id(const long         value,
@@ -28,10 +40,7 @@ namespace ddfem::scene
                const std::string &where)
     {
       AssertThrow(value >= 0 && value <= static_cast<long>(n_materials),
-                  ExcMessage(
-                    where + ": material id " + std::to_string(value) +
-                    " is not in the palette; allowed are 0 (void) to " +
-                    std::to_string(n_materials) + "."));
+                  not_in_palette(std::to_string(value), n_materials, where));
       return static_cast<MaterialId>(value);
     }
 
@@ -372,12 +381,12 @@ namespace ddfem::scene
         const double id = parse_number(parts[1], where);
         AssertThrow(id == std::round(id),
                     ExcMessage(where + ": the material id is not an integer."));
+        // Checked as a number: an id too large for an integer is named as
+        // given.
         AssertThrow(id >= 0 && id <= n_materials,
-                    ExcMessage(where + ": material id " +
-                               Utilities::trim(parts[1]) +
-                               " is not in the palette; allowed are 0 (void) "
-                               "to " +
-                               std::to_string(n_materials) + "."));
+                    not_in_palette(Utilities::trim(parts[1]),
+                                   n_materials,
+                                   where));
         shape.material = static_cast<MaterialId>(id);
         shape.where    = where;
         result.push_back(shape);

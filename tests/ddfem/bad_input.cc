@@ -696,6 +696,10 @@ main(int argc, char **argv)
   run_case("shape_painted_over",
            cantilever + "subsection Layout\n  set Shapes = box 0 0 0 0.02 "
                         "0.02 0.02 : 2; box 0 0 0 0.02 0.04 0.02 : 1\nend\n");
+  // A material id too large for an integer is named as given.
+  run_case("shape_id_outside_palette",
+           cantilever + "subsection Layout\n  set Shapes = box 0 0 0 0.02 "
+                        "0.02 0.02 : 1e30\nend\n");
   run_case("cylinder_axis_overflows",
            cantilever + "subsection Layout\n  set Shapes = cylinder 0.01 0 "
                         "0.01 0.01 1e200 0.01 0.01 : 1\nend\n");
