@@ -454,21 +454,23 @@ namespace ddfem::app
       catch (...)
         {
           // Best effort: the error to report is the first one. This run's
-          // parameters.prm goes (the run's input goes back) before the
-          // directories made for it are removed where empty.
-          try
-            {
-              std::filesystem::remove(used_file, error);
-              if (input)
-                {
-                  ResultFile restored(used_file, "Output/Output directory");
-                  restored.stream() << *input;
-                  restored.commit();
-                }
-            }
-          catch (...)
-            {}
+          // parameters.prm goes before the directories made for it are
+          // removed where empty; where it replaced the run's input, the
+          // input goes back, after the results, whose space it may need,
+          // in one rename: if that fails, the file keeps this run's
+          // parameters rather than nothing.
+          if (!input)
+            std::filesystem::remove(used_file, error);
           remove_failed_results(directory, made);
+          if (input)
+            try
+              {
+                ResultFile restored(used_file, "Output/Output directory");
+                restored.stream() << *input;
+                restored.commit();
+              }
+            catch (...)
+              {}
           throw;
         }
     }

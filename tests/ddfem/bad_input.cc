@@ -1516,6 +1516,26 @@ end
                   testing::content_of("out_rerun_fails/parameters.prm") == used)
               << "\n  " << rerun_err.str() << std::endl;
   }
+  // Where the input cannot be put back either (here it is larger than a
+  // file may grow), parameters.prm keeps the rerun's parameters: the
+  // restore replaces it in one rename, and no longer removes it first.
+  {
+    std::ofstream("out_rerun_fails/parameters.prm", std::ios::app)
+      << "# " << std::string(12000, '-') << "\n";
+    std::ostringstream err;
+    const int code = run_with_small_files({"out_rerun_fails/parameters.prm",
+                                           "--set",
+                                           "Output/Write VTU=every step"},
+                                          err);
+    const std::string kept =
+      testing::content_of("out_rerun_fails/parameters.prm");
+    std::cout << "* rerun_fails_restore_too: exit code " << code
+              << ", parameters.prm holds the rerun's parameters: "
+              << (kept.find("= every step") !=
+                    std::string::npos &&
+                  kept.find("# ---") == std::string::npos)
+              << std::endl;
+  }
   // A gnuplot that does not work is found before anything runs too.
   {
     std::filesystem::create_directories("broken_bin");
