@@ -133,9 +133,9 @@ namespace ddfem::app
                                                       timer,
                                                       log);
       solver->setup();
+      for (const Point<3> &p : scene.probes)
+        solver->point_value(solver->solution(), p); // throws if outside
     }
-    for (const Point<3> &p : scene.probes)
-      solver->point_value(solver->solution(), p); // throws if outside
     pending_time = total.wall_time();
   }
 

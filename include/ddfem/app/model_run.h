@@ -78,7 +78,9 @@ namespace ddfem::app
       /// largest principal strain (StaticSolver::CellFields::strain), by
       /// ddfem::quantile().
       std::array<double, 3> strain_quantiles = {{0, 0, 0}};
-      /// Largest displacement at any node (m).
+      /// Largest displacement (m): at any node of a fine model, at the
+      /// solid voxels' corners for a coarse one (whose nodes may lie in
+      /// void).
       double max_displacement = 0;
       /// Each probe point and the displacement there (m).
       std::vector<Probe> probes;
