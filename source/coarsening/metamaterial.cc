@@ -224,6 +224,7 @@ namespace ddfem::coarsening
                               const Metamaterial                 &m,
                               std::vector<std::array<double, 3>> &terms) const
   {
+    Assert(m.points.size() == n_points(), ExcInternalError());
     std::vector<Tensor<2, 3>> F;
     deformation_gradients(u, F);
     terms.resize(n_points());

@@ -9,6 +9,8 @@ namespace ddfem::coarsening
 {
   CubeSymmetries::CubeSymmetries()
   {
+    // Every permutation of the axes with every sign flip; the identity
+    // comes first: axes (0,1,2) with no sign flips.
     std::array<unsigned int, 3> axes = {{0, 1, 2}};
     unsigned int                g    = 0;
     do
@@ -34,7 +36,8 @@ namespace ddfem::coarsening
     while (std::next_permutation(axes.begin(), axes.end()));
     Assert(g == size, ExcInternalError());
 
-    // The identity comes first: axes (0,1,2) with no sign flips.
+    // Each symmetry's inverse: the one whose product with it is the
+    // identity.
     for (unsigned int a = 0; a < size; ++a)
       for (unsigned int b = 0; b < size; ++b)
         if ((matrices[a] * matrices[b] - unit_symmetric_tensor<3>()).norm() <
