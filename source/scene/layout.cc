@@ -430,6 +430,13 @@ namespace ddfem::scene
   {
     const auto    &n      = grid.size();
     const Point<3> extent = grid.extent();
+    // The layer of a voxel center at @p x along the layers' axis: a center
+    // on a layer boundary takes the layer above it (within 1e-6 of a
+    // voxel, as 0.075 / 0.025 is 2.9999999999999996).
+    const auto layer_of = [&](const double x) {
+      return static_cast<std::size_t>((x + 1e-6 * grid.voxel_size()) /
+                                      layer_thickness);
+    };
 
     if (type == "voxel file")
       read_voxel_file(voxel_file, n_materials + 1, grid);
@@ -493,9 +500,8 @@ namespace ddfem::scene
                 MaterialId     id = material;
                 if (type == "layers")
                   {
-                    const auto layer =
-                      static_cast<std::size_t>(c[layer_axis] / layer_thickness);
-                    id = layer_materials[layer % layer_materials.size()];
+                    id = layer_materials[layer_of(c[layer_axis]) %
+                                         layer_materials.size()];
                   }
                 else if (type == "skin")
                   {
@@ -577,8 +583,8 @@ namespace ddfem::scene
             (type == "skin" ? "skin thinner." : "fibers thinner.")));
         // Layers thinner than a voxel would be sampled at the voxel
         // centers, not resolved: each voxel takes the layer at its center.
-        // Thicker layers each hold a voxel center, unless the grid holds
-        // fewer layers than 'Materials' lists.
+        // Thicker layers each hold a voxel center, and the grid must hold
+        // a layer for each entry of 'Materials'.
         if (type == "layers")
           {
             AssertThrow(layer_thickness >= grid.voxel_size() * (1 - 1e-12),
@@ -591,14 +597,17 @@ namespace ddfem::scene
                                    "its center, and the layers would not be "
                                    "resolved. Give layers of at least one "
                                    "voxel."));
-            for (const MaterialId m : layer_materials)
-              AssertThrow(
-                std::count(grid.data().begin(), grid.data().end(), m) > 0,
-                ExcMessage("Layout/Layers: material " + std::to_string(m) +
-                           " of 'Materials' lies at no voxel center: the "
-                           "grid holds fewer layers of 'Thickness' = " +
-                           format_number(layer_thickness) +
-                           " m than 'Materials' lists."));
+            const std::size_t n_layers =
+              layer_of(grid.center(n[0] - 1, n[1] - 1, n[2] - 1)[layer_axis]) +
+              1;
+            AssertThrow(
+              layer_materials.size() <= n_layers,
+              ExcMessage(
+                "Layout/Layers/Materials lists " +
+                std::to_string(layer_materials.size()) +
+                " materials, but the grid holds " + std::to_string(n_layers) +
+                " layer(s) of 'Thickness' = " + format_number(layer_thickness) +
+                " m: list at most " + std::to_string(n_layers) + "."));
           }
       }
 

@@ -10,6 +10,7 @@
 
 #include <deal.II/grid/tria.h>
 
+#include <ddfem/base/exceptions.h>
 #include <ddfem/scene/voxel_io.h>
 
 #include <algorithm>
@@ -140,6 +141,37 @@ main()
       for (unsigned int i = 0; i < 10; ++i)
         std::cout << int(skin(i, 0, 0));
       std::cout << std::endl;
+    }
+  // Layer boundaries at voxel centers give the center to the layer above,
+  // whatever the round-off: 0.075 / 0.025 is 2.9999999999999996, which put
+  // voxel 7 below its boundary where voxel 2 went above its own.
+  for (const std::string thickness : {"0.025", "0.035"})
+    {
+      const auto layers =
+        make_scene("set Type = layers\nsubsection Layers\n set Axis = x\n"
+                   " set Thickness = " +
+                     thickness + "\n set Materials = 1, 3\nend",
+                   "10, 1, 1\nset Voxel size = 0.01")
+          .grid;
+      std::cout << "layers of " << thickness << " m on voxels of 0.01 m: ";
+      for (unsigned int i = 0; i < 10; ++i)
+        std::cout << int(layers(i, 0, 0));
+      std::cout << std::endl;
+    }
+  // A grid with fewer layers than 'Materials' lists is refused, also where
+  // an id repeats (2 layers, 3 entries).
+  try
+    {
+      make_scene("set Type = layers\nsubsection Layers\n set Axis = x\n"
+                 " set Thickness = 0.08\n set Materials = 1, 3, 1\nend",
+                 "16, 1, 1\nset Voxel size = 0.01");
+      std::cout << "three layers' materials on two layers: accepted"
+                << std::endl;
+    }
+  catch (const ExceptionBase &e)
+    {
+      std::cout << "three layers' materials on two layers: " << message_of(e)
+                << std::endl;
     }
   // Shapes whose bounds lie at voxel centers hold those voxels, whatever
   // their round-off: with 0.1 m voxels, 3.5 * 0.1 lies above 0.35, and
