@@ -616,7 +616,8 @@ namespace ddfem::scene
           AssertThrow(parse(token, id),
                       ExcMessage(line.where() + "\"" + std::string(token) +
                                  "\" is not a non-negative integer "
-                                 "material id."));
+                                 "material id less than " +
+                                 std::to_string(id_bound) + "."));
           if (ids.size() < grid.n_voxels())
             {
               const auto ijk = grid.coordinates(ids.size());

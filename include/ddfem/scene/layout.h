@@ -47,8 +47,10 @@ namespace ddfem::scene
 
     /**
      * Applies material edit @p e (from 0) to @p grid and returns the linear
-     * indices of the voxels whose id changed. Throws ExcMessage, naming the
-     * edit and the voxel, if the edit would make a voxel void or solid.
+     * indices of the voxels whose id changed. Throws ExcMessage naming the
+     * edit: if it would make a voxel void or solid (naming the voxel), if
+     * it changes no voxel, or if one of its shapes holds no voxel center or
+     * is painted over entirely (as 'Shapes' are checked).
      */
     std::vector<std::size_t>
     apply_edit(const unsigned int e, VoxelGrid &grid) const;
