@@ -233,10 +233,19 @@ namespace ddfem::solver
   LinearSolver::fall_back_to_direct(const SparseMatrix<double> &K,
                                     Vector<double>             &x,
                                     const Vector<double>       &b,
-                                    const unsigned int          next)
+                                    const unsigned int          next,
+                                    const unsigned int          spent)
   {
     direct_solves_left = next;
-    return solve_directly(K, x, b);
+    try
+      {
+        return spent + solve_directly(K, x, b);
+      }
+    catch (Failure &failure)
+      {
+        failure.iterations += spent;
+        throw;
+      }
   }
 
 
@@ -324,7 +333,7 @@ namespace ddfem::solver
     if (!positive_definite)
       {
         const unsigned int next = 1u << std::min(indefinite_factors++, 3u);
-        return iterations + fall_back_to_direct(K, x, b, next);
+        return fall_back_to_direct(K, x, b, next, iterations);
       }
     indefinite_factors = 0;
     TimerOutput::Scope scope(*timer, "linear solve");
@@ -406,8 +415,8 @@ namespace ddfem::solver
       {
         rate_after_setup = 0;
         if (requested == "auto" && x.size() <= fallback_limit)
-          return failure.last_step +
-                 fall_back_to_direct(K, x, b, direct_solves_after_cg_failure);
+          return fall_back_to_direct(
+            K, x, b, direct_solves_after_cg_failure, failure.last_step);
         throw Failure(
           failure.last_step < max_iterations ?
             "CG stopped at iteration " + std::to_string(failure.last_step) +

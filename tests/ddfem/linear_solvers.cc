@@ -13,7 +13,8 @@
 //    the factored one (CG needs more than 'Cholesky factorization cost'
 //    iterations), and hands an indefinite tangent to UMFPACK (after CG
 //    fails), and the next 1, 2, 4, then 8 systems at once while
-//    factorizations keep failing, until a factorization succeeds; a solve
+//    factorizations keep failing, until a factorization succeeds (a
+//    Failure of UMFPACK counts the CG iterations spent before); a solve
 //    that needs more iterations
 //    than the average cost per solve of its factor (the factorization
 //    counted as 'Cholesky factorization cost') makes the next system be
@@ -306,6 +307,34 @@ main(int argc, char **argv)
     std::cout << "  4 indefinite systems after it: " << solve_indefinite(4)
               << ", Cholesky factorizations: "
               << linear_solver.preconditioner_setups() << std::endl;
+  }
+
+  // A singular system on which CG with an earlier factor fails, whose
+  // factorization fails, and which UMFPACK cannot solve: the Failure that
+  // reaches Newton counts the CG iterations spent on it (it counted none).
+  {
+    TimedSolver tested("set Type = cg-cholesky\n"
+                       "set Cholesky factorization cost = 20",
+                       problem.discretization->dof_handler);
+    tested.linear_solver.solve(K0, x, b);
+    // Row and column 0 of K2 set to zero, and b(0) nonzero: no solution.
+    SparseMatrix<double> singular;
+    singular.reinit(K2.get_sparsity_pattern());
+    singular.copy_from(K2);
+    for (unsigned int r = 0; r < n; ++r)
+      for (auto entry = singular.begin(r); entry != singular.end(r); ++entry)
+        if (r == 0 || entry->column() == 0)
+          entry->value() = 0;
+    try
+      {
+        tested.linear_solver.solve(singular, x, b);
+        std::cout << "  singular system: solved" << std::endl;
+      }
+    catch (const solver::LinearSolver::Failure &failure)
+      {
+        std::cout << "  singular system: " << failure.what() << ", after "
+                  << failure.iterations << " CG iterations" << std::endl;
+      }
   }
 
   // auto above its direct solver limit is cg-amg; a CG that fails (here:

@@ -157,13 +157,16 @@ namespace ddfem::solver
      * solve_directly(), and the @p next solves too: called where the
      * iterative solver cannot handle a tangent (cg-amg failed, or the
      * tangent is indefinite for cg-cholesky), since the tangents that
-     * follow are likely as hard.
+     * follow are likely as hard. Returns the iterations with the @p spent
+     * ones of the iterative solver added; a Failure of the direct solver
+     * carries them too.
      */
     unsigned int
     fall_back_to_direct(const SparseMatrix<double> &K,
                         Vector<double>             &x,
                         const Vector<double>       &b,
-                        const unsigned int          next);
+                        const unsigned int          next,
+                        const unsigned int          spent);
 
     /// 'Type' as given, and the method it resolved to for this system.
     std::string requested, chosen;
