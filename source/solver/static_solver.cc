@@ -88,6 +88,16 @@ namespace ddfem::solver
 
 
 
+  bool
+  LoadSteps::is_cut() const
+  {
+    // A halved and doubled step may differ from the nominal by round-off
+    // (cut() halves next() - t).
+    return step < (1 - 1e-9) * nominal_step;
+  }
+
+
+
   namespace
   {
     constexpr double infinity = std::numeric_limits<double>::infinity();
@@ -264,10 +274,10 @@ namespace ddfem::solver
       "From 1e-14 to 1e-2. Converged when the residual at the free unknowns is this "
       "fraction of the largest of (the largest residual seen in the "
       "increment, the external load at the free unknowns at the step's load "
-      "factor), or when a Newton "
-      "step with the unshifted tangent changed no unknown by more than 1e-13 "
-      "of the bounding box's diagonal (a residual of round-off in stiff "
-      "parts).");
+      "factor), or when the full Newton "
+      "step with the unshifted tangent, before the line search, changes no "
+      "unknown by more than 1e-13 of the bounding box's diagonal (a "
+      "residual of round-off in stiff parts).");
     prm.declare_entry(
       "Start after edit",
       "last state",
@@ -1006,12 +1016,13 @@ namespace ddfem::solver
           }
         else
           {
-            const double tried = t_new - t;
+            const double tried   = t_new - t;
+            const bool   was_cut = steps.is_cut();
             if (!steps.cut())
               {
                 std::ostringstream message;
                 message << "the load increment at load factor " << t;
-                if (tried < steps.nominal() - 1e-12)
+                if (was_cut)
                   message << " failed even when cut to " << tried;
                 else
                   message << " failed, and no shorter one may follow";

@@ -5,7 +5,8 @@
 // nominal grid, so the last increment is shortened to reach 1 (0.95 to 1),
 // and when it fails, the next try is half of it (to 0.975), not the same
 // increment again. A cut below 'Minimum load step' of the nominal
-// increment ends the solve.
+// increment ends the solve. Increments shorter than the nominal one after
+// a cut are marked "cut"; the last, shortened to reach 1, is not.
 
 #include <ddfem/solver/static_solver.h>
 
@@ -27,7 +28,8 @@ main()
       const double from = steps.current(), to = steps.next();
       const bool   fails =
         std::find(failures.begin(), failures.end(), tried) != failures.end();
-      std::cout << " " << from << "->" << to << (fails ? " (fails)" : "");
+      std::cout << " " << from << "->" << to << (steps.is_cut() ? " cut" : "")
+                << (fails ? " (fails)" : "");
       AssertThrow(fails ? steps.cut() : (steps.accept(), true),
                   dealii::ExcInternalError());
     }

@@ -61,6 +61,11 @@ namespace ddfem::solver
     double
     nominal() const;
 
+    /// Whether the increment is shorter than the nominal one after a cut
+    /// (the last increment, to 1, may be shorter without one).
+    bool
+    is_cut() const;
+
   private:
     double       nominal_step, minimum, t, step;
     unsigned int successes_since_cut = 0;
