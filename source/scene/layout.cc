@@ -115,7 +115,8 @@ namespace ddfem::scene
         "0.01",
         Patterns::Double(0),
         "Thickness of one layer (m): at least the voxel size, and best a "
-        "multiple of it.");
+        "multiple of it. A voxel whose center lies on a layer boundary "
+        "takes the layer above it.");
       prm.declare_entry(
         "Materials",
         "1, 3",
