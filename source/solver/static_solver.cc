@@ -73,7 +73,9 @@ namespace ddfem::solver
   bool
   LoadSteps::cut()
   {
-    step                = (next() - t) / 2;
+    // Half the increment tried, min(step, 1 - t): exactly half of step
+    // where it did not end at 1, so that doubling back restores it.
+    step                = std::min(step, 1 - t) / 2;
     successes_since_cut = 0;
     return step >= minimum;
   }
@@ -91,9 +93,7 @@ namespace ddfem::solver
   bool
   LoadSteps::is_cut() const
   {
-    // A halved and doubled step may differ from the nominal by round-off
-    // (cut() halves next() - t).
-    return step < (1 - 1e-9) * nominal_step;
+    return step < nominal_step;
   }
 
 
