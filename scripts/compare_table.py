@@ -195,8 +195,10 @@ def main(argv):
 
             dofs = ""
             if index == 0:
-                dofs = " / ".join(str(r["dofs"]) if r else "-"
-                                  for r in (runs[0], ddfem[1], ddfem[2]))
+                # Every method of a level has the same mesh.
+                at_level = [next((r for r in runs if r["level"] == level), None)
+                            for level in (0, 1, 2)]
+                dofs = " / ".join(str(r["dofs"]) if r else "-" for r in at_level)
             if fastest is None:
                 reference = "none converged"
             else:
