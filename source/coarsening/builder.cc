@@ -59,8 +59,9 @@ namespace ddfem::coarsening
                       "or 2 (also 4x4x4 blocks, through the staged "
                       "compression of the subsection Level 2). With Scope = "
                       "all, from the complete level 1; with Scope = scene, "
-                      "from the level-1 entries of the scene's 4x4x4 blocks, "
-                      "whose grid must then divide by 4.");
+                      "from the level-1 entries in the file, whose staged "
+                      "compression keeps the scene's 4x4x4 blocks first; the "
+                      "grid must then divide by 4.");
     prm.declare_entry("Threads",
                       "0",
                       Patterns::Integer(0),

@@ -517,6 +517,11 @@ namespace ddfem::coarsening
     check_not_read_only(file);
     H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); // our messages only
     const std::string temporary = ResultFile::partial_name(file);
+    // What keeps the new entries should the file stay as it is.
+    const std::string kept =
+      Journal::exists(file) || Journal::exists(level2_journal_base(file)) ?
+        " Its journal keeps the new entries." :
+        "";
     // The file is written under another name and replaces the old one only
     // once HDF5 has closed it without error: a full disk leaves the old
     // file and no partial one.
@@ -573,9 +578,7 @@ namespace ddfem::coarsening
         AssertThrow(false,
                     ExcMessage("Cannot write the database file " + temporary +
                                " (is the disk full?): " + message_of(e) + " " +
-                               file +
-                               " is unchanged, and its journal keeps the new "
-                               "entries."));
+                               file + " is unchanged." + kept));
       }
     catch (...) // out of memory, say: no partial file either
       {
@@ -588,8 +591,8 @@ namespace ddfem::coarsening
       std::filesystem::remove(temporary, ignored);
     AssertThrow(!error,
                 ExcMessage("Cannot replace the database file " + file +
-                           " (Database/File): " + error.message() +
-                           ". Its journal keeps the new entries."));
+                           " (Database/File): " + error.message() + "." +
+                           kept));
     // The rename itself (best effort: not every file system syncs a
     // directory).
     sync_to_disk(std::filesystem::absolute(file).parent_path().string());
@@ -631,7 +634,8 @@ namespace ddfem::coarsening
                 "or the file system may not support locks (then set the "
                 "environment variable HDF5_USE_FILE_LOCKING=FALSE)" :
                 "cannot be opened (corrupt or truncated?)");
-        check(read_attribute(h5, "format") == "ddfem metamaterial database",
+        check(H5Aexists(h5, "format") > 0 &&
+                read_attribute(h5, "format") == "ddfem metamaterial database",
               "is not a ddfem metamaterial database");
         const std::string version = read_attribute(h5, "format version");
         check(version == std::to_string(database_format_version),

@@ -280,6 +280,15 @@ namespace
     H5Fclose(file);
   }
 
+  /// The bytes of the file @p name.
+  std::string
+  file_bytes(const std::string &name)
+  {
+    std::ifstream in(name, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in),
+            std::istreambuf_iterator<char>()};
+  }
+
   void
   expect_error(const std::string &what, const std::function<void()> &f)
   {
@@ -354,6 +363,10 @@ main()
               << same_entries(Database::load("killed.h5"), full)
               << ", journal removed: "
               << !std::filesystem::exists("killed.h5.journal") << std::endl;
+    // HDF5 records no modification times: equal contents, equal bytes.
+    std::cout << "resumed file equals uninterrupted file byte for byte: "
+              << (file_bytes("killed.h5") == file_bytes("full.h5"))
+              << std::endl;
     // A build killed after its last fit, before its save: the file lacks
     // the journal's entries. A rerun with nothing left to fit saves them
     // and removes the journal.
@@ -1531,6 +1544,11 @@ main()
     expect_error("truncated", [] { Database::load("truncated.h5"); });
     std::filesystem::create_directories("a_directory.h5");
     expect_error("a directory", [] { Database::load("a_directory.h5"); });
+    // An HDF5 file of another program.
+    H5Fclose(
+      H5Fcreate("other_hdf5.h5", H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT));
+    expect_error("HDF5 file of another program",
+                 [] { Database::load("other_hdf5.h5"); });
     edited_copy("small.h5", "bad_attribute.h5", {{"representatives", "many"}});
     expect_error("damaged attribute",
                  [] { Database::load("bad_attribute.h5"); });
@@ -1576,10 +1594,8 @@ main()
       for (const hsize_t extent : {chunk[0], chunk[1], chunk[2], hsize_t(8)})
         for (unsigned int byte = 0; byte < 4; ++byte)
           pattern += static_cast<char>((extent >> (8 * byte)) & 0xFF);
-      std::ifstream     in("small.h5", std::ios::binary);
-      std::string       bytes((std::istreambuf_iterator<char>(in)),
-                        std::istreambuf_iterator<char>());
-      const std::size_t at = bytes.find(pattern);
+      std::string       bytes = file_bytes("small.h5");
+      const std::size_t at    = bytes.find(pattern);
       // (The first such header may be another dataset's of the same
       // shape: the message names the one damaged.)
       std::cout << "chunk extents of '" << name
@@ -1591,6 +1607,41 @@ main()
     }
     expect_error("chunk larger than its dataset",
                  [] { Database::load("bad_chunk.h5"); });
+    {
+      // A damaged offset in a chunk index (a B-tree node of chunks, type 1:
+      // "TREE", type, level, 2 bytes of entries and two 8-byte sibling
+      // addresses, then per chunk its size, filter mask and 8-byte
+      // offsets) moves the chunk where no read looks: HDF5 read the
+      // missing chunk as zeros, without a checksum to fail, and the fit
+      // statistics passed their checks so. Every index damaged in turn.
+      const std::string bytes   = file_bytes("small.h5");
+      unsigned int      indexes = 0, loaded = 0;
+      std::size_t       at = 0;
+      while ((at = bytes.find("TREE", at + 1)) != std::string::npos)
+        {
+          if (at + 0x27 >= bytes.size() || bytes[at + 4] != 1)
+            continue;
+          std::string damaged = bytes;
+          damaged[at + 0x26] ^= 0x01; // the first offset's 7th byte
+          std::ofstream("bad_index.h5", std::ios::binary) << damaged;
+          ++indexes;
+          try
+            {
+              Database::load("bad_index.h5");
+              ++loaded;
+            }
+          catch (ExceptionBase &e)
+            {
+              const std::string message = message_of(e);
+              if (message.find("without its chunk at (0") == std::string::npos)
+                std::cout << "damaged chunk index: " << message << std::endl;
+            }
+        }
+      std::cout << "chunk indexes damaged one at a time: " << (indexes > 5)
+                << ", loaded without an error: " << loaded << std::endl;
+    }
+    expect_error("damaged chunk index of the last dataset",
+                 [] { Database::load("bad_index.h5"); });
     {
       // HDF5 locks a file it opens, so one that another program writes
       // cannot be opened; that is no corruption.
