@@ -1101,10 +1101,12 @@ namespace ddfem::coarsening
   BlockSampler::free_stretch_directions(const SamplingSettings &settings,
                                         const CoarseElement    &element) const
   {
-    const unsigned int                 n_points = element.n_points();
-    std::vector<SymmetricTensor<2, 3>> M(n_points);
-    const unsigned int                 n_d = settings.n_stretch_directions;
-    std::vector<Tensor<2, 3>>          F;
+    // The same stress in every direction (paper 4.3: the block stretches
+    // least along its stiff directions), scaled once so that the largest
+    // strain of any direction is 0.01.
+    const unsigned int n_d = settings.n_stretch_directions;
+    std::vector<std::pair<Tensor<1, 3>, Vector<double>>> responses;
+    double                                               largest_strain = 0;
     for (unsigned int s = 0; s < n_d; ++s)
       {
         const Tensor<1, 3> d = sphere_direction(s, n_d);
@@ -1114,8 +1116,16 @@ namespace ddfem::coarsening
         // itself stretches nothing.
         if (f.l2_norm() == 0)
           continue;
-        Vector<double> u = constrained_solve(initial_saddle, f);
-        u *= 0.01 / linearized_strain(u);
+        responses.emplace_back(d, constrained_solve(initial_saddle, f));
+        largest_strain =
+          std::max(largest_strain, linearized_strain(responses.back().second));
+      }
+    const unsigned int                 n_points = element.n_points();
+    std::vector<SymmetricTensor<2, 3>> M(n_points);
+    std::vector<Tensor<2, 3>>          F;
+    for (auto &[d, u] : responses)
+      {
+        u *= 0.01 / largest_strain;
         element.deformation_gradients(corners(u), F);
         for (unsigned int q = 0; q < n_points; ++q)
           {

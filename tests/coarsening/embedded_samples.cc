@@ -391,10 +391,15 @@ main()
           column_along_x &= std::abs(directions[q][0]) > 1 - 1e-6;
         else
           soft_across_x &= std::abs(directions[q][0]) < 1e-2;
+      // (An eigenvector's sign is arbitrary.)
+      Tensor<1, 3> v;
+      for (unsigned int d = 0; d < 3; ++d)
+        v[d] = std::round(100 * std::abs(directions[6][d])) / 100;
       std::cout << name << ": column's springs along x: "
                 << (column_along_x ? "yes" : "no")
                 << ", soft points' springs across x: "
-                << (soft_across_x ? "yes" : "no") << std::endl;
+                << (soft_across_x ? "yes" : "no")
+                << "; point 6's spring along |v| = (" << v << ")" << std::endl;
     };
     report("embedded block", sampling);
     SamplingSettings free_block = sampling;

@@ -218,10 +218,11 @@ namespace ddfem::coarsening
      * stretch follows the block's sampling (@p settings, as
      * SamplingSettings::for_block() gives them):
      * - force patterns (SamplingSettings::embedded = 0): the free block
-     *   under uniaxial surface stress along d. The stretch l = |F d| of
-     *   the coarse element's F is measured at every point, and the
-     *   direction is the principal axis of sum_d (l - 1)^2 d d^T with the
-     *   least stretch;
+     *   under uniaxial surface stress along d, the same stress for every d
+     *   (solved linearly and scaled once, so that the largest strain of any
+     *   direction is 0.01). The stretch l = |F d| of the coarse element's F
+     *   is measured at every point, and the direction is the principal axis
+     *   of sum_d (l - 1)^2 d d^T with the least stretch;
      * - embedded patterns: the uniaxial strain d d^T, which the corners
      *   follow and the other nodes up to the relaxed periodic fluctuation.
      *   The coarse F is then the same at every point and cannot tell the
