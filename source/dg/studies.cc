@@ -10,6 +10,7 @@
 
 #include <ddfem/base/exceptions.h>
 #include <ddfem/base/files.h>
+#include <ddfem/base/memory.h>
 #include <ddfem/base/parsing.h>
 #include <ddfem/dg/studies.h>
 #include <ddfem/dg/system.h>
@@ -194,6 +195,61 @@ namespace ddfem::dg
       bool checked = true;
     };
 
+    /// The DG methods of the cost study (paper Table 1).
+    constexpr const char *cost_methods = "BZ lin, IP lin, BZ quad, IP quad";
+
+    /**
+     * The scalar element of @p method: FE_Q, or the DG element of @p dg,
+     * both of the method's degree.
+     */
+    template <int dim>
+    std::unique_ptr<FiniteElement<dim>>
+    study_element(const StudyMethod &method, const Parameters &dg)
+    {
+      if (method.continuous)
+        return std::make_unique<FE_Q<dim>>(method.degree);
+      Parameters parameters = dg;
+      parameters.degree     = method.degree;
+      return parameters.make_element<dim>();
+    }
+
+    /**
+     * Throws ExcMessage naming @p setting (the parameter and its value)
+     * if the system of @p method with @p n_components components on the
+     * n^dim mesh of @p problem cannot fit into the machine's physical
+     * memory. Its matrix is estimated from below: every DoF couples at
+     * least with those of one of its cells, 12 bytes per entry (value and
+     * column), and there are at least n^dim k^dim DoFs per component (k
+     * the degree; each cell's for DG). A size that passes may still not
+     * fit, with UMFPACK's factor; one that fails cannot.
+     */
+    template <int dim>
+    void
+    check_fits_in_memory(const unsigned int n,
+                         const unsigned int n_components,
+                         const StudyMethod &method,
+                         const Parameters  &dg,
+                         const std::string &problem,
+                         const std::string &setting)
+    {
+      const double memory = physical_memory();
+      const double cells  = std::pow(double(n), dim);
+      const double per_cell =
+        n_components * study_element<dim>(method, dg)->n_dofs_per_cell();
+      const double dofs =
+        method.continuous ?
+          cells * std::pow(double(method.degree), dim) * n_components :
+          cells * per_cell;
+      const double gib = 12 * dofs * per_cell / (1u << 30);
+      AssertThrow(memory == 0 || gib * (1u << 30) <= memory,
+                  ExcMessage(setting + ": the " + std::to_string(n) + "^" +
+                             std::to_string(dim) + " grid of " + problem +
+                             " with " + method.name +
+                             " has a matrix of at least " + format_number(gib) +
+                             " GiB, more than the physical memory of this "
+                             "machine. Use a coarser grid."));
+    }
+
     /**
      * Solves the manufactured problem on the n^dim mesh of the unit cube
      * with @p method (the DG choices of @p dg; its penalty must be fixed,
@@ -239,10 +295,8 @@ namespace ddfem::dg
       parameters.degree      = method.degree;
       parameters.dirichlet   = Parameters::Dirichlet::weak;
       parameters.formulation = Parameters::Formulation::linear;
-      std::unique_ptr<FiniteElement<dim>> scalar =
-        method.continuous ?
-          std::unique_ptr<FiniteElement<dim>>(new FE_Q<dim>(method.degree)) :
-          parameters.make_element<dim>();
+      const std::unique_ptr<FiniteElement<dim>> scalar =
+        study_element<dim>(method, parameters);
       System<dim> system(tria, *scalar, n_components, parameters, data);
       system.solve_with_check_factor  = solve_with_check_factor;
       const Definiteness definiteness = system.settle_penalty(1);
@@ -383,11 +437,15 @@ namespace ddfem::dg
     prm.declare_entry("2D refinements",
                       "2, 7",
                       Patterns::List(Patterns::Integer(0, 12), 2, 2),
-                      "Smallest and largest l of the 2^l x 2^l grids.");
+                      "Smallest and largest l of the 2^l x 2^l grids; a "
+                      "finest grid whose matrix alone could not fit into "
+                      "the physical memory is refused.");
     prm.declare_entry("3D refinements",
                       "1, 3",
                       Patterns::List(Patterns::Integer(0, 7), 2, 2),
-                      "Smallest and largest l of the 2^l x 2^l x 2^l grids.");
+                      "Smallest and largest l of the 2^l x 2^l x 2^l grids; "
+                      "a finest grid whose matrix alone could not fit into "
+                      "the physical memory is refused.");
     prm.declare_entry(
       "Condition number limit",
       "20000",
@@ -444,6 +502,22 @@ namespace ddfem::dg
     };
     check_order("2D refinements", min_2d, max_2d);
     check_order("3D refinements", min_3d, max_3d);
+    // Every problem and method on its finest grid.
+    for (const std::string &problem : problems)
+      for (const StudyMethod &method : methods)
+        {
+          const bool        poisson = problem == "2D Poisson";
+          const std::string setting =
+            "DG convergence/" +
+            (poisson ? "2D refinements = " + std::to_string(min_2d) + ", " +
+                         std::to_string(max_2d) :
+                       "3D refinements = " + std::to_string(min_3d) + ", " +
+                         std::to_string(max_3d));
+          poisson ? check_fits_in_memory<2>(
+                      1u << max_2d, 1, method, dg, problem, setting) :
+                    check_fits_in_memory<3>(
+                      1u << max_3d, 3, method, dg, problem, setting);
+        }
   }
 
 
@@ -697,7 +771,9 @@ namespace ddfem::dg
       Patterns::Integer(1, 100),
       "Cells per direction n of the DG meshes (Run type = dg cost); the "
       "trilinear CG mesh is chosen with the number of DoFs closest to the "
-      "linear DG methods (paper Table 1: 10 and 15 for FE_DGP).");
+      "linear DG methods (paper Table 1: 10 and 15 for FE_DGP). "
+      "A resolution whose DG matrices alone could not fit into the physical "
+      "memory is refused.");
     prm.leave_subsection();
   }
 
@@ -712,6 +788,14 @@ namespace ddfem::dg
     prm.enter_subsection("DG cost");
     resolution = prm.get_integer("Resolution");
     prm.leave_subsection();
+    for (const StudyMethod &method : parse_methods(cost_methods))
+      check_fits_in_memory<3>(resolution,
+                              3,
+                              method,
+                              dg,
+                              "3D linear elasticity",
+                              "DG cost/Resolution = " +
+                                std::to_string(resolution));
   }
 
 
@@ -741,8 +825,7 @@ namespace ddfem::dg
       const unsigned int n_threads = MultithreadInfo::n_threads();
     } restore_threads;
     MultithreadInfo::set_thread_limit(1);
-    const std::vector<StudyMethod> dg_methods =
-      parse_methods("BZ lin, IP lin, BZ quad, IP quad");
+    const std::vector<StudyMethod> dg_methods = parse_methods(cost_methods);
     // The solve times are UMFPACK's (factorization and substitution), not
     // those of a substitution with the definiteness check's factor.
     std::vector<std::pair<StudyMethod, Result>> results;

@@ -1,9 +1,9 @@
 #include <deal.II/base/utilities.h>
 #include <deal.II/grid/tria_description.h>
 
+#include <ddfem/base/memory.h>
 #include <ddfem/base/parsing.h>
 #include <ddfem/scene/scene.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -21,16 +21,6 @@ namespace ddfem::scene
      * (peak memory of bar-32 and fibers in doc/benchmarks.md).
      */
     constexpr std::size_t minimum_bytes_per_cell = 8192;
-
-    /// The physical memory of the machine (bytes; not a container's limit),
-    /// or 0 if the system does not say.
-    double
-    physical_memory()
-    {
-      const long pages = sysconf(_SC_PHYS_PAGES);
-      const long size  = sysconf(_SC_PAGE_SIZE);
-      return pages > 0 && size > 0 ? static_cast<double>(pages) * size : 0.;
-    }
 
     /// The number of cells whose models could fit in physical memory (no
     /// limit if the system does not say how much it has).

@@ -1437,6 +1437,14 @@ end
     "  set 2D refinements = 3, 1\nend\n",
     {},
     "summary.json");
+  // Study sizes whose matrices alone could not fit into this machine's
+  // memory (24 GiB): refused before anything is assembled.
+  run_case("dg_study_too_fine",
+           "set Run type = dg convergence\nsubsection DG convergence\n"
+           "  set 3D refinements = 1, 7\nend\n");
+  run_case("dg_cost_too_fine",
+           "set Run type = dg cost\nsubsection DG\n  set Penalty = 8\nend\n"
+           "subsection DG cost\n  set Resolution = 100\nend\n");
   // Another run's results where a compare run keeps a model's VTU files:
   // a simulation or compare run into the parent removed its VTU files (or
   // a compare run added its own), and left the rest of that run's results.
