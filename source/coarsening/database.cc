@@ -518,10 +518,12 @@ namespace ddfem::coarsening
     H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); // our messages only
     const std::string temporary = ResultFile::partial_name(file);
     // What keeps the new entries should the file stay as it is.
-    const std::string kept =
-      Journal::exists(file) || Journal::exists(level2_journal_base(file)) ?
-        " Its journal keeps the new entries." :
-        "";
+    const auto kept = [&file]() -> std::string {
+      return Journal::exists(file) ||
+                 Journal::exists(level2_journal_base(file)) ?
+               " Its journal keeps the new entries." :
+               "";
+    };
     // The file is written under another name and replaces the old one only
     // once HDF5 has closed it without error: a full disk leaves the old
     // file and no partial one.
@@ -578,7 +580,7 @@ namespace ddfem::coarsening
         AssertThrow(false,
                     ExcMessage("Cannot write the database file " + temporary +
                                " (is the disk full?): " + message_of(e) + " " +
-                               file + " is unchanged." + kept));
+                               file + " is unchanged." + kept()));
       }
     catch (...) // out of memory, say: no partial file either
       {
@@ -592,7 +594,7 @@ namespace ddfem::coarsening
     AssertThrow(!error,
                 ExcMessage("Cannot replace the database file " + file +
                            " (Database/File): " + error.message() + "." +
-                           kept));
+                           kept()));
     // The rename itself (best effort: not every file system syncs a
     // directory).
     sync_to_disk(std::filesystem::absolute(file).parent_path().string());

@@ -25,6 +25,7 @@
 #include <memory>
 #include <sstream>
 #include <string>
+#include <tuple>
 
 namespace ddfem::dg
 {
@@ -240,12 +241,13 @@ namespace ddfem::dg
         method.continuous ?
           cells * std::pow(double(method.degree), dim) * n_components :
           cells * per_cell;
-      const double gib = 12 * dofs * per_cell / (1u << 30);
-      AssertThrow(memory == 0 || gib * (1u << 30) <= memory,
+      const double bytes = 12 * dofs * per_cell;
+      AssertThrow(memory == 0 || bytes <= memory,
                   ExcMessage(setting + ": the " + std::to_string(n) + "^" +
                              std::to_string(dim) + " grid of " + problem +
                              " with " + method.name +
-                             " has a matrix of at least " + format_number(gib) +
+                             " has a matrix of at least " +
+                             format_number(bytes / (1u << 30)) +
                              " GiB, more than the physical memory of this "
                              "machine. Use a coarser grid."));
     }
@@ -490,29 +492,27 @@ namespace ddfem::dg
     max_3d          = l3d[1];
     condition_limit = prm.get_integer("Condition number limit");
     prm.leave_subsection();
-    const auto check_order = [](const std::string &name,
-                                const unsigned int smallest,
-                                const unsigned int largest) {
-      AssertThrow(smallest <= largest,
-                  ExcMessage("DG convergence/" + name + " = " +
-                             std::to_string(smallest) + ", " +
-                             std::to_string(largest) +
-                             ": expected 'smallest, largest' with smallest "
-                             "<= largest."));
+    // A refinements parameter with its value, as messages name it.
+    const auto setting = [](const std::string &name,
+                            const unsigned int smallest,
+                            const unsigned int largest) {
+      return "DG convergence/" + name + " = " + std::to_string(smallest) +
+             ", " + std::to_string(largest);
     };
-    check_order("2D refinements", min_2d, max_2d);
-    check_order("3D refinements", min_3d, max_3d);
+    const std::string setting_2d = setting("2D refinements", min_2d, max_2d);
+    const std::string setting_3d = setting("3D refinements", min_3d, max_3d);
+    for (const auto &[text, smallest, largest] :
+         {std::tuple(setting_2d, min_2d, max_2d),
+          std::tuple(setting_3d, min_3d, max_3d)})
+      AssertThrow(smallest <= largest,
+                  ExcMessage(text + ": expected 'smallest, largest' with "
+                                    "smallest <= largest."));
     // Every problem and method on its finest grid.
     for (const std::string &problem : problems)
       for (const StudyMethod &method : methods)
         {
-          const bool        poisson = problem == "2D Poisson";
-          const std::string setting =
-            "DG convergence/" +
-            (poisson ? "2D refinements = " + std::to_string(min_2d) + ", " +
-                         std::to_string(max_2d) :
-                       "3D refinements = " + std::to_string(min_3d) + ", " +
-                         std::to_string(max_3d));
+          const bool         poisson = problem == "2D Poisson";
+          const std::string &setting = poisson ? setting_2d : setting_3d;
           poisson ? check_fits_in_memory<2>(
                       1u << max_2d, 1, method, dg, problem, setting) :
                     check_fits_in_memory<3>(
