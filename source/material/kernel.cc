@@ -25,6 +25,9 @@ namespace ddfem::material
     double       l = 1;
     if (m.anisotropy != 0)
       {
+        // Databases are checked for unit directions when they are loaded.
+        Assert(std::abs(m.direction.norm() - 1) < 1e-6,
+               ExcMessage("The spring direction must be a unit vector."));
         a = F * m.direction;
         l = a.norm();
         result.energy += m.anisotropy * (l - 1.) * (l - 1.);

@@ -1,3 +1,4 @@
+#include <ddfem/base/statistics.h>
 #include <ddfem/solver/cell_kernel.h>
 
 #include <limits>
@@ -51,7 +52,7 @@ namespace ddfem::solver
       n); // t_i[c][L] = sum_J grad_i[J] A[comp_i][J][c][L]
     for (unsigned int q = 0; q < F.size(); ++q)
       {
-        result.min_J = std::min(result.min_J, determinant(F[q]));
+        result.min_J = min_or_nan(result.min_J, determinant(F[q]));
         if (!admissible || !material::evaluate(F[q], materials[q], what, k))
           {
             admissible = false;

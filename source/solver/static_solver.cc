@@ -601,7 +601,7 @@ namespace ddfem::solver
       };
     const auto copier = [&](const CopyData &copy) {
       strain_energy += copy.contribution.energy;
-      min_J      = std::min(min_J, copy.contribution.min_J);
+      min_J      = min_or_nan(min_J, copy.contribution.min_J);
       admissible = admissible && copy.admissible;
       if (!copy.admissible)
         return;
@@ -838,7 +838,7 @@ namespace ddfem::solver
         // reached, any admissible state is accepted. Then the energy must
         // decrease sufficiently (Armijo); where the expected decrease is at
         // round-off level of the energy, a decreasing residual is accepted
-        // instead.
+        // instead, provided the energy rises by no more than that level.
         TimerOutput::Scope scope(timer, "line search");
         const double       slope = residual * du;
         const double       noise =
@@ -858,7 +858,8 @@ namespace ddfem::solver
             admissible = true;
             accepted   = !on_boundary_values ||
                        energy_trial <= energy_now + 1e-4 * alpha * slope;
-            if (!accepted && alpha * std::abs(slope) <= 1e3 * noise)
+            if (!accepted && alpha * std::abs(slope) <= 1e3 * noise &&
+                energy_trial <= energy_now + 1e3 * noise)
               {
                 Vector<double> trial_residual(n);
                 assemble(

@@ -368,6 +368,33 @@ main(int argc, char **argv)
     testing::check_below("  relative residual",
                          relative_residual(K, x, b),
                          1e-10);
+
+    // The next 10 systems go straight to UMFPACK (1 iteration each), the
+    // 11th to CG again, which fails and hands it over (2 iterations).
+    std::cout << "  next 11 systems, iterations:";
+    for (unsigned int s = 0; s < 11; ++s)
+      std::cout << " " << linear_solver.solve(K, x, b);
+    std::cout << "; systems UMFPACK solved: " << linear_solver.direct_solves()
+              << std::endl;
+
+    // Above Direct fallback limit, CG's failure is the solve's.
+    TimedSolver limited("set Type = auto\n"
+                        "set Direct solver limit = 0\n"
+                        "set Direct fallback limit = 1000\n"
+                        "set Maximum iterations = 1",
+                        large.discretization->dof_handler);
+    try
+      {
+        limited.linear_solver.solve(K, x, b);
+        std::cout << "  above Direct fallback limit = 1000: solved"
+                  << std::endl;
+      }
+    catch (const solver::LinearSolver::Failure &failure)
+      {
+        std::cout << "  above Direct fallback limit = 1000: " << failure.what()
+                  << ", systems UMFPACK solved: "
+                  << limited.linear_solver.direct_solves() << std::endl;
+      }
   }
 
   // cg-amg's near null space follows the shape: the stress-free tangent of

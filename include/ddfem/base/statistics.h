@@ -41,6 +41,18 @@ namespace ddfem
   }
 
   /**
+   * The smaller of @p a and @p b, and NaN if either is NaN (std::min
+   * returns its first argument when compared with a NaN), so that a minimum
+   * taken over values with a NaN among them fails a check such as
+   * `!(minimum > 0)`.
+   */
+  inline double
+  min_or_nan(const double a, const double b)
+  {
+    return std::isnan(a) || std::isnan(b) ? std::nan("") : std::min(a, b);
+  }
+
+  /**
    * The smallest of a sequence of values and where it was seen.
    *
    * Of values equal up to round-off (a relative 1e-9), the first seen is

@@ -26,7 +26,7 @@ namespace ddfem::solver
     Vector<double> residual;
     /// Tangent stiffness d^2E/du^2 (N/m).
     FullMatrix<double> tangent;
-    /// Smallest det F over the cell's quadrature points.
+    /// Smallest det F over the cell's quadrature points (NaN if any is).
     double min_J = 0;
   };
 

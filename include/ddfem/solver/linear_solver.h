@@ -36,9 +36,10 @@ namespace ddfem::solver
    *   not descend;
    * - conjugate gradients preconditioned by Trilinos ML algebraic multigrid
    *   whose near null space are the six rigid body modes ('cg-amg'). The
-   *   hierarchy is kept across Newton iterations and rebuilt only when CG
+   *   hierarchy is kept across Newton iterations and rebuilt when CG
    *   needs 1.5 times the iterations per decade of residual reduction it
-   *   needed right after the last rebuild.
+   *   needed right after the last rebuild, after a failed solve, and after
+   *   reset().
    * 'auto' picks cg-cholesky for small systems and cg-amg for large ones.
    * In 'auto' mode, a cg-amg failure on a system of moderate size switches
    * to the direct solver for a few systems.
