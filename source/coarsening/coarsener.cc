@@ -157,7 +157,7 @@ namespace ddfem::coarsening
   Coarsener::coarsen(const scene::VoxelGrid &grid,
                      solver::Discretization &coarse) const
   {
-    check_model(coarse);
+    check_model(grid, coarse);
     for (unsigned int c = 0; c < coarse.cell_blocks.size(); ++c)
       assign_cell(grid, c, coarse);
   }
@@ -169,7 +169,7 @@ namespace ddfem::coarsening
                        const std::vector<std::size_t> &changed,
                        solver::Discretization         &coarse) const
   {
-    check_model(coarse);
+    check_model(grid, coarse);
     std::set<unsigned int> cells;
     for (const std::size_t v : changed)
       {
@@ -193,13 +193,19 @@ namespace ddfem::coarsening
 
 
   void
-  Coarsener::check_model(const solver::Discretization &coarse) const
+  Coarsener::check_model(const scene::VoxelGrid       &grid,
+                         const solver::Discretization &coarse) const
   {
     AssertThrow(coarse.level == coarsening_level,
                 ExcMessage("A coarsener of level " +
                            std::to_string(coarsening_level) +
                            " was given a model of level " +
                            std::to_string(coarse.level) + "."));
+    AssertThrow(grid.size() == coarse.grid_size &&
+                  grid.extent().distance(coarse.extent) <=
+                    1e-12 * grid.extent().norm(),
+                ExcMessage("The coarse model was built from another voxel "
+                           "grid than the one given to the coarsener."));
     bool same_points = coarse.quadrature.size() == quadrature.size();
     for (unsigned int q = 0; same_points && q < quadrature.size(); ++q)
       same_points =

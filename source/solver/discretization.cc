@@ -65,6 +65,7 @@ namespace ddfem::solver
     , quadrature(level == 0 ? Quadrature<3>(QGauss<3>(degree + 1)) :
                               coarse_quadrature(level, point_offset))
     , level(level)
+    , grid_size(scene.grid.size())
     , extent(scene.grid.extent())
   {
     AssertThrow(level == 0 || degree == 1,

@@ -614,11 +614,11 @@ namespace
       }
   }
 
-  /// A coarsener fills the records of its own level and points only.
+  /// A coarsener fills the records of its own level, points and grid only.
   void
   mismatched_models()
   {
-    std::cout << "Models of another level or point offset" << std::endl;
+    std::cout << "Models of another level, point offset or grid" << std::endl;
     Setup setup(testing::cantilever("4, 4, 4", "0; 0; -200"), "unused.h5");
     // A level-2 coarsener has the 0.4 of "Level-2 point offset", the
     // model the Gauss points; a level-1 coarsener gets a level-2 model.
@@ -629,6 +629,28 @@ namespace
           {
             setup.coarsener(CoarseningMethod::naive, level)
               ->coarsen(setup.scene.grid, model);
+            std::cout << "  no error" << std::endl;
+          }
+        catch (ExceptionBase &e)
+          {
+            std::cout << "  error: " << message_of(e) << std::endl;
+          }
+      }
+    // A level-1 model of the 4 x 4 x 4 grid of 0.01 m voxels, coarsened
+    // with a grid of 8 x 8 x 8 such voxels, or of 4 x 4 x 4 voxels of twice
+    // the size: the cells would take the materials of other blocks.
+    solver::Discretization model(setup.scene, 1, 1);
+    for (const auto &[size, voxel] :
+         {std::pair("8, 8, 8", "0.01"), std::pair("4, 4, 4", "0.02")})
+      {
+        Setup other(testing::cantilever(size, "0; 0; -200") +
+                      "subsection Geometry\n set Voxel size = " + voxel +
+                      "\nend\n",
+                    "unused.h5");
+        try
+          {
+            setup.coarsener(CoarseningMethod::naive, 1)
+              ->coarsen(other.scene.grid, model);
             std::cout << "  no error" << std::endl;
           }
         catch (ExceptionBase &e)

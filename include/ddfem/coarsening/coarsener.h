@@ -133,10 +133,13 @@ namespace ddfem::coarsening
     static constexpr double void_stiffness = default_stiffness_floor;
 
   private:
-    /// Throws ExcMessage unless @p coarse is of level() and has the
-    /// quadrature points of point_offset(): the records are per point.
+    /// Throws ExcMessage unless @p coarse is of level(), has the
+    /// quadrature points of point_offset() (the records are per point) and
+    /// was built from a grid of the size of @p grid, whose blocks its cells
+    /// look up.
     void
-    check_model(const solver::Discretization &coarse) const;
+    check_model(const scene::VoxelGrid       &grid,
+                const solver::Discretization &coarse) const;
 
     /// Copies block_material() of coarse cell @p cell's block into
     /// @p coarse's records of that cell.

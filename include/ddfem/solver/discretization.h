@@ -10,6 +10,7 @@
 #include <ddfem/material/kernel.h>
 #include <ddfem/scene/scene.h>
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <utility>
@@ -183,6 +184,8 @@ namespace ddfem::solver
      * act on the fine solid these bits describe, at every level.
      */
     std::vector<std::uint64_t> solid_voxels;
+    /// The voxels along each axis of the grid the mesh was made from.
+    std::array<unsigned int, 3> grid_size;
     /// The bounding box size of the voxel grid (m).
     Point<3> extent;
 
