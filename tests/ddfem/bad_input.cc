@@ -385,6 +385,14 @@ main(int argc, char **argv)
                         "end\n");
   run_case("material_not_in_palette",
            cantilever + "subsection Layout\n  set Material = 4\nend\n");
+  run_case("skin_material_not_in_palette",
+           cantilever + "subsection Layout\n  set Type = skin\n"
+                        "  subsection Skin\n    set Skin material = 4\n"
+                        "  end\nend\n");
+  run_case("fiber_material_not_in_palette",
+           cantilever + "subsection Layout\n  set Type = fibers\n"
+                        "  subsection Fibers\n    set Fiber material = 4\n"
+                        "  end\nend\n");
   run_case("bad_expression",
            cantilever +
              "subsection Loads\n  set Body force = 0; 0; -9.81*rho\nend\n");

@@ -225,6 +225,32 @@ main()
   std::cout << "  fiber voxels per layer " << histogram(fibers)[3] / 40.
             << ", 4 pi r^2 / h^2 = " << 4 * numbers::PI * 9 << std::endl;
 
+  // 'Skin material' and 'Fiber material' other than their default id 3
+  // paint the same voxels with their id.
+  const auto with_id_2 = [](const scene::VoxelGrid &id_3,
+                            const scene::VoxelGrid &id_2) {
+    bool same = (id_3.size() == id_2.size() && histogram(id_3)[3] > 0);
+    for (std::size_t v = 0; same && v < id_3.n_voxels(); ++v)
+      same = (id_2[v] == (id_3[v] == 3 ? 2 : id_3[v]));
+    return same;
+  };
+  const std::string skin =
+    "set Type = skin\nsubsection Skin\n set Thickness = 0.01\n";
+  std::cout << "skin with Skin material = 2: the voxels of id 3 above: "
+            << with_id_2(make_scene(skin + "end").grid,
+                         make_scene(skin + " set Skin material = 2\nend").grid)
+            << std::endl;
+  std::cout << "fibers with Fiber material = 2: the voxels of id 3 above: "
+            << with_id_2(fibers,
+                         make_scene("set Type = fibers\nsubsection Fibers\n"
+                                    " set Count = 4\n set Fiber radius = 0.03\n"
+                                    " set Helix radius = 0.07\n"
+                                    " set Pitch = 0.4\n"
+                                    " set Fiber material = 2\nend",
+                                    "20, 40, 20")
+                           .grid)
+            << std::endl;
+
   // Voxel file round trip, also with Windows line ends and ids with a
   // leading '+'.
   write_voxel_file("roundtrip.txt", random_a);
