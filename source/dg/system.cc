@@ -748,16 +748,19 @@ namespace ddfem::dg
       FaceCopy                   &face     = c.faces.emplace_back();
       const auto                 &all_dofs = fiv.get_interface_dof_indices();
       std::vector<Tensor<1, dim>> jump(n_if);
+      // The dofs whose shape functions are non-zero on the face (all of
+      // FE_DGP's; of FE_DGQ's those with a support point on it): the others
+      // have no jump there.
+      const std::array<unsigned int, 2> face_no = {{f, nf}};
+      std::vector<unsigned int>         used;
+      for (unsigned int i = 0; i < n_if; ++i)
+        if (fe.has_support_on_face(local[i], face_no[side[i]]))
+          used.push_back(i);
       if (!ip)
         {
-          // Babuska-Zlamal: the penalty term only, on the dofs whose shape
-          // functions are non-zero on the face; on axis-aligned faces it
-          // does not couple different components (see the sparsity).
-          const std::array<unsigned int, 2> face_no = {{f, nf}};
-          std::vector<unsigned int>         used;
-          for (unsigned int i = 0; i < n_if; ++i)
-            if (fe.has_support_on_face(local[i], face_no[side[i]]))
-              used.push_back(i);
+          // Babuska-Zlamal: the penalty term only, on the dofs of the jump;
+          // on axis-aligned faces it does not couple different components
+          // (see the sparsity).
           for (const unsigned int i : used)
             face.dofs.push_back(all_dofs[i]);
           face.matrix.reinit(used.size(), used.size());
@@ -796,6 +799,9 @@ namespace ddfem::dg
       std::array<FullMatrix<double>, 2> A = {
         {FullMatrix<double>(n_if, n_if), FullMatrix<double>(n_if, n_if)}};
       std::vector<Tensor<1, dim>> traction(n_if);
+      // The jump's free part in each side's frame (see below).
+      std::array<std::vector<Tensor<1, dim>>, 2> free_jump = {
+        {std::vector<Tensor<1, dim>>(n_if), std::vector<Tensor<1, dim>>(n_if)}};
       for (unsigned int q = 0; q < fiv.n_quadrature_points; ++q)
         {
           const Tensor<1, dim> nq = fiv.normal(q);
@@ -824,26 +830,38 @@ namespace ddfem::dg
               const FEFaceValuesBase<dim> &fv = fiv.get_fe_face_values(side[i]);
               const unsigned int           ci =
                 fe.system_to_component_index(local[i]).first;
-              jump[i] = (side[i] == 0 ? 1. : -1.) *
-                        value_of(ci, fv.shape_value(local[i], q));
               traction[i] = flux(gradient_of(ci, fv.shape_grad(local[i], q)),
                                  *m[side[i]],
                                  n_components) *
                             nq;
             }
-          for (unsigned int i = 0; i < n_if; ++i)
+          for (const unsigned int i : used)
+            {
+              jump[i] =
+                (side[i] == 0 ? 1. : -1.) *
+                value_of(fe.system_to_component_index(local[i]).first,
+                         fiv.get_fe_face_values(side[i]).shape_value(local[i],
+                                                                     q));
+              for (unsigned int s = 0; s < 2; ++s)
+                free_jump[s][i] = free_part[s] * jump[i];
+            }
+          // The consistency and symmetry terms of the jumps' dofs with
+          // every dof's traction, and the penalty of the jumps.
+          for (const unsigned int i : used)
             for (unsigned int j = 0; j < n_if; ++j)
               {
-                face.matrix(i, j) +=
-                  eta_f *
-                  penalty_product(
-                    jump[i], jump[j], nq, mu_f, lambda_f, n_components) *
-                  dx;
                 A[side[j]](i, j) -=
-                  0.5 * ((free_part[side[j]] * jump[i]) * traction[j]) * dx;
-                A[side[i]](i, j) -=
-                  0.5 * ((free_part[side[i]] * jump[j]) * traction[i]) * dx;
+                  0.5 * (free_jump[side[j]][i] * traction[j]) * dx;
+                A[side[j]](j, i) -=
+                  0.5 * (free_jump[side[j]][i] * traction[j]) * dx;
               }
+          for (const unsigned int i : used)
+            for (const unsigned int j : used)
+              face.matrix(i, j) +=
+                eta_f *
+                penalty_product(
+                  jump[i], jump[j], nq, mu_f, lambda_f, n_components) *
+                dx;
         }
       if (current)
         {
