@@ -756,6 +756,13 @@ namespace ddfem::dg
       for (unsigned int i = 0; i < n_if; ++i)
         if (fe.has_support_on_face(local[i], face_no[side[i]]))
           used.push_back(i);
+      // The jump of interface dof i's shape function at point q.
+      const auto jump_at = [&](const unsigned int i, const unsigned int q) {
+        return (side[i] == 0 ? 1. : -1.) *
+               value_of(fe.system_to_component_index(local[i]).first,
+                        fiv.get_fe_face_values(side[i]).shape_value(local[i],
+                                                                    q));
+      };
       if (!ip)
         {
           // Babuska-Zlamal: the penalty term only, on the dofs of the jump;
@@ -769,11 +776,7 @@ namespace ddfem::dg
             {
               const Tensor<1, dim> nq = fiv.normal(q);
               for (const unsigned int i : used)
-                jump[i] =
-                  (side[i] == 0 ? 1. : -1.) *
-                  value_of(fe.system_to_component_index(local[i]).first,
-                           fiv.get_fe_face_values(side[i]).shape_value(local[i],
-                                                                       q));
+                jump[i] = jump_at(i, q);
               for (unsigned int a = 0; a < used.size(); ++a)
                 for (unsigned int b = 0; b < used.size(); ++b)
                   if (!axis_aligned ||
@@ -837,11 +840,7 @@ namespace ddfem::dg
             }
           for (const unsigned int i : used)
             {
-              jump[i] =
-                (side[i] == 0 ? 1. : -1.) *
-                value_of(fe.system_to_component_index(local[i]).first,
-                         fiv.get_fe_face_values(side[i]).shape_value(local[i],
-                                                                     q));
+              jump[i] = jump_at(i, q);
               for (unsigned int s = 0; s < 2; ++s)
                 free_jump[s][i] = free_part[s] * jump[i];
             }
