@@ -49,8 +49,8 @@ if [ "${1:-}" = "--test" ]; then
   # DG tests, under a minute each in Debug but for corotated (3.5 min; the
   # rest take up to 10 min and more; doc/dg.md says what the seven leave
   # out), the metamaterial fit, the embedded
-  # samples, the fitting threads' error handling and the level-2 sampler
-  # of partly void children (38 s in Debug). Not the thread-count
+  # samples, the fitting threads' error handling, the force patterns and
+  # the level-2 sampler of partly void children (38 s in Debug). Not the thread-count
   # test, whose 19575-unknown solves check round-off, not assertions, nor
   # the known answers of every model (uniaxial compression, rigid
   # rotation), whose code paths the other stability tests take (1.5 min and
