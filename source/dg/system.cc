@@ -445,7 +445,11 @@ namespace ddfem::dg
                            "discontinuous vector-valued element."));
     if (factor_of_matrix)
       {
-        check_factor.clear();
+        // The solves of cholesky_first keep the ordering for the next one.
+        if (cholesky_first)
+          check_factor.drop_factor();
+        else
+          check_factor.clear();
         factor_of_matrix = false;
       }
     eta_used = eta;
@@ -1108,6 +1112,14 @@ namespace ddfem::dg
   System<dim>::solve()
   {
     Timer timer;
+    if (!factor_of_matrix && cholesky_first)
+      {
+        factor_of_matrix = check_factor.factorize(matrix);
+        if (factor_of_matrix)
+          ++cholesky_solves;
+        else
+          cholesky_first = false; // one failed factorization is enough
+      }
     if (factor_of_matrix)
       check_factor.vmult(solution, rhs);
     else if (linear_solver)

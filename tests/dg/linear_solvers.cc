@@ -1,7 +1,8 @@
 // The scene's 'Linear solver' for DG (doc/dg.md, "Solver"): DG systems
-// solved with UMFPACK ('direct', what 'auto' takes up to 'Direct solver
-// limit' unknowns), CG with a Cholesky factor and CG with algebraic
-// multigrid, each to a relative residual of 1e-12:
+// solved directly ('direct', what 'auto' takes up to 'Direct solver limit'
+// unknowns: sparse Cholesky, UMFPACK where the matrix is not positive
+// definite), CG with a Cholesky factor and CG with algebraic multigrid,
+// each to a relative residual of 1e-12:
 // - the default scene (linear, FE_DGQ(1), 6144 DoFs, so the multigrid has
 //   more than one level; its automatic penalty 4 given as a fixed one and
 //   left unchecked, since a linear system whose check passed is solved with
@@ -15,6 +16,8 @@
 //   names the solver and suggests the direct one, once, also for the
 //   corotated formulation; a corotated iteration that runs out of
 //   iterations with iterative solves suggests it too;
+// - a fixed penalty too small for a positive definite matrix (2 on the
+//   default scene) goes to UMFPACK;
 // - FE_DGP has no support points for the multigrid's rigid body modes:
 //   cg-amg for its corotated iterations is an error that names Linear
 //   solver/Type.
@@ -28,10 +31,16 @@ using namespace ddfem;
 
 namespace
 {
+  /// What the summary calls the direct solver of corotated iterations and
+  /// unchecked linear systems.
+  const std::string direct_solver =
+    "cholesky (UMFPACK where not positive definite)";
+
   /// The probes of a run of @p prm (a path from this directory) with
   /// @p type and @p settings, and its summary's "linear_solves" and
   /// "linear_iterations"; the exit status must be 0, and the summary's
-  /// "linear_solver" @p solver (by default @p type).
+  /// "linear_solver" @p solver (by default @p type, for 'direct'
+  /// direct_solver).
   std::tuple<std::vector<dealii::Tensor<1, 3>>, unsigned int, unsigned int>
   run(const std::string              &prm,
       const std::string              &type,
@@ -44,7 +53,10 @@ namespace
     const auto [status, summary] = testing::run_model(
       std::string(SOURCE_DIR) + "/" + prm, "run-" + type, all, screen);
     AssertThrow(status == 0, dealii::ExcMessage(screen.str()));
-    AssertThrow(summary.at("linear_solver") == (solver.empty() ? type : solver),
+    AssertThrow(summary.at("linear_solver") ==
+                  (!solver.empty()  ? solver :
+                   type == "direct" ? direct_solver :
+                                      type),
                 dealii::ExcMessage("another solver ran"));
     return {testing::probe_displacements(summary),
             summary.at("linear_solves"),
@@ -103,6 +115,26 @@ main(int argc, char **argv)
             1e-9); // round-off and solver tolerances: not pinned
         }
     }
+
+  // A penalty too small for a positive definite matrix: the Cholesky
+  // factorization fails and UMFPACK solves.
+  {
+    std::vector<std::string> settings = scene;
+    settings.insert(settings.end(),
+                    {"DG/Penalty=2", "DG/Definiteness check limit=0"});
+    std::ostringstream screen;
+    const auto [status, summary] =
+      testing::run_model(std::string(SOURCE_DIR) + "/../../prm/default.prm",
+                         "run-indefinite",
+                         settings,
+                         screen);
+    AssertThrow(status == 0, dealii::ExcMessage(screen.str()));
+    std::cout << "default scene, DG/Penalty = 2: "
+              << summary.at("linear_solver").get<std::string>()
+              << ", linear solves " << summary.at("linear_solves")
+              << ", of which with a Cholesky factor "
+              << summary.at("cholesky_solves") << std::endl;
+  }
 
   // Runs that must fail with a message naming the solver (and, where CG
   // fails, suggesting the direct one). The scene's solver serves the

@@ -53,9 +53,11 @@ namespace ddfem::dg
     void
     setup();
 
-    /// The solver of the linear systems: "cholesky of the penalty check"
-    /// for a linear system whose definiteness check passed (solved with
-    /// that check's factor), else the scene's 'Linear solver'.
+    /// The solver of the linear systems, as setup() chose it: "cholesky of
+    /// the penalty check" for a linear system whose definiteness check
+    /// passed (solved with that check's factor), else the scene's 'Linear
+    /// solver', whose 'direct' factorizes with sparse Cholesky first
+    /// (System::cholesky_first).
     std::string
     linear_solver_name() const;
 
@@ -130,6 +132,8 @@ namespace ddfem::dg
     /// Cholesky factor.
     unsigned int linear_iterations = 0;
     double       setup_time = 0, solve_time = 0;
+    /// linear_solver_name().
+    std::string solver_name;
   };
 } // namespace ddfem::dg
 

@@ -279,7 +279,8 @@ namespace ddfem::dg
     /**
      * Solves K x = b (K the assembled matrix, b the load vector) into x,
      * throwing ExcMessage if it cannot, where solve() has no factor of the
-     * definiteness check (solves_with_check_factor()); if empty, solve()
+     * definiteness check (solves_with_check_factor()) and, with
+     * cholesky_first, K is not positive definite; if empty, solve()
      * factorizes K with UMFPACK there. The scene solver sets it to the
      * scene's 'Linear solver'.
      */
@@ -302,6 +303,19 @@ namespace ddfem::dg
     {
       return factor_of_matrix;
     }
+
+    /**
+     * Whether solve(), where it has no factor of the definiteness check,
+     * first factorizes K with sparse Cholesky, and uses linear_solver (or
+     * UMFPACK) only where K is not positive definite; solve() turns it off
+     * then, so that the later solves (corotated iterations) do not try
+     * again. The factorizations of one sparsity pattern share their
+     * ordering. Off by default.
+     */
+    bool cholesky_first = false;
+    /// The solves of solve() with a Cholesky factor of their own
+    /// (cholesky_first), counted since the System was made.
+    unsigned int cholesky_solves = 0;
 
     /// Appended to the message of a corotated iteration that does not
     /// converge: what the caller's solver setting may have to do with it.
