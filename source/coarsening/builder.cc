@@ -329,16 +329,6 @@ namespace ddfem::coarsening
                                                    settings.fingerprint()) +
                                "). Use another Database/File or its "
                                "settings."));
-        // The offset is stored twice; new entries are fitted for the
-        // attribute's.
-        AssertThrow(database.point_offset() == settings.point_offset,
-                    ExcMessage("The metamaterial database '" + database_file +
-                               "' is corrupt: its 'coarse point offset' "
-                               "attribute, " +
-                               Utilities::to_string(database.point_offset()) +
-                               ", is not the offset of its settings, " +
-                               Utilities::to_string(settings.point_offset) +
-                               "."));
       }
     const std::vector<Entry> journaled = Journal::read(
       database_file, settings.fingerprint(), database.combinations().size(), 1);

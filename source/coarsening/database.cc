@@ -205,8 +205,9 @@ namespace ddfem::coarsening
 
     /**
      * Whether stored fit statistics can be an entry's: finite errors that
-     * are not negative, finite strains, and whole sample counts that fit
-     * into Entry's.
+     * are not negative with the median at most the largest, finite strains
+     * whose range is not reversed, and whole sample counts that fit into
+     * Entry's.
      */
     bool
     valid_statistics(const double median_error,
@@ -221,9 +222,10 @@ namespace ddfem::coarsening
                count <= std::numeric_limits<unsigned int>::max();
       };
       return std::isfinite(median_error) && median_error >= 0 &&
-             std::isfinite(max_error) && max_error >= 0 &&
+             std::isfinite(max_error) && median_error <= max_error &&
              std::isfinite(min_strain) && std::isfinite(max_strain) &&
-             is_count(n_samples) && is_count(n_dropped);
+             min_strain <= max_strain && is_count(n_samples) &&
+             is_count(n_dropped);
     }
 
 
@@ -674,6 +676,16 @@ namespace ddfem::coarsening
               "has a 'with void' attribute " + with_void +
                 " that its 'settings' attribute does not name (corrupt "
                 "file?)");
+        // ... and so must the offset, at which the entries were fitted.
+        const std::string offset = " | coarse point offset: ";
+        const std::size_t named  = fingerprint.find(offset);
+        check(named != std::string::npos &&
+                std::strtod(fingerprint.c_str() + named + offset.size(),
+                            nullptr) == settings.point_offset,
+              "has a 'coarse point offset' attribute " +
+                Utilities::to_string(settings.point_offset) +
+                " that its 'settings' attribute does not name (corrupt "
+                "file?)");
         Database db(settings, n_materials);
         db.settings_fingerprint = fingerprint;
         const double representatives =
@@ -1032,7 +1044,15 @@ namespace ddfem::coarsening
       AssertThrow(kind.empty(),
                   ExcMessage("The build journal " + name + " is " + kind +
                              ". Remove it or choose another Database/File."));
-      std::FILE *in = std::fopen(name.c_str(), "rb");
+      std::FILE *in         = std::fopen(name.c_str(), "rb");
+      const int  open_error = errno;
+      // Only a missing journal holds no records: one that cannot be read
+      // would be cut to nothing by the next Journal.
+      AssertThrow(in != nullptr || open_error == ENOENT,
+                  ExcMessage("The build journal " + name +
+                             " cannot be read: " + std::strerror(open_error) +
+                             ". Make it readable, or delete it (the entries "
+                             "it held are fitted again)."));
       if (in == nullptr)
         return entries;
       std::uint64_t length = 0;
@@ -1082,6 +1102,7 @@ namespace ddfem::coarsening
               sum != checksum(values))
             break;
           if (!(values[0] >= 0 && values[0] < n_keys &&
+                values[0] == std::floor(values[0]) &&
                 valid_statistics(values[1],
                                  values[2],
                                  values[3],
@@ -1179,10 +1200,12 @@ namespace ddfem::coarsening
   void
   Journal::append(const Entry &entry)
   {
-    Assert(std::pair(unsigned(entry.material.points.size()),
-                     unsigned(entry.child_material.points.size())) ==
-             record_shape(level),
-           ExcInternalError());
+    // A record of another shape would end the records read back, and the
+    // next Journal would cut it and all after it: never in Release either.
+    AssertThrow(std::pair(unsigned(entry.material.points.size()),
+                          unsigned(entry.child_material.points.size())) ==
+                  record_shape(level),
+                ExcInternalError());
     std::vector<double> values = {double(entry.key),
                                   entry.median_error,
                                   entry.max_error,

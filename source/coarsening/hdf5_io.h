@@ -274,25 +274,32 @@ namespace ddfem::coarsening::hdf5
               "has the dataset '" + name + "' of shape " + describe(shape) +
                 " with a corrupt chunk layout (chunks of " + describe(chunk) +
                 ")");
-        // Every chunk is written (write_dataset()). HDF5 reads one its
-        // index does not find, a damaged byte there, as never written: as
-        // zeros, and without a checksum to fail.
+        // Every chunk is written (write_dataset()), with all its filters.
+        // HDF5 reads one its index does not find, a damaged byte there, as
+        // never written: as zeros, and without a checksum to fail. It skips
+        // the filters a chunk's mask names, a damaged mask the checksum too.
         std::vector<hsize_t> origin(rank, 0);
         for (bool more = n > 0; more;)
           {
             unsigned int mask    = 0;
             haddr_t      address = HADDR_UNDEF;
             hsize_t      size    = 0;
-            if (H5Dget_chunk_info_by_coord(
-                  set, origin.data(), &mask, &address, &size) < 0 ||
-                address == HADDR_UNDEF)
+            const bool   found   = H5Dget_chunk_info_by_coord(set,
+                                                          origin.data(),
+                                                          &mask,
+                                                          &address,
+                                                          &size) >= 0 &&
+                               address != HADDR_UNDEF;
+            if (!found || mask != 0)
               {
                 std::string at;
                 for (const hsize_t i : origin)
                   at += (at.empty() ? "" : ", ") + std::to_string(i);
-                throw FileProblem{"has the dataset '" + name +
-                                  "' without its chunk at (" + at +
-                                  ") (a corrupt chunk index?)"};
+                throw FileProblem{"has the dataset '" + name + "' " +
+                                  (found ?
+                                     "with filters skipped on its chunk at (" :
+                                     "without its chunk at (") +
+                                  at + ") (a corrupt chunk index?)"};
               }
             more = false;
             for (int d = rank - 1; d >= 0 && !more; --d)
@@ -307,7 +314,8 @@ namespace ddfem::coarsening::hdf5
     return shape;
   }
 
-  /// Reads a dataset whose shape must be @p dims.
+  /// Reads a dataset whose shape must be @p dims and whose stored element
+  /// type must be @p T's, as write_dataset() stores it.
   template <typename T>
   std::vector<T>
   read_dataset(const hid_t                 file,
@@ -322,6 +330,13 @@ namespace ddfem::coarsening::hdf5
     check(shape == dims,
           "has the dataset '" + name + "' of shape " + describe(shape) +
             " instead of " + describe(dims));
+    // HDF5 would convert another stored type, which the header names
+    // without a checksum: a damaged exponent bias would scale every value.
+    const Handle type(H5Dget_type(set), H5Tclose);
+    check(type.valid() && H5Tequal(type, native_type<T>()) > 0,
+          "has the dataset '" + name +
+            "' stored with another element type than the one ddfem writes "
+            "(corrupt file?)");
     std::size_t n = 1;
     for (const auto d : dims)
       n *= d;
