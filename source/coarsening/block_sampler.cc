@@ -62,6 +62,26 @@ namespace ddfem::coarsening
             f(i) -= dot * rows(r, i);
         }
     }
+
+
+
+    /**
+     * LU-factorizes @p A in place; returns false if it is exactly singular
+     * (a zero pivot, which LAPACKFullMatrix throws as ExcSingular).
+     */
+    bool
+    lu_factorize(LAPACKFullMatrix<double> &A)
+    {
+      try
+        {
+          A.compute_lu_factorization();
+          return true;
+        }
+      catch (const LACExceptions::ExcSingular &)
+        {
+          return false;
+        }
+    }
   } // namespace
 
 
@@ -104,8 +124,9 @@ namespace ddfem::coarsening
                       "largest principal strain over the points of the "
                       "block's solid voxels of "
                       "its linear response to a force pattern, or of the "
-                      "homogeneous strain of an embedded pattern (relaxed, "
-                      "the soft children of a mixed block strain more). "
+                      "homogeneous strain of an embedded pattern (before its "
+                      "relaxation, in which the soft children of a mixed "
+                      "block strain more). "
                       "Magnitudes are scaled per block, so soft and stiff "
                       "blocks are sampled over the same strains. A build "
                       "prints the range of finite strains it sampled.");
@@ -208,8 +229,9 @@ namespace ddfem::coarsening
     scene::VoxelGrid grid({{2, 2, 2}}, 0.5);
     for (unsigned int k = 0; k < 8; ++k)
       {
-        Assert(children[k].empty() || children[k].size() == 8,
-               ExcInternalError());
+        AssertThrow(children[k].empty() || children[k].size() == 8,
+                    ExcMessage("A child of a sampled block needs its 8 "
+                               "points' materials, or none (void)."));
         grid[k] = children[k].empty() ? scene::void_id : 1;
       }
     AssertThrow(grid.n_solid_voxels() > 0,
@@ -448,7 +470,8 @@ namespace ddfem::coarsening
     Vector<double>     r;
     FullMatrix<double> K;
     assemble(Vector<double>(dof_handler.n_dofs()), true, E, r, K);
-    factorize(K, initial_saddle);
+    // Rigid motions are constrained and mechanisms hinged above.
+    AssertThrow(factorize(K, initial_saddle), ExcInternalError());
   }
 
 
@@ -529,7 +552,7 @@ namespace ddfem::coarsening
 
 
 
-  void
+  bool
   BlockSampler::factorize(const FullMatrix<double> &K,
                           LAPACKFullMatrix<double> &A) const
   {
@@ -548,7 +571,7 @@ namespace ddfem::coarsening
           A(n + r, i) = scale * constraints(r, i);
           A(i, n + r) = scale * constraints(r, i);
         }
-    A.compute_lu_factorization();
+    return lu_factorize(A);
   }
 
 
@@ -650,7 +673,10 @@ namespace ddfem::coarsening
         if (residual <= 1e-9)
           return true;
 
-        factorize(K, A);
+        // An exactly singular tangent gives no direction: the sample is
+        // dropped, as where Newton fails.
+        if (!factorize(K, A))
+          return false;
         const Vector<double> du    = constrained_solve(A, g);
         const double         slope = -(g * du);
         // A step at round-off level: converged if the residual is small.
@@ -767,11 +793,13 @@ namespace ddfem::coarsening
             LAPACKFullMatrix<double> A = H;
             for (unsigned int i = 0; i < n_periodic; ++i)
               A(i, i) += shift;
-            A.compute_lu_factorization();
-            dw = g;
-            A.solve(dw);
+            // An exactly singular shifted Hessian does not descend either.
+            const bool regular = lu_factorize(A);
+            dw                 = g;
+            if (regular)
+              A.solve(dw);
             dw *= -1.;
-            slope = g * dw;
+            slope = regular ? g * dw : 0.;
             if (slope < 0 || shift > 1e3 * largest)
               break;
             shift = std::max(2 * shift, 1e-3 * largest);
@@ -1090,7 +1118,8 @@ namespace ddfem::coarsening
   BlockSampler::anisotropy_directions(const SamplingSettings &settings,
                                       const CoarseElement    &element) const
   {
-    return settings.embedded > 0 ?
+    // As in sample(): a block with void is never embedded.
+    return settings.embedded > 0 && !has_void ?
              embedded_stretch_directions(settings, element) :
              free_stretch_directions(settings, element);
   }
@@ -1112,8 +1141,8 @@ namespace ddfem::coarsening
         const Tensor<1, 3> d = sphere_direction(s, n_d);
         Vector<double>     f = boundary_forces(
           [&d](const Point<3> &) { return outer_product(d, d); });
-        // A stress whose traction on the loaded faces is in equilibrium by
-        // itself stretches nothing.
+        // A stress whose traction on the loaded faces is its resultant
+        // force and moment alone stretches nothing once they are removed.
         if (f.l2_norm() == 0)
           continue;
         responses.emplace_back(d, constrained_solve(initial_saddle, f));

@@ -564,8 +564,10 @@ namespace ddfem::coarsening
           }
     };
     // Should the system refuse a thread, fewer workers do the job: the
-    // results do not depend on their number.
+    // results do not depend on their number. (Reserved first: a vector
+    // that failed to grow would leave the running threads unjoined.)
     std::vector<std::thread> threads;
+    threads.reserve(workers);
     for (unsigned int t = 1; t < workers; ++t)
       try
         {

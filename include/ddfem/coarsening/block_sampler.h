@@ -217,7 +217,8 @@ namespace ddfem::coarsening
      * per point of @p element the block's stiffest direction there. The
      * stretch follows the block's sampling (@p settings, as
      * SamplingSettings::for_block() gives them):
-     * - force patterns (SamplingSettings::embedded = 0): the free block
+     * - force patterns (SamplingSettings::embedded = 0, or a block with
+     *   void, which sample() never embeds either): the free block
      *   under uniaxial surface stress along d, the same stress for every d
      *   (solved linearly and scaled once, so that the largest strain of any
      *   direction is 0.01). The stretch l = |F d| of the coarse element's F
@@ -287,8 +288,9 @@ namespace ddfem::coarsening
      * or all meet it at one node), less its resultant force and moment (and
      * a hinge's, see n_zero_energy_modes()) removed over the nodes it
      * loads. The nodes it does not load, inside the block or touched by
-     * void voxels only, stay free of force. Zero where the traction is in
-     * equilibrium by itself up to round-off (then no pattern, no stretch).
+     * void voxels only, stay free of force. Zero where the traction is its
+     * resultant force and moment alone, up to round-off (then no pattern,
+     * no stretch).
      */
     Vector<double>
     boundary_forces(
@@ -320,8 +322,9 @@ namespace ddfem::coarsening
              Vector<double>       &residual,
              FullMatrix<double>   &stiffness) const;
 
-    /// The saddle-point matrix [K G^T; G 0], LU-factorized.
-    void
+    /// The saddle-point matrix [K G^T; G 0], LU-factorized into @p A.
+    /// Returns false if it is exactly singular (LAPACK found a zero pivot).
+    bool
     factorize(const FullMatrix<double> &K, LAPACKFullMatrix<double> &A) const;
 
     /// Solves the factorized saddle point for right-hand side @p b.

@@ -160,10 +160,11 @@ namespace ddfem::coarsening
      * level-2 representatives (all, or those of @p scene_grids' 4x4x4
      * blocks), journaled too. Prints a report to @p out; with
      * @p show_progress a progress bar with the estimated time left, and
-     * timings. The file is written only if something was added or a
-     * journal is left by a build killed before its save (its entries are
-     * saved; open() recovers the level-1 ones); the journals are removed
-     * once it is. A level-1 build keeps the file's level 2 (unless
+     * timings. The file is written only if something was added, a journal
+     * is left by a build killed before its save (its entries are saved;
+     * open() recovers the level-1 ones), the build compressed or renewed
+     * the level-2 tables, or the file does not exist yet; the journals are
+     * removed once it is. A level-1 build keeps the file's level 2 (unless
      * it compresses). On return @p level2 holds the level 2 the file has
      * (with Levels = 2, the tables and entries built). Level-2 tables are
      * built anew if they
@@ -216,8 +217,9 @@ namespace ddfem::coarsening
 
     /**
      * Samples and fits the metamaterial of one combination: the 2x2x2
-     * block of the palette's materials, force-space samples from a
-     * generator seeded with @p seed, anisotropy directions,
+     * block of the palette's materials, its samples (force patterns and,
+     * for a mixed block, embedded ones; SamplingSettings::for_block()) from
+     * a generator seeded with @p seed, anisotropy directions,
      * and the regularized, bounded fit toward the children's materials,
      * once for @p element with FitSettings::regularization
      * (Entry::material) and once for the element with child_point_offset
@@ -235,8 +237,9 @@ namespace ddfem::coarsening
   private:
     /**
      * Samples and fits second-level representative @p r of @p level2: its
-     * block of eight level-1 metamaterials (their child fits), force-space
-     * samples from a generator seeded with @p seed, and the 64-point fit toward
+     * block of eight level-1 metamaterials (their child fits), its samples
+     * (SamplingSettings::for_block() of its voxels) from a generator
+     * seeded with @p seed, and the 64-point fit toward
      * the children's records (whose directions it keeps).
      */
     static Entry
