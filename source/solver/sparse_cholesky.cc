@@ -13,7 +13,8 @@ namespace ddfem::solver
 {
   namespace
   {
-    /// Whether a matrix entry lies on or above the diagonal.
+    /// Whether an entry of row r of K lies in column r of CHOLMOD's matrix
+    /// (K read column by column) on or above the diagonal: column <= row.
     template <typename Entry>
     bool
     is_upper(const Entry &entry)
@@ -40,6 +41,23 @@ namespace ddfem::solver
       throw std::runtime_error(
         "CHOLMOD: the " + step + " of a " + std::to_string(n) +
         "-unknown matrix failed (status " + std::to_string(status) + ")");
+    }
+
+
+
+    /// Frees the values of @p factor, keeping its ordering and structure:
+    /// the symbolic factor of an analysis, which cholmod_factorize() fills.
+    void
+    free_values(cholmod_factor *factor, cholmod_common &c)
+    {
+      if (factor != nullptr && factor->xtype != CHOLMOD_PATTERN)
+        cholmod_change_factor(CHOLMOD_PATTERN,
+                              factor->is_ll,
+                              factor->is_super,
+                              true,
+                              true,
+                              factor,
+                              &c);
     }
   } // namespace
 
@@ -111,7 +129,19 @@ namespace ddfem::solver
   void
   SparseCholesky::drop_factor()
   {
+    free_values(data->factor, data->common);
     data->valid = false;
+  }
+
+
+
+  std::size_t
+  SparseCholesky::values_held() const
+  {
+    const cholmod_factor *L = data->factor;
+    if (L == nullptr || L->xtype == CHOLMOD_PATTERN)
+      return 0;
+    return L->is_super ? L->xsize : L->nzmax;
   }
 
 
@@ -131,6 +161,10 @@ namespace ddfem::solver
             nnz += is_upper(*entry);
         data->matrix =
           cholmod_allocate_sparse(n, n, nnz, false, true, 1, CHOLMOD_REAL, &c);
+        // A triangle with more entries than 32-bit indices count has a
+        // factor with more still.
+        if (data->matrix == nullptr && c.status == CHOLMOD_TOO_LARGE)
+          return std::numeric_limits<double>::infinity();
         if (data->matrix == nullptr)
           throw_failure(c.status, "allocation", n);
         int        *columns = static_cast<int *>(data->matrix->p);
@@ -196,13 +230,20 @@ namespace ddfem::solver
                            "without clear()."));
     // CHOLMOD's pivot test (a pivot <= 0) passes a NaN.
     if (!finite)
-      return false;
+      {
+        free_values(data->factor, c);
+        return false;
+      }
 
     cholmod_factorize(data->matrix, data->factor, &c);
     // Errors are negative; CHOLMOD_NOT_POSDEF is a warning.
     if (c.status < CHOLMOD_OK)
       throw_failure(c.status, "factorization", n);
     data->valid = (c.status == CHOLMOD_OK);
+    // A failed factor is of no use; its values would stay next to the
+    // factor of the solver that takes over.
+    if (!data->valid)
+      free_values(data->factor, c);
     return data->valid;
   }
 

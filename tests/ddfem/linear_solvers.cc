@@ -142,6 +142,8 @@ main(int argc, char **argv)
                            1e-12);
     };
     factorize_and_solve("positive definite", K0);
+    const std::size_t values = cholesky.values_held();
+    std::cout << "  factor values held: " << (values > 0) << std::endl;
     SparseDirectUMFPACK lu;
     lu.initialize(K0);
     lu.vmult(y, b);
@@ -154,8 +156,11 @@ main(int argc, char **argv)
     // ordering serves the next matrix.
     cholesky.drop_factor();
     std::cout << "  factor dropped, factor held: " << cholesky.factorized()
+              << ", its values freed: " << (cholesky.values_held() == 0)
               << std::endl;
     factorize_and_solve("factorized again, positive definite", K0);
+    std::cout << "  as many values held as before: "
+              << (cholesky.values_held() == values) << std::endl;
 
     SparseMatrix<double> indefinite;
     indefinite.reinit(K0.get_sparsity_pattern());
@@ -163,7 +168,10 @@ main(int argc, char **argv)
     indefinite.diag_element(n / 2) = -indefinite.diag_element(n / 2);
     std::cout << "  one diagonal entry negated, positive definite: "
               << cholesky.factorize(indefinite)
-              << ", factor held: " << cholesky.factorized() << std::endl;
+              << ", factor held: " << cholesky.factorized()
+              << ", its values freed: " << (cholesky.values_held() == 0)
+              << std::endl;
+    factorize_and_solve("after the failure, positive definite", K0);
   }
   {
     // A tridiagonal matrix, which CHOLMOD factorizes simplicially: by
@@ -187,7 +195,9 @@ main(int argc, char **argv)
     for (unsigned int i = 0; i < m; ++i)
       T.set(i, i, 1.5);
     std::cout << "; with 1.5 on the diagonal: " << cholesky.factorize(T)
-              << ", factor held: " << cholesky.factorized() << std::endl;
+              << ", factor held: " << cholesky.factorized()
+              << ", its values freed: " << (cholesky.values_held() == 0)
+              << std::endl;
     // CHOLMOD's pivot test passes a NaN pivot: the factorization must not.
     for (unsigned int i = 0; i < m; ++i)
       T.set(i, i, 2.);

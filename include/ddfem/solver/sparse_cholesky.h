@@ -41,11 +41,17 @@ namespace ddfem::solver
     void
     clear();
 
-    /// Drops the factor but keeps the ordering and the structure of L: the
-    /// next factorize() of a matrix with the same sparsity pattern (the
-    /// tangent after a material edit) does only the numerical work.
+    /// Drops the factor and frees its values, but keeps the ordering and
+    /// the structure of L: the next factorize() of a matrix with the same
+    /// sparsity pattern (the tangent after a material edit) does only the
+    /// numerical work.
     void
     drop_factor();
+
+    /// The number of values (8 bytes each) the factor holds now: 0 after
+    /// clear(), drop_factor() or a factorize() that failed.
+    std::size_t
+    values_held() const;
 
     /**
      * Computes the ordering and the structure of L for the sparsity pattern
@@ -62,9 +68,9 @@ namespace ddfem::solver
      * Factorizes the symmetric matrix @p K, reading its lower triangle
      * (the entries with column <= row, diagonal included; CHOLMOD takes
      * them as the upper triangle of the transpose, the same matrix).
-     * Returns false, and holds no factor, where @p K is not positive
-     * definite (a pivot that is not positive) or has an entry that is not
-     * finite. Throws std::bad_alloc if CHOLMOD runs out of memory,
+     * Returns false, and holds no factor (nor its values), where @p K is not
+     * positive definite (a pivot that is not positive) or has an entry that is
+     * not finite. Throws std::bad_alloc if CHOLMOD runs out of memory,
      * std::runtime_error if it fails otherwise (a factor too large for its
      * indices), ExcMessage if @p K's sparsity pattern is not the analyzed
      * one.
