@@ -203,7 +203,9 @@ namespace ddfem::scene
      * other places than the fine one, because along some direction the
      * first or the last plane of voxel-grid nodes inside the box is not a
      * plane of coarse nodes (a multiple of @p width @p h). Face regions
-     * always match.
+     * hold the same plane at every level; a partly void block on a held
+     * face is held at all four corners there, also where the fine model
+     * has no node (doc/coarsening.md, "Supports").
      */
     void
     check_coarse_supports(const Point<3>    &extent,
