@@ -262,16 +262,17 @@ namespace ddfem::coarsening
                                const std::vector<scene::VoxelGrid> &grids) const
   {
     check_input(palette, levels);
-    // An empty database of these settings covers the combinations that a
-    // built one does.
-    const Database empty(settings(palette), palette.size());
+    // A database of these settings covers what their numbering does (its
+    // tables, one entry per combination, are not needed for that).
+    const CombinationIndex index(palette.size(), with_void);
     for (const scene::VoxelGrid &grid : grids)
       {
         scene::check_coarsenable(grid, levels);
-        empty.missing(scene_combinations(grid));
+        for (const Combination &c : scene_combinations(grid))
+          index.check_covered(c);
         if (levels == 2)
           for (const auto &block : scene_blocks(grid))
-            Hierarchy::check_representable(empty, block);
+            Hierarchy::check_representable(index, block);
       }
   }
 

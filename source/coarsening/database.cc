@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <iomanip>
 #include <limits>
+#include <locale>
 #include <optional>
 #include <random>
 #include <sstream>
@@ -443,27 +444,13 @@ namespace ddfem::coarsening
 
 
 
-  void
-  Database::check_covered(const Combination &c) const
-  {
-    // All-void blocks get no element, and a database without void does
-    // not index them.
-    AssertThrow(all_void(c) || index.contains(c),
-                ExcMessage("A block has a material id the metamaterial "
-                           "database does not cover (void, with a database "
-                           "built with Database/Include void = false, or "
-                           "an id above the palette's size)."));
-  }
-
-
-
   std::vector<Combination>
   Database::missing(const std::vector<Combination> &combinations) const
   {
     std::vector<Combination> result;
     for (const Combination &c : combinations)
       {
-        check_covered(c);
+        index.check_covered(c);
         if (!all_void(c) && !contains(c))
           result.push_back(group.canonical(c).first);
       }
@@ -619,12 +606,13 @@ namespace ddfem::coarsening
                 ExcMessage(where + "is " + kind + ", not a regular file."));
     // A file that cannot be read (permissions, say) is not a corrupt one,
     // which a user might delete.
-    if (std::FILE *probe = std::fopen(file.c_str(), "rb"))
+    std::FILE *const probe      = std::fopen(file.c_str(), "rb");
+    const int        open_error = errno;
+    if (probe != nullptr)
       std::fclose(probe);
-    else
-      AssertThrow(false,
-                  ExcMessage(where + "cannot be read: " + std::strerror(errno) +
-                             "."));
+    AssertThrow(probe != nullptr,
+                ExcMessage(where + "cannot be read: " +
+                           std::strerror(open_error) + "."));
     try
       {
         check(H5Fis_hdf5(file.c_str()) > 0,
@@ -676,12 +664,22 @@ namespace ddfem::coarsening
               "has a 'with void' attribute " + with_void +
                 " that its 'settings' attribute does not name (corrupt "
                 "file?)");
-        // ... and so must the offset, at which the entries were fitted.
-        const std::string offset = " | coarse point offset: ";
-        const std::size_t named  = fingerprint.find(offset);
+        // ... and so must the offset, at which the entries were fitted: the
+        // number after its name, up to the next item.
+        const std::string offset       = " | coarse point offset: ";
+        const std::size_t named        = fingerprint.find(offset);
+        double            named_offset = 0;
+        if (named != std::string::npos)
+          {
+            std::istringstream text(fingerprint.substr(named + offset.size()));
+            text.imbue(std::locale::classic());
+            text >> named_offset;
+            if (!text || (text.peek() != std::char_traits<char>::eof() &&
+                          text.peek() != ',' && text.peek() != ' '))
+              named_offset = std::numeric_limits<double>::quiet_NaN();
+          }
         check(named != std::string::npos &&
-                std::strtod(fingerprint.c_str() + named + offset.size(),
-                            nullptr) == settings.point_offset,
+                named_offset == settings.point_offset,
               "has a 'coarse point offset' attribute " +
                 Utilities::to_string(settings.point_offset) +
                 " that its 'settings' attribute does not name (corrupt "

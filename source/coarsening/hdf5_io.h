@@ -213,7 +213,9 @@ namespace ddfem::coarsening::hdf5
   /**
    * The shape of the open dataset @p set named @p name. Throws FileProblem
    * if it cannot be read or has more elements than the dataset stores (a
-   * corrupt header), so callers may allocate for it.
+   * corrupt header), so callers may allocate for it, and if a chunk is
+   * larger than the dataset, missing from its index, or marked to skip
+   * its filters.
    */
   inline std::vector<hsize_t>
   dataset_shape(const hid_t set, const std::string &name)

@@ -123,7 +123,7 @@ namespace ddfem::coarsening
   Hierarchy::keys(const Database                   &level1,
                   const std::array<Combination, 8> &blocks)
   {
-    check_representable(level1, blocks);
+    check_representable(level1.combinations(), blocks);
     BlockKeys result;
     for (unsigned int p = 0; p < 8; ++p)
       result[p] = all_void(blocks[p]) ?
@@ -329,7 +329,7 @@ namespace ddfem::coarsening
                   [&](const Combination &c) {
                     if (all_void(c))
                       return true;
-                    level1.check_covered(c);
+                    level1.combinations().check_covered(c);
                     return std::size_t(class_of[level1.combinations().key(c)]) <
                            class_key.size();
                   });
@@ -381,13 +381,13 @@ namespace ddfem::coarsening
 
 
   void
-  Hierarchy::check_representable(const Database                   &level1,
+  Hierarchy::check_representable(const CombinationIndex           &level1,
                                  const std::array<Combination, 8> &blocks)
   {
     for (const Combination &c : blocks)
       level1.check_covered(c);
     const auto n_void = std::count_if(blocks.begin(), blocks.end(), all_void);
-    AssertThrow(level1.combinations().with_void() || n_void == 0 || n_void == 8,
+    AssertThrow(level1.with_void() || n_void == 0 || n_void == 8,
                 ExcMessage("A 4x4x4 block holds void 2x2x2 blocks next to "
                            "solid ones, and the metamaterial database was "
                            "built with Database/Include void = false, so it "

@@ -106,7 +106,9 @@ namespace ddfem::coarsening
   std::size_t
   CombinationIndex::key(const Combination &c) const
   {
-    Assert(contains(c), ExcInternalError());
+    // Callers check first; a key outside the numbering would index past
+    // the tables, in Release too.
+    AssertThrow(contains(c), ExcInternalError());
     std::size_t key = 0;
     for (unsigned int k = 8; k-- > 0;)
       key = key * base + (void_included ? c[k] : c[k] - 1);
@@ -122,6 +124,18 @@ namespace ddfem::coarsening
     for (unsigned int k = 0; k < 8; ++k, key /= base)
       c[k] = static_cast<std::uint8_t>(key % base + (void_included ? 0 : 1));
     return c;
+  }
+
+
+
+  void
+  CombinationIndex::check_covered(const Combination &c) const
+  {
+    AssertThrow(all_void(c) || contains(c),
+                ExcMessage("A block has a material id the metamaterial "
+                           "database does not cover (void, with a database "
+                           "built with Database/Include void = false, or "
+                           "an id above the palette's size)."));
   }
 
 

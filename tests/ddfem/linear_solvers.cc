@@ -198,9 +198,19 @@ main(int argc, char **argv)
               << ", factor held: " << cholesky.factorized()
               << ", its values freed: " << (cholesky.values_held() == 0)
               << std::endl;
-    // CHOLMOD's pivot test passes a NaN pivot: the factorization must not.
+    // The simplicial factor, its values freed, factorizes again.
     for (unsigned int i = 0; i < m; ++i)
       T.set(i, i, 2.);
+    Vector<double> c(m), z(m);
+    for (unsigned int i = 0; i < m; ++i)
+      c(i) = 1. + i;
+    std::cout << "  diagonal 2 again, positive definite: "
+              << cholesky.factorize(T) << std::endl;
+    cholesky.vmult(z, c);
+    testing::check_below("  relative residual",
+                         relative_residual(T, z, c),
+                         1e-12);
+    // CHOLMOD's pivot test passes a NaN pivot: the factorization must not.
     // (diag_element(), since deal.II's debug set() refuses a NaN)
     T.diag_element(m / 2) = std::numeric_limits<double>::quiet_NaN();
     std::cout << "  with a NaN on the diagonal: " << cholesky.factorize(T)

@@ -249,17 +249,9 @@ namespace ddfem::coarsening
     Metamaterial
     lookup(const Combination &c, const Fit fit = Fit::coarse) const;
 
-    /**
-     * Throws ExcMessage if @p c is neither all void nor a combination of
-     * this database's palette (a void voxel in a database without void, or
-     * a material id above the palette's size).
-     */
-    void
-    check_covered(const Combination &c) const;
-
     /// The orbit representatives of @p combinations that have no entry yet,
     /// sorted and without repetitions (all-void blocks excluded). Throws
-    /// like check_covered().
+    /// like CombinationIndex::check_covered().
     std::vector<Combination>
     missing(const std::vector<Combination> &combinations) const;
 
@@ -428,9 +420,11 @@ namespace ddfem::coarsening
      * Reads the complete records of the journal of @p database_file
      * (none if it does not exist), whose entries are of level @p level (1:
      * 8 points and 8 child points; 2: 64 points). Reading stops at a torn
-     * or damaged record: a bad checksum, a key not below @p n_keys, another
-     * level's shape, or a non-physical parameter. Throws ExcMessage if the
-     * journal was written with settings other than @p fingerprint.
+     * or damaged record: a bad checksum, a key not below @p n_keys or not a
+     * whole number, another level's shape, a non-physical parameter, or
+     * fit statistics out of order. Throws ExcMessage if the journal exists
+     * but cannot be opened, or was written with settings other than
+     * @p fingerprint.
      */
     static std::vector<Entry>
     read(const std::string &database_file,

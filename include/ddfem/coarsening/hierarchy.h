@@ -161,13 +161,13 @@ namespace ddfem::coarsening
 
     /**
      * Throws ExcMessage if a sub-block of the 4x4x4 block given as its
-     * eight 2x2x2 sub-blocks is not Database::check_covered() by
-     * @p level1, or if the block has void sub-blocks next to solid ones
-     * while @p level1 has no void: the tables of such a database have no
-     * void halves.
+     * eight 2x2x2 sub-blocks is not CombinationIndex::check_covered() by
+     * the level-1 numbering @p level1, or if the block has void sub-blocks
+     * next to solid ones while @p level1 has no void: the tables of such a
+     * database have no void halves.
      */
     static void
-    check_representable(const Database                   &level1,
+    check_representable(const CombinationIndex           &level1,
                         const std::array<Combination, 8> &blocks);
 
     /**

@@ -109,7 +109,8 @@ namespace ddfem::coarsening
       return n_keys;
     }
 
-    /// The key of a combination (its ids must be valid for this palette).
+    /// The key of a combination; throws ExcInternalError unless it
+    /// contains() it.
     std::size_t
     key(const Combination &c) const;
 
@@ -120,6 +121,16 @@ namespace ddfem::coarsening
     /// Whether @p c uses only ids this numbering covers.
     bool
     contains(const Combination &c) const;
+
+    /**
+     * Throws ExcMessage if @p c is neither all void (a block that gets no
+     * element, which a numbering without void does not count) nor
+     * contains() it: a void voxel where the numbering has no void, or a
+     * material id above the palette's size. A database of this numbering
+     * covers no such block.
+     */
+    void
+    check_covered(const Combination &c) const;
 
     /// Whether void children are part of the numbering.
     bool
