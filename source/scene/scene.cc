@@ -263,42 +263,38 @@ namespace ddfem::scene
     AssertThrow(!blocks.empty(), no_solid_voxel(grid));
 
     // Number only the vertices solid blocks use, in the order the blocks
-    // first touch them. The blocks come plane by plane (K slowest), so the
-    // numbers are kept for the two vertex planes K and K + 1 of the
-    // current blocks only, not for every vertex of the block grid (four
-    // bytes each, most of them in void in a sparse scene).
-    const std::size_t         plane = (m[0] + 1) * std::size_t(m[1] + 1);
-    std::vector<unsigned int> lower(plane, numbers::invalid_unsigned_int),
-      upper(plane, numbers::invalid_unsigned_int);
-    unsigned int          lower_K = blocks.front() / (std::size_t(m[0]) * m[1]);
-    std::vector<Point<3>> vertices;
+    // first touch them. A vertex is found by its index in the grid of
+    // block vertices among the sorted indices of the vertices used: memory
+    // that grows with the solid blocks, not with the grid (two planes of
+    // the grid's vertices took 1.4 GB for a flat grid of 12000 x 12000 x 1
+    // voxels with 16 of them solid).
+    const auto vertex_of = [&m](const std::size_t B, const unsigned int v) {
+      const std::size_t I = B % m[0] + (v & 1),
+                        J = (B / m[0]) % m[1] + ((v >> 1) & 1),
+                        K = B / (std::size_t(m[0]) * m[1]) + ((v >> 2) & 1);
+      return std::array<std::size_t, 4>{
+        {I + (m[0] + 1) * (J + (m[1] + 1) * K), I, J, K}};
+    };
+    std::vector<std::size_t> used;
+    used.reserve(8 * blocks.size());
+    for (const std::size_t B : blocks)
+      for (unsigned int v = 0; v < 8; ++v)
+        used.push_back(vertex_of(B, v)[0]);
+    std::sort(used.begin(), used.end());
+    used.erase(std::unique(used.begin(), used.end()), used.end());
+    std::vector<unsigned int> number(used.size(),
+                                     numbers::invalid_unsigned_int);
+    std::vector<Point<3>>     vertices;
+    vertices.reserve(used.size());
     std::vector<CellData<3>> cells(blocks.size());
     for (std::size_t c = 0; c < blocks.size(); ++c)
       {
-        const std::size_t  B = blocks[c];
-        const unsigned int I = B % m[0], J = (B / m[0]) % m[1],
-                           K = B / (static_cast<std::size_t>(m[0]) * m[1]);
-        if (K != lower_K)
-          {
-            // The next plane of blocks shares its lower vertex plane with
-            // the last one; blocks beyond a void plane share none.
-            if (K == lower_K + 1)
-              lower.swap(upper);
-            else
-              std::fill(lower.begin(),
-                        lower.end(),
-                        numbers::invalid_unsigned_int);
-            std::fill(upper.begin(),
-                      upper.end(),
-                      numbers::invalid_unsigned_int);
-            lower_K = K;
-          }
         for (unsigned int v = 0; v < 8; ++v)
           {
-            const unsigned int i = I + (v & 1), j = J + ((v >> 1) & 1),
-                               k = K + ((v >> 2) & 1);
+            const auto [key, i, j, k] = vertex_of(blocks[c], v);
             unsigned int &index =
-              (k == K ? lower : upper)[i + (m[0] + 1) * std::size_t(j)];
+              number[std::lower_bound(used.begin(), used.end(), key) -
+                     used.begin()];
             if (index == numbers::invalid_unsigned_int)
               {
                 index = vertices.size();
@@ -306,7 +302,7 @@ namespace ddfem::scene
               }
             cells[c].vertices[v] = index;
           }
-        cells[c].material_id = dominant_material(grid, B, level);
+        cells[c].material_id = dominant_material(grid, blocks[c], level);
       }
 
     tria.clear();

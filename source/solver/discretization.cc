@@ -137,11 +137,16 @@ namespace ddfem::solver
     const scene::Scene             &scene,
     const std::vector<std::size_t> &changed)
   {
-    Assert(level == 0, ExcMessage("Coarse models are updated by a Coarsener."));
+    // Checked in Release too: a voxel without a cell would be written far
+    // outside the material points (edits keep the solid voxels; Layout).
+    AssertThrow(level == 0,
+                ExcMessage("Coarse models are updated by a Coarsener."));
     for (const std::size_t v : changed)
       {
         const unsigned int cell = cell_of_voxel(scene.grid, v);
-        Assert(cell != numbers::invalid_unsigned_int, ExcInternalError());
+        AssertThrow(cell != numbers::invalid_unsigned_int,
+                    ExcMessage("A material edit changed a void voxel, which "
+                               "the fine model has no cell for."));
         copy_voxel_material(scene, cell);
         update_material_id(scene.grid, cell);
       }
