@@ -99,6 +99,56 @@ namespace ddfem
 
 
   void
+  check_writable(const std::string &file, const std::string &where)
+  {
+    std::error_code             error;
+    const std::filesystem::path path(file);
+    if (!std::filesystem::is_directory(path.parent_path().empty() ?
+                                         std::filesystem::path(".") :
+                                         path.parent_path(),
+                                       error))
+      return;
+    // A symbolic link is removed by remove_earlier(), not written through:
+    // what it names is not in the way, and the check must not make it.
+    const auto in_the_way = [&error](const std::string &name) {
+      return std::filesystem::is_symlink(
+               std::filesystem::symlink_status(name, error)) ?
+               std::string() :
+               non_regular_kind(name);
+    };
+    const std::string partial      = ResultFile::partial_name(file);
+    const std::string partial_kind = in_the_way(partial);
+    AssertThrow(partial_kind.empty(),
+                dealii::ExcMessage("Cannot write \"" + file + "\" (" + where +
+                                   "): " + partial_kind +
+                                   " is in the way of \"" + partial +
+                                   "\", which it is written under first."));
+    const bool existed =
+      std::filesystem::exists(std::filesystem::symlink_status(path, error));
+    const std::string directory =
+      path.parent_path().empty() ? "." : path.parent_path().string();
+    AssertThrow(!existed || access(directory.c_str(), W_OK) == 0,
+                dealii::ExcMessage("Cannot replace \"" + file + "\" (" + where +
+                                   "): its directory is not "
+                                   "writable, so the file of an "
+                                   "earlier run cannot be removed."));
+    const std::string kind = in_the_way(file);
+    AssertThrow(kind.empty(),
+                dealii::ExcMessage("Cannot write \"" + file + "\" (" + where +
+                                   "): " + kind +
+                                   " of that name is in the way."));
+    if (existed)
+      return;
+    const bool ok = static_cast<bool>(std::ofstream(file));
+    std::filesystem::remove(path, error);
+    AssertThrow(ok,
+                dealii::ExcMessage("Cannot write \"" + file + "\" (" + where +
+                                   ")."));
+  }
+
+
+
+  void
   remove_earlier(const std::string &file, const std::string &where)
   {
     for (const std::string &name : {file, ResultFile::partial_name(file)})

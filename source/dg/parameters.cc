@@ -4,6 +4,8 @@
 #include <ddfem/base/parsing.h>
 #include <ddfem/dg/parameters.h>
 
+#include <limits>
+
 namespace ddfem::dg
 {
   void
@@ -113,7 +115,15 @@ namespace ddfem::dg
       penalty = 0;
     else
       {
-        penalty = parse_number(penalty_text, "DG/Penalty");
+        // A word other than 'automatic' gets the message of the range too.
+        try
+          {
+            penalty = parse_number(penalty_text, "DG/Penalty");
+          }
+        catch (const ExceptionBase &)
+          {
+            penalty = std::numeric_limits<double>::quiet_NaN();
+          }
         // The automatic penalty's range; beyond it the penalty terms swamp
         // the elastic ones to round-off.
         AssertThrow(penalty > 0 && penalty <= 1073741824.,

@@ -26,6 +26,8 @@ namespace ddfem::dg
                 ExcMessage("DG/Dirichlet = strong needs nodes on the "
                            "boundary: use DG/Element = FE_DGQ, or "
                            "DG/Dirichlet = weak with FE_DGP."));
+    // Before the mesh is built (System checks it again, for the studies).
+    parameters.check_penalty(parameters.flux, "DG/Flux = babuska-zlamal");
     if (parameters.formulation == Parameters::Formulation::corotated)
       scene.boundary_conditions.check_rotation_steps(parameters.load_steps,
                                                      "DG/Load steps");
@@ -235,7 +237,8 @@ namespace ddfem::dg
     Timer              timer;
     const unsigned int cholesky_before = dg->cholesky_solves;
     linear_solves                      = dg->run();
-    // As LinearSolver::solve() counts a solve with a new factor.
+    // As LinearSolver::solve() counts a direct solve: 1 (the check's
+    // factor was new to it).
     linear_iterations += dg->cholesky_solves - cholesky_before;
     solve_time = timer.wall_time();
     return linear_solves;

@@ -1115,13 +1115,14 @@ namespace ddfem::dg
     if (!factor_of_matrix && cholesky_first)
       {
         factor_of_matrix = check_factor.factorize(matrix);
-        if (factor_of_matrix)
-          ++cholesky_solves;
-        else
+        if (!factor_of_matrix)
           cholesky_first = false; // one failed factorization is enough
       }
     if (factor_of_matrix)
-      check_factor.vmult(solution, rhs);
+      {
+        check_factor.vmult(solution, rhs);
+        ++cholesky_solves;
+      }
     else if (linear_solver)
       linear_solver(matrix, solution, rhs);
     else

@@ -1308,6 +1308,32 @@ end
                           "error_vs_time.png",
                           "naive-L1/solution-0001.vtu",
                           "fine-direct/solution.pvd"});
+  // Not an error: a result named by a symbolic link to nowhere is replaced,
+  // as an earlier result is, and the check before the run makes no file
+  // at the link's target (it made one, and removed the link).
+  {
+    const std::string directory = "out_summary_dangling_link";
+    std::filesystem::remove_all(directory);
+    std::filesystem::create_directories(directory);
+    std::filesystem::create_symlink("nowhere.json",
+                                    directory + "/summary.json");
+    std::ofstream("summary_dangling_link.prm")
+      << cantilever
+      << "\nsubsection Output\n  set Output directory = " << directory
+      << "\n  set Screen timings = false\n"
+      << "  set Write VTU = none\nend\n";
+    std::ostringstream out, err;
+    const int          code = app::run({"summary_dangling_link.prm"}, out, err);
+    std::cout << "* summary_dangling_link: exit code " << code
+              << ", summary.json a regular file: " << std::boolalpha
+              << std::filesystem::is_regular_file(
+                   std::filesystem::symlink_status(directory +
+                                                   "/summary.json"))
+              << ", a file made at the link's target: "
+              << std::filesystem::exists(directory + "/nowhere.json") << "\n"
+              << err.str() << std::endl;
+    std::filesystem::remove_all(directory);
+  }
   // Results that could not be written are found before anything runs: the
   // output directory keeps only what was there.
   run_in_existing_directory("summary_blocked", "summary.json", cantilever, {});

@@ -209,48 +209,14 @@ namespace ddfem
    * regular file there is removed before it is written, so its own
    * permissions do not matter), or it does not exist and cannot be
    * created; or something other than a regular file is in the way of its
-   * ResultFile::partial_name(), which it is written under first. Leaves an
-   * existing file as it is and creates none (a missing directory is
-   * check_creatable()'s to check): for checks before a long run.
+   * ResultFile::partial_name(), which it is written under first. A
+   * symbolic link there, also one to nowhere, counts as an earlier file
+   * (remove_earlier() removes the link). Leaves an existing file as it is
+   * and creates none (a missing directory is check_creatable()'s to
+   * check): for checks before a long run.
    */
-  inline void
-  check_writable(const std::string &file, const std::string &where)
-  {
-    std::error_code             error;
-    const std::filesystem::path path(file);
-    if (!std::filesystem::is_directory(path.parent_path().empty() ?
-                                         std::filesystem::path(".") :
-                                         path.parent_path(),
-                                       error))
-      return;
-    const std::string partial      = ResultFile::partial_name(file);
-    const std::string partial_kind = non_regular_kind(partial);
-    AssertThrow(partial_kind.empty(),
-                dealii::ExcMessage("Cannot write \"" + file + "\" (" + where +
-                                   "): " + partial_kind +
-                                   " is in the way of \"" + partial +
-                                   "\", which it is written under first."));
-    const bool        existed = std::filesystem::exists(path, error);
-    const std::string directory =
-      path.parent_path().empty() ? "." : path.parent_path().string();
-    AssertThrow(!existed || access(directory.c_str(), W_OK) == 0,
-                dealii::ExcMessage("Cannot replace \"" + file + "\" (" + where +
-                                   "): its directory is not "
-                                   "writable, so the file of an "
-                                   "earlier run cannot be removed."));
-    const std::string kind = non_regular_kind(file);
-    AssertThrow(kind.empty(),
-                dealii::ExcMessage("Cannot write \"" + file + "\" (" + where +
-                                   "): " + kind +
-                                   " of that name is in the way."));
-    if (existed)
-      return;
-    const bool ok = static_cast<bool>(std::ofstream(file));
-    std::filesystem::remove(path, error);
-    AssertThrow(ok,
-                dealii::ExcMessage("Cannot write \"" + file + "\" (" + where +
-                                   ")."));
-  }
+  void
+  check_writable(const std::string &file, const std::string &where);
 
   /**
    * Removes the file @p file, left by an earlier run, and the temporary

@@ -313,8 +313,9 @@ namespace ddfem::dg
      * ordering. Off by default.
      */
     bool cholesky_first = false;
-    /// The solves of solve() with a Cholesky factor of their own
-    /// (cholesky_first), counted since the System was made.
+    /// The solves of solve() with a Cholesky factor, their own
+    /// (cholesky_first) or the penalty check's, counted since the System
+    /// was made.
     unsigned int cholesky_solves = 0;
 
     /// Appended to the message of a corotated iteration that does not
