@@ -231,7 +231,7 @@ namespace ddfem::solver
     // CHOLMOD's pivot test (a pivot <= 0) passes a NaN.
     if (!finite)
       {
-        free_values(data->factor, c);
+        drop_factor();
         return false;
       }
 
@@ -239,11 +239,12 @@ namespace ddfem::solver
     // Errors are negative; CHOLMOD_NOT_POSDEF is a warning.
     if (c.status < CHOLMOD_OK)
       throw_failure(c.status, "factorization", n);
-    data->valid = (c.status == CHOLMOD_OK);
     // A failed factor is of no use; its values would stay next to the
     // factor of the solver that takes over.
-    if (!data->valid)
-      free_values(data->factor, c);
+    if (c.status != CHOLMOD_OK)
+      drop_factor();
+    else
+      data->valid = true;
     return data->valid;
   }
 
