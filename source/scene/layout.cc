@@ -493,6 +493,15 @@ namespace ddfem::scene
     else
       {
         std::mt19937 random(random_seed);
+        // The skin's faces, per axis: the low (x-) and the high (x+) one.
+        std::array<bool, 3> skin_low{}, skin_high{};
+        for (const std::string &face : skin_faces)
+          for (unsigned int d = 0; d < 3; ++d)
+            {
+              const std::string axis(1, "xyz"[d]);
+              skin_low[d]  = skin_low[d] || face == "all" || face == axis + "-";
+              skin_high[d] = skin_high[d] || face == "all" || face == axis + "+";
+            }
         for (unsigned int k = 0; k < n[2]; ++k)
           for (unsigned int j = 0; j < n[1]; ++j)
             for (unsigned int i = 0; i < n[0]; ++i)
@@ -514,17 +523,10 @@ namespace ddfem::scene
                     const std::array<unsigned int, 3> index{{i, j, k}};
                     const double                      thickness =
                       skin_thickness / grid.voxel_size() - 1e-6;
-                    for (const std::string &face : skin_faces)
-                      for (unsigned int d = 0; d < 3; ++d)
-                        {
-                          const std::string axis(1, "xyz"[d]);
-                          if ((face == "all" || face == axis + "-") &&
-                              index[d] + 0.5 < thickness)
-                            id = skin_material;
-                          if ((face == "all" || face == axis + "+") &&
-                              n[d] - index[d] - 0.5 < thickness)
-                            id = skin_material;
-                        }
+                    for (unsigned int d = 0; d < 3; ++d)
+                      if ((skin_low[d] && index[d] + 0.5 < thickness) ||
+                          (skin_high[d] && n[d] - index[d] - 0.5 < thickness))
+                        id = skin_material;
                   }
                 else if (type == "fibers")
                   {
@@ -674,13 +676,11 @@ namespace ddfem::scene
     for (std::size_t v = 0; v < grid.n_voxels(); ++v)
       if (grid[v] != before[v])
         {
-          const auto ijk = grid.coordinates(v);
           AssertThrow(grid[v] != void_id && before[v] != void_id,
                       ExcMessage(
                         "Layout/Edits, edit " + std::to_string(e + 1) +
-                        ": the voxel (" + std::to_string(ijk[0]) + ", " +
-                        std::to_string(ijk[1]) + ", " + std::to_string(ijk[2]) +
-                        ") would change from id " + std::to_string(before[v]) +
+                        ": the " + grid.voxel_name(v) +
+                        " would change from id " + std::to_string(before[v]) +
                         " to " + std::to_string(grid[v]) +
                         "; edits may only change the material of solid "
                         "voxels (ids 1 and up), not add or remove them."));

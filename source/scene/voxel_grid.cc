@@ -47,4 +47,14 @@ namespace ddfem::scene
              static_cast<unsigned int>(v / n[0] % n[1]),
              static_cast<unsigned int>(v / n[0] / n[1])}};
   }
+
+
+
+  std::string
+  VoxelGrid::voxel_name(const std::size_t v) const
+  {
+    const auto ijk = coordinates(v);
+    return "voxel (" + std::to_string(ijk[0]) + ", " +
+           std::to_string(ijk[1]) + ", " + std::to_string(ijk[2]) + ")";
+  }
 } // namespace ddfem::scene

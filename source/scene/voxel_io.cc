@@ -604,7 +604,8 @@ namespace ddfem::scene
             AssertThrow(m == n,
                         ExcMessage(line.where() + "the header \"" +
                                    size_string(m) +
-                                   "\" does not match the grid size \"" +
+                                   "\" does not match Geometry/Grid size "
+                                   "= \"" +
                                    header + "\"."));
             have_header = true;
             return;
@@ -620,14 +621,11 @@ namespace ddfem::scene
                                  std::to_string(id_bound) + "."));
           if (ids.size() < grid.n_voxels())
             {
-              const auto ijk = grid.coordinates(ids.size());
               AssertThrow(id < id_bound,
                           ExcMessage(line.where() + "material id " +
-                                     std::to_string(id) + " of voxel (" +
-                                     std::to_string(ijk[0]) + "," +
-                                     std::to_string(ijk[1]) + "," +
-                                     std::to_string(ijk[2]) +
-                                     ") is out of range: ids must be less "
+                                     std::to_string(id) + " of " +
+                                     grid.voxel_name(ids.size()) +
+                                     " is out of range: ids must be less "
                                      "than " +
                                      std::to_string(id_bound) + "."));
               ids.push_back(static_cast<MaterialId>(id));

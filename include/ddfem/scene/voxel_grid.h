@@ -86,6 +86,10 @@ namespace ddfem::scene
     std::array<unsigned int, 3>
     coordinates(const std::size_t v) const;
 
+    /// "voxel (i, j, k)" for the linear index @p v, for error messages.
+    std::string
+    voxel_name(const std::size_t v) const;
+
     /// Material id of voxel (i,j,k).
     MaterialId
     operator()(const unsigned int i,
