@@ -237,8 +237,9 @@ main(int argc, char **argv)
            "");
   // Not bad input: a cost study runs on one thread and gives its caller
   // the caller's limit back (it used to set the default, every core). The
-  // caller's limit is 2 here, so that a study that kept its own 1 fails.
-  MultithreadInfo::set_thread_limit(2);
+  // caller's limit is 3 here, neither 1 nor this machine's 2 cores, so that
+  // a study that kept its own 1 or set the default fails.
+  MultithreadInfo::set_thread_limit(3);
   const unsigned int threads = MultithreadInfo::n_threads();
   run_case("cost_study_threads",
            "set Run type = dg cost\n"
