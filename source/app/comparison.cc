@@ -659,6 +659,34 @@ namespace ddfem::app
     if (ddfem_level > 0)
       database.check_input(scene.palette, ddfem_level);
 
+    // The results are written once every model has run: gnuplot must start
+    // and their files (each model's VTU files of every state too) must be
+    // writable before any model is set up, the database is prepared and
+    // anything runs.
+    if (std::any_of(configurations.begin(),
+                    configurations.end(),
+                    [](const Configuration &c) { return c.level > 0; }))
+      report::check_gnuplot("compare");
+    check_earlier_results(directory,
+                          vtu,
+                          ddfem_level > 0 ? database.file() : "");
+    vtu.check_writable(directory, 0);
+    for (const Configuration &config : configurations)
+      {
+        const std::string d =
+          model_directory(directory, config.name, config.level);
+        if (vtu.enabled())
+          {
+            check_creatable(d, "Output/Output directory");
+            if (ddfem_level > 0)
+              require_database_outside(database.file(),
+                                       d,
+                                       "the directory '" + d +
+                                         "' of a model's VTU files");
+          }
+        vtu.check_writable(d, scene.n_edits() + 1);
+      }
+
     // The models, set up in order (the fine one first) before anything is
     // solved or written: invalid input (a grid that does not coarsen, a
     // probe outside a coarse model) stops the run with nothing written.
@@ -706,39 +734,6 @@ namespace ddfem::app
     for (unsigned int c = 0; c < configurations.size(); ++c)
       if (configurations[c].name != "ddfem")
         set_up(c);
-
-    // The results are written once every model has run: gnuplot must start
-    // and their files (each model's VTU files of every state too) must be
-    // writable before the database is prepared and anything runs.
-    if (std::any_of(configurations.begin(),
-                    configurations.end(),
-                    [](const Configuration &c) { return c.level > 0; }))
-      report::check_gnuplot("compare");
-    check_earlier_results(directory,
-                          vtu,
-                          std::any_of(configurations.begin(),
-                                      configurations.end(),
-                                      [](const Configuration &c) {
-                                        return c.name == "ddfem";
-                                      }) ?
-                            database.file() :
-                            "");
-    vtu.check_writable(directory, 0);
-    for (const Configuration &config : configurations)
-      {
-        const std::string d =
-          model_directory(directory, config.name, config.level);
-        if (vtu.enabled())
-          {
-            check_creatable(d, "Output/Output directory");
-            if (ddfem_level > 0)
-              require_database_outside(database.file(),
-                                       d,
-                                       "the directory '" + d +
-                                         "' of a model's VTU files");
-          }
-        vtu.check_writable(d, scene.n_edits() + 1);
-      }
 
     // The database, completed lazily for this scene's blocks in every
     // state. A ddfem level without a baseline model on the same mesh is

@@ -36,7 +36,8 @@ namespace ddfem::report
 
   /**
    * The DDFEM paper's error measure: the coarse displacement @p u_coarse
-   * on @p coarse (FE_Q(1), any coarsening level, possibly 0) is
+   * on @p coarse (FE_Q(1) at any coarsening level, or a level-0 model
+   * of any degree, read at the fine vertices) is
    * interpolated trilinearly to every vertex of the fine mesh of
    * @p fine, compared with the fine displacement @p u_fine there, and the
    * distance divided by the longest side of the solid's rest-shape
@@ -94,7 +95,8 @@ namespace ddfem::report
    * smoothed mean. The weighted residuals of each step, scaled to length at
    * most 1, are a feasible point of the dual problem and give the lower
    * bound. The steps stop once the bound is within 0.2 % of the field's
-   * mean error, or after 500 steps.
+   * mean error, once that mean is at round-off (1e-14 of the largest
+   * fine displacement), or after 500 steps.
    * Both discretizations must have been built from @p grid.
    */
   GridFit
