@@ -2,6 +2,7 @@
 #include <deal.II/fe/mapping_q1.h>
 #include <deal.II/lac/solver_cg.h>
 #include <deal.II/lac/solver_control.h>
+#include <deal.II/lac/sparse_direct.h>
 
 #include <Teuchos_ParameterList.hpp>
 #include <ddfem/base/statistics.h>
@@ -225,6 +226,8 @@ namespace ddfem::solver
     direct_solves_left = 0;
     indefinite_factors = 0;
     cholesky.drop_factor();
+    amg.clear();
+    trilinos_matrix.clear();
   }
 
 
@@ -255,6 +258,9 @@ namespace ddfem::solver
                                Vector<double>             &x,
                                const Vector<double>       &b)
   {
+    // Every direct solve factorizes its matrix anew: the factor is freed
+    // on return.
+    SparseDirectUMFPACK direct;
     try
       {
         {

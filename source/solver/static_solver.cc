@@ -82,14 +82,6 @@ namespace ddfem::solver
 
 
 
-  double
-  LoadSteps::nominal() const
-  {
-    return nominal_step;
-  }
-
-
-
   bool
   LoadSteps::is_cut() const
   {
@@ -907,6 +899,17 @@ namespace ddfem::solver
   StaticSolver::Statistics
   StaticSolver::solve(const std::function<void(unsigned int, double)> &on_step)
   {
+    const Statistics statistics = solve_load_path(on_step);
+    linear_solver.reset();
+    return statistics;
+  }
+
+
+
+  StaticSolver::Statistics
+  StaticSolver::solve_load_path(
+    const std::function<void(unsigned int, double)> &on_step)
+  {
     Statistics  statistics;
     std::string inverted;
     if (at_full_load && parameters.start_from_last_state)
@@ -959,6 +962,7 @@ namespace ddfem::solver
                                                             d.component,
                                                             t_new,
                                                             v(d.index));
+              TimerOutput::Scope scope(timer, "assembly");
               return energy(v, t_new);
             };
             // energy() is +infinity where a state is inadmissible.

@@ -34,7 +34,7 @@ namespace ddfem::solver
    * The element kernel shared by every continuous discretization (fine
    * voxels, coarse metamaterial blocks, block samplers): integrates the
    * material kernel over one cell. @p fe_values must be reinitialized on
-   * the cell with values, gradients and JxW; @p local_u are the cell's
+   * the cell with gradients and JxW; @p local_u are the cell's
    * displacement coefficients; @p materials holds one material record per
    * quadrature point. The FE must be primitive and vector valued with three
    * components.

@@ -4,7 +4,6 @@
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/timer.h>
 #include <deal.II/dofs/dof_handler.h>
-#include <deal.II/lac/sparse_direct.h>
 #include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/trilinos_precondition.h>
 #include <deal.II/lac/trilinos_sparse_matrix.h>
@@ -89,8 +88,9 @@ namespace ddfem::solver
                const std::string   &small_systems = "cg-cholesky");
 
     /// Forgets the factor and the multigrid hierarchy of earlier tangents,
-    /// as after a material edit: the next solve builds them anew (a factor
-    /// keeps its ordering, since the sparsity pattern stays the same).
+    /// as after a material edit or a finished solve, and frees their
+    /// memory: the next solve builds them anew (a Cholesky factor keeps its
+    /// ordering, since the sparsity pattern stays the same).
     void
     reset();
 
@@ -226,10 +226,8 @@ namespace ddfem::solver
     /// The six rigid body modes, mode-major (mode k at [k * n_dofs]).
     std::vector<double> rigid_body_modes;
 
-    /// The direct solver, the Cholesky factor of cg-cholesky, the Trilinos
-    /// copy of the matrix the multigrid hierarchy was built from, and that
-    /// hierarchy.
-    SparseDirectUMFPACK               direct;
+    /// The Cholesky factor of cg-cholesky, the Trilinos copy of the
+    /// matrix the multigrid hierarchy was built from, and that hierarchy.
     SparseCholesky                    cholesky;
     TrilinosWrappers::SparseMatrix    trilinos_matrix;
     TrilinosWrappers::PreconditionAMG amg;

@@ -57,10 +57,6 @@ namespace ddfem::solver
     bool
     cut();
 
-    /// The nominal increment.
-    double
-    nominal() const;
-
     /// Whether the increment is shorter than the nominal one after a cut
     /// (the last increment, to 1, may be shorter without one).
     bool
@@ -220,6 +216,8 @@ namespace ddfem::solver
      * tries the full load from that state (one increment, to load factor
      * 1), and the load steps from rest follow only if it fails: after a
      * material edit the new equilibrium is usually near the old one.
+     * The linear solver's factors and multigrid hierarchy are freed at
+     * the end: the next solve follows an edit, which makes them stale.
      */
     Statistics
     solve(const std::function<void(unsigned int, double)> &on_step);
@@ -283,6 +281,10 @@ namespace ddfem::solver
              SparseMatrix<double>            *tangent,
              Vector<double>                  *newton_rhs,
              double                          &min_J) const;
+
+    /// solve() up to freeing the linear solver's memory.
+    Statistics
+    solve_load_path(const std::function<void(unsigned int, double)> &on_step);
 
     /// Newton's method at load factor @p t starting from @p u. Returns
     /// false, and says why in newton_failure, if it stops unconverged.
