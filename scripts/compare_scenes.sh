@@ -4,7 +4,8 @@
 # the nine scenes of the comparison: pushing, bending, twisting, buckling,
 # fibers, bridge, bridge_arch, shoe_sole, character) with the Release build,
 # one after the other, and writes output/compare/<scene>/comparison.{csv,json},
-# error_vs_time.png and VTU. EXTRA holds further arguments of every run, as
+# error_vs_time.png and VTU. EXTRA holds further arguments of every run (its
+# settings of 'Run type' and 'Output/Output directory' are overridden), as
 # shell words (quoted as on a command line; split as words only, so '$' and
 # backquotes stay as they are). The metamaterials a scene needs
 # are fitted into the database file on its first run (lazy mode); later runs
@@ -58,9 +59,11 @@ for s in "${scenes[@]}"; do
     error_vs_time.gnuplot error_vs_time.png; do
     rm -f "output/compare/$s/$f"
   done
-  build/ddfem "prm/$s.prm" --set "Run type=compare" \
-    --set "Output/Output directory=output/compare/$s" \
-    --set "Output/Write VTU=last step" "${extra[@]}" || failed+=("$s")
+  # The last --set of a parameter counts: EXTRA may change the VTU output,
+  # not the run type or the directory this script reads.
+  build/ddfem "prm/$s.prm" --set "Output/Write VTU=last step" "${extra[@]}" \
+    --set "Run type=compare" \
+    --set "Output/Output directory=output/compare/$s" || failed+=("$s")
   [ ! -f "output/compare/$s/comparison.json" ] || with_results+=("$s")
 done
 table_failed=0

@@ -151,8 +151,14 @@ def main(argv):
     directory = argv[1] if len(argv) > 1 else os.path.join(
         os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
         "output", "compare")
-    scenes = argv[2:] or [s for s in SCENES if os.path.exists(
-        os.path.join(directory, s, "comparison.json"))]
+    # Every scene with a compare run: the shipped ones in the table's order,
+    # then any other (a scene of compare_scenes.sh is any prm/<scene>.prm).
+    found = sorted(name for name in (os.listdir(directory)
+                                     if os.path.isdir(directory) else [])
+                   if os.path.isfile(os.path.join(directory, name,
+                                                  "comparison.json")))
+    scenes = argv[2:] or ([s for s in SCENES if s in found] +
+                          [s for s in found if s not in SCENES])
     if not scenes:
         sys.exit(f"Error: no {directory}/<scene>/comparison.json found; run "
                  "scripts/compare_scenes.sh first.")

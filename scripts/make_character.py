@@ -176,16 +176,32 @@ def main():
            else os.path.join(root, "data", "character.obj"))
     vertices, faces = build()
     volume = check_closed(vertices, faces)
-    with open(out, "w") as f:
-        f.write("# Gingerbread-man-like character for prm/character.prm, written by\n")
-        f.write("# scripts/make_character.py: an outline in the x-z plane extruded\n")
-        f.write(f"# along y by {DEPTH} m. Coordinates in meters. Closed and watertight.\n")
-        f.write(f"# {len(vertices)} vertices, {len(faces)} triangles, volume {volume:.6f} m^3.\n")
-        for v in vertices:
-            f.write("v %.6f %.6f %.6f\n" % v)
-        for a, b, c in faces:
-            f.write(f"f {a + 1} {b + 1} {c + 1}\n")
+    # Written beside the output and renamed over it when complete: a run
+    # that fails leaves the old mesh, not a truncated one.
+    partial = out + ".partial"
+    try:
+        with open(partial, "w") as f:
+            write_obj(f, vertices, faces, volume)
+        os.replace(partial, out)
+    except OSError as error:
+        try:
+            os.remove(partial)
+        except OSError:
+            pass
+        raise SystemExit(f"Error: cannot write {out}: {error.strerror}")
     print(f"{out}: {len(vertices)} vertices, {len(faces)} triangles, volume {volume:.6f} m^3")
+
+
+def write_obj(f, vertices, faces, volume):
+    """Writes the mesh as Wavefront OBJ, with a header comment, to f."""
+    f.write("# Gingerbread-man-like character for prm/character.prm, written by\n")
+    f.write("# scripts/make_character.py: an outline in the x-z plane extruded\n")
+    f.write(f"# along y by {DEPTH} m. Coordinates in meters. Closed and watertight.\n")
+    f.write(f"# {len(vertices)} vertices, {len(faces)} triangles, volume {volume:.6f} m^3.\n")
+    for v in vertices:
+        f.write("v %.6f %.6f %.6f\n" % v)
+    for a, b, c in faces:
+        f.write(f"f {a + 1} {b + 1} {c + 1}\n")
 
 
 if __name__ == "__main__":
