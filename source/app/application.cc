@@ -962,10 +962,11 @@ namespace ddfem::app
 
     /// Run type "compare": see Comparison.
     int
-    run_comparison(ParameterHandler  &prm,
-                   const std::string &prm_file,
-                   std::ostream      &out,
-                   std::ostream      &err)
+    run_comparison(ParameterHandler               &prm,
+                   const std::string              &prm_file,
+                   const std::vector<std::string> &input_files,
+                   std::ostream                   &out,
+                   std::ostream                   &err)
     {
       scene::Scene scene;
       scene.parse_parameters(prm);
@@ -980,6 +981,7 @@ namespace ddfem::app
                                         scene,
                                         scene_name_of(prm, prm_file),
                                         output.directory,
+                                        input_files,
                                         output.screen_timings,
                                         out);
       if (status != 0)
@@ -1172,7 +1174,7 @@ namespace ddfem::app
         if (run_type == "dg convergence" || run_type == "dg cost")
           return run_dg_study(run_type, prm, input_files, out);
         if (run_type == "compare")
-          return run_comparison(prm, prm_file, out, err);
+          return run_comparison(prm, prm_file, input_files, out, err);
         Simulation simulation(out, err);
         simulation.parse_parameters(prm, prm_file, input_files);
         return simulation.run(prm);
@@ -1191,6 +1193,13 @@ namespace ddfem::app
     catch (std::exception &e)
       {
         err << "Error: " << printable(e.what()) << std::endl;
+      }
+    catch (...)
+      {
+        // A library may throw what is no std::exception (Epetra throws
+        // ints): still an error message and exit code 1, not an abort.
+        err << "Error: the run stopped with an exception of unknown type."
+            << std::endl;
       }
     return 1;
   }

@@ -638,12 +638,13 @@ namespace ddfem::app
 
 
   int
-  Comparison::run(const ParameterHandler &prm,
-                  scene::Scene           &scene,
-                  const std::string      &scene_name,
-                  const std::string      &directory,
-                  const bool              screen_timings,
-                  std::ostream           &out)
+  Comparison::run(const ParameterHandler         &prm,
+                  scene::Scene                   &scene,
+                  const std::string              &scene_name,
+                  const std::string              &directory,
+                  const std::vector<std::string> &inputs,
+                  const bool                      screen_timings,
+                  std::ostream                   &out)
   {
     out << "Comparison of scene \"" << scene_name << "\": grid "
         << scene.grid.describe() << ", " << scene.n_edits() << " material edit"
@@ -771,8 +772,18 @@ namespace ddfem::app
     // next to them, and a run that stops with an error before its tables
     // are written removes its own, and the directories it made (a plot
     // that fails leaves the tables and the VTU files it would draw from).
+    // An earlier run's parameters.prm goes with its results, unless this
+    // run reads it: a rerun from it keeps it should the rerun fail (this
+    // run's own is written with its tables).
     made_directories = create_directories(directory, "Output/Output directory");
     remove_earlier_results(directory);
+    if (std::find(inputs.begin(),
+                  inputs.end(),
+                  resolved_path(directory + "/parameters.prm").string()) ==
+        inputs.end())
+      remove_earlier_in(directory,
+                        {"parameters.prm"},
+                        "Output/Output directory");
     bool tables_written = false;
     try
       {

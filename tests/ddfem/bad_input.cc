@@ -1558,6 +1558,56 @@ end
                   testing::content_of("out_rerun_fails/parameters.prm") == used)
               << "\n  " << rerun_err.str() << std::endl;
   }
+  // A compare run that fails so removes an earlier simulation's
+  // parameters.prm with its results (it stayed, alone, as if it described
+  // what is there), and keeps the one it was started from.
+  {
+    const auto holds = [](const std::string &directory) {
+      std::set<std::string> files;
+      for (const auto &f : std::filesystem::directory_iterator(directory))
+        files.insert(f.path().filename().string());
+      std::string list;
+      for (const std::string &f : files)
+        list += " " + f;
+      return list.empty() ? std::string(" nothing") : list;
+    };
+    std::filesystem::remove_all("out_compare_fails");
+    std::ofstream("compare_fails.prm")
+      << larger
+      << "\nsubsection Output\n  set Output directory = out_compare_fails\n"
+         "  set Screen timings = false\n  set Write VTU = none\nend\n";
+    std::ostringstream out, err;
+    const int          simulation = app::run({"compare_fails.prm"}, out, err);
+    std::vector<std::string> arguments = {"compare_fails.prm",
+                                          "--set",
+                                          "Output/Write VTU=every step"};
+    arguments.insert(arguments.end(),
+                     compare_naive.begin(),
+                     compare_naive.end());
+    std::ostringstream compare_err;
+    const int code = run_with_small_files(arguments, compare_err);
+    std::cout << "* compare_fails_after_simulation: the simulation's exit code "
+              << simulation << ", the comparison's " << code
+              << ", out_compare_fails holds:" << holds("out_compare_fails")
+              << "\n  " << compare_err.str() << std::endl;
+
+    std::vector<std::string> compare = {"compare_fails.prm"};
+    compare.insert(compare.end(), compare_naive.begin(), compare_naive.end());
+    const int first = app::run(compare, out, err);
+    const std::string used =
+      testing::content_of("out_compare_fails/parameters.prm");
+    arguments[0] = "out_compare_fails/parameters.prm";
+    std::ostringstream rerun_err;
+    const int rerun = run_with_small_files(arguments, rerun_err);
+    std::cout << "* compare_rerun_fails: first run's exit code " << first
+              << ", the rerun's " << rerun
+              << ", out_compare_fails holds:" << holds("out_compare_fails")
+              << ", parameters.prm as the first run wrote it: "
+              << (!used.empty() &&
+                  testing::content_of("out_compare_fails/parameters.prm") ==
+                    used)
+              << "\n  " << rerun_err.str() << std::endl;
+  }
   // Where the input cannot be put back either (here it is larger than a
   // file may grow), parameters.prm keeps the rerun's parameters: the
   // restore replaces it in one rename, and no longer removes it first.

@@ -95,17 +95,20 @@ namespace ddfem::app
      * solve converged, 1 otherwise. A run that stops with an error in its
      * checks, before anything is solved, leaves the directory as it was; one
      * that stops later, before its tables are written, leaves no result of
-     * its own nor an earlier run's, but an earlier run's parameters.prm (a
-     * rerun from it keeps it). The plot is of the first state; without a
-     * coarse model with an error there it is not drawn, which the log says.
+     * its own nor an earlier run's, parameters.prm included, unless that
+     * file is one of @p inputs (the parameter file and the files it
+     * includes, resolved_path()): a rerun from it keeps it. The plot is of
+     * the first state; without a coarse model with an error there it is not
+     * drawn, which the log says.
      */
     int
-    run(const ParameterHandler &prm,
-        scene::Scene           &scene,
-        const std::string      &scene_name,
-        const std::string      &directory,
-        const bool              screen_timings,
-        std::ostream           &out);
+    run(const ParameterHandler         &prm,
+        scene::Scene                   &scene,
+        const std::string              &scene_name,
+        const std::string              &directory,
+        const std::vector<std::string> &inputs,
+        const bool                      screen_timings,
+        std::ostream                   &out);
 
   private:
     /**
