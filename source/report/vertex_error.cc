@@ -207,8 +207,8 @@ namespace ddfem::report
            const Vector<double>         &u_fine,
            const solver::Discretization &coarse)
   {
-    // Stop once the bound is within 0.2 % of the mean error, or after 500
-    // steps.
+    // Stop once the bound is within 0.2 % of the mean error, once the mean
+    // is at round-off, or after 500 steps.
     const double       tolerance      = 2e-3;
     const unsigned int max_iterations = 500;
     // The weights are the same for the three components: the fit solves a

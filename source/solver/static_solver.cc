@@ -899,9 +899,17 @@ namespace ddfem::solver
   StaticSolver::Statistics
   StaticSolver::solve(const std::function<void(unsigned int, double)> &on_step)
   {
-    const Statistics statistics = solve_load_path(on_step);
-    linear_solver.reset();
-    return statistics;
+    try
+      {
+        const Statistics statistics = solve_load_path(on_step);
+        linear_solver.reset();
+        return statistics;
+      }
+    catch (...)
+      {
+        linear_solver.reset();
+        throw;
+      }
   }
 
 

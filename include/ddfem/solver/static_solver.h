@@ -217,7 +217,8 @@ namespace ddfem::solver
      * 1), and the load steps from rest follow only if it fails: after a
      * material edit the new equilibrium is usually near the old one.
      * The linear solver's factors and multigrid hierarchy are freed at
-     * the end: the next solve follows an edit, which makes them stale.
+     * the end, also when an exception ends it: the next solve follows an
+     * edit, which makes them stale.
      */
     Statistics
     solve(const std::function<void(unsigned int, double)> &on_step);
