@@ -13,7 +13,6 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
-#include <set>
 
 #include "../tests.h"
 
@@ -103,6 +102,17 @@ namespace
     report_run(name, arguments, first_sentence, keep_earlier);
   }
 
+  /// The files in @p directory, sorted, each after a space (" nothing"
+  /// if it is empty).
+  std::string
+  listing(const std::string &directory)
+  {
+    std::string list;
+    for (const std::string &f : testing::file_names(directory))
+      list += " " + f;
+    return list.empty() ? std::string(" nothing") : list;
+  }
+
   /**
    * Runs ddfem on @p prm_text (plus @p extra arguments) with a directory
    * named @p blocked in the way of a result file (none if empty) and a
@@ -129,14 +139,9 @@ namespace
     arguments.insert(arguments.end(), extra.begin(), extra.end());
     std::ostringstream    out, err;
     const int             code = app::run(arguments, out, err);
-    std::set<std::string> files;
-    for (const auto &f : std::filesystem::directory_iterator(directory))
-      files.insert(f.path().filename().string());
     std::cout << "* " << name << ": exit code " << code << ", " << directory
-              << " holds:";
-    for (const std::string &f : files)
-      std::cout << " " << f;
-    std::cout << "\n  " << err.str() << std::endl;
+              << " holds:" << listing(directory) << "\n  " << err.str()
+              << std::endl;
     std::filesystem::remove_all(directory);
   }
 
@@ -1499,10 +1504,9 @@ end
       return arguments;
     };
     const auto list = [&](const std::string &directory) {
-      std::cout << "  " << directory << " holds:";
-      for (const std::string &f : testing::file_names(directory))
-        std::cout << " " << f;
-      std::cout << "\n" << std::endl;
+      std::cout << "  " << directory << " holds:" << listing(directory)
+                << "\n"
+                << std::endl;
     };
     std::ostringstream ignored;
     std::filesystem::remove_all(parent);
@@ -1546,14 +1550,10 @@ end
                                            "--set",
                                            "Output/Write VTU=every step"},
                                           rerun_err);
-    std::set<std::string> files;
-    for (const auto &f : std::filesystem::directory_iterator("out_rerun_fails"))
-      files.insert(f.path().filename().string());
     std::cout << "* rerun_fails: first run's exit code " << first
-              << ", the rerun's " << code << ", out_rerun_fails holds:";
-    for (const std::string &f : files)
-      std::cout << " " << f;
-    std::cout << ", parameters.prm as the first run wrote it: "
+              << ", the rerun's " << code
+              << ", out_rerun_fails holds:" << listing("out_rerun_fails")
+              << ", parameters.prm as the first run wrote it: "
               << (!used.empty() &&
                   testing::content_of("out_rerun_fails/parameters.prm") == used)
               << "\n  " << rerun_err.str() << std::endl;
@@ -1562,15 +1562,6 @@ end
   // parameters.prm with its results (it stayed, alone, as if it described
   // what is there), and keeps the one it was started from.
   {
-    const auto holds = [](const std::string &directory) {
-      std::set<std::string> files;
-      for (const auto &f : std::filesystem::directory_iterator(directory))
-        files.insert(f.path().filename().string());
-      std::string list;
-      for (const std::string &f : files)
-        list += " " + f;
-      return list.empty() ? std::string(" nothing") : list;
-    };
     std::filesystem::remove_all("out_compare_fails");
     std::ofstream("compare_fails.prm")
       << larger
@@ -1588,7 +1579,7 @@ end
     const int code = run_with_small_files(arguments, compare_err);
     std::cout << "* compare_fails_after_simulation: the simulation's exit code "
               << simulation << ", the comparison's " << code
-              << ", out_compare_fails holds:" << holds("out_compare_fails")
+              << ", out_compare_fails holds:" << listing("out_compare_fails")
               << "\n  " << compare_err.str() << std::endl;
 
     std::vector<std::string> compare = {"compare_fails.prm"};
@@ -1601,7 +1592,7 @@ end
     const int rerun = run_with_small_files(arguments, rerun_err);
     std::cout << "* compare_rerun_fails: first run's exit code " << first
               << ", the rerun's " << rerun
-              << ", out_compare_fails holds:" << holds("out_compare_fails")
+              << ", out_compare_fails holds:" << listing("out_compare_fails")
               << ", parameters.prm as the first run wrote it: "
               << (!used.empty() &&
                   testing::content_of("out_compare_fails/parameters.prm") ==
