@@ -499,8 +499,9 @@ namespace ddfem::scene
           for (unsigned int d = 0; d < 3; ++d)
             {
               const std::string axis(1, "xyz"[d]);
-              skin_low[d]  = skin_low[d] || face == "all" || face == axis + "-";
-              skin_high[d] = skin_high[d] || face == "all" || face == axis + "+";
+              skin_low[d] = skin_low[d] || face == "all" || face == axis + "-";
+              skin_high[d] =
+                skin_high[d] || face == "all" || face == axis + "+";
             }
         for (unsigned int k = 0; k < n[2]; ++k)
           for (unsigned int j = 0; j < n[1]; ++j)

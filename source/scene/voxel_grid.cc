@@ -54,7 +54,7 @@ namespace ddfem::scene
   VoxelGrid::voxel_name(const std::size_t v) const
   {
     const auto ijk = coordinates(v);
-    return "voxel (" + std::to_string(ijk[0]) + ", " +
-           std::to_string(ijk[1]) + ", " + std::to_string(ijk[2]) + ")";
+    return "voxel (" + std::to_string(ijk[0]) + ", " + std::to_string(ijk[1]) +
+           ", " + std::to_string(ijk[2]) + ")";
   }
 } // namespace ddfem::scene

@@ -137,8 +137,8 @@ namespace
       << "none\nend\n";
     std::vector<std::string> arguments = {name + ".prm"};
     arguments.insert(arguments.end(), extra.begin(), extra.end());
-    std::ostringstream    out, err;
-    const int             code = app::run(arguments, out, err);
+    std::ostringstream out, err;
+    const int          code = app::run(arguments, out, err);
     std::cout << "* " << name << ": exit code " << code << ", " << directory
               << " holds:" << listing(directory) << "\n  " << err.str()
               << std::endl;
@@ -1332,8 +1332,7 @@ end
     std::cout << "* summary_dangling_link: exit code " << code
               << ", summary.json a regular file: " << std::boolalpha
               << std::filesystem::is_regular_file(
-                   std::filesystem::symlink_status(directory +
-                                                   "/summary.json"))
+                   std::filesystem::symlink_status(directory + "/summary.json"))
               << ", a file made at the link's target: "
               << std::filesystem::exists(directory + "/nowhere.json") << "\n"
               << err.str() << std::endl;
@@ -1504,8 +1503,7 @@ end
       return arguments;
     };
     const auto list = [&](const std::string &directory) {
-      std::cout << "  " << directory << " holds:" << listing(directory)
-                << "\n"
+      std::cout << "  " << directory << " holds:" << listing(directory) << "\n"
                 << std::endl;
     };
     std::ostringstream ignored;
@@ -1576,7 +1574,7 @@ end
                      compare_naive.begin(),
                      compare_naive.end());
     std::ostringstream compare_err;
-    const int code = run_with_small_files(arguments, compare_err);
+    const int          code = run_with_small_files(arguments, compare_err);
     std::cout << "* compare_fails_after_simulation: the simulation's exit code "
               << simulation << ", the comparison's " << code
               << ", out_compare_fails holds:" << listing("out_compare_fails")
@@ -1584,12 +1582,12 @@ end
 
     std::vector<std::string> compare = {"compare_fails.prm"};
     compare.insert(compare.end(), compare_naive.begin(), compare_naive.end());
-    const int first = app::run(compare, out, err);
+    const int         first = app::run(compare, out, err);
     const std::string used =
       testing::content_of("out_compare_fails/parameters.prm");
     arguments[0] = "out_compare_fails/parameters.prm";
     std::ostringstream rerun_err;
-    const int rerun = run_with_small_files(arguments, rerun_err);
+    const int          rerun = run_with_small_files(arguments, rerun_err);
     std::cout << "* compare_rerun_fails: first run's exit code " << first
               << ", the rerun's " << rerun
               << ", out_compare_fails holds:" << listing("out_compare_fails")
@@ -1614,8 +1612,7 @@ end
       testing::content_of("out_rerun_fails/parameters.prm");
     std::cout << "* rerun_fails_restore_too: exit code " << code
               << ", parameters.prm holds the rerun's parameters: "
-              << (kept.find("= every step") !=
-                    std::string::npos &&
+              << (kept.find("= every step") != std::string::npos &&
                   kept.find("# ---") == std::string::npos)
               << std::endl;
   }
