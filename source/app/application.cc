@@ -427,10 +427,9 @@ namespace ddfem::app
                  const std::function<int()>     &write_results)
     {
       const std::string          used_file = directory + "/parameters.prm";
-      const std::string          used_path = resolved_path(used_file).string();
       std::error_code            error;
       std::optional<std::string> input;
-      if (std::find(inputs.begin(), inputs.end(), used_path) != inputs.end())
+      if (is_input_file(used_file, inputs))
         {
           std::ifstream      file(used_file, std::ios::binary);
           std::ostringstream bytes;

@@ -777,10 +777,7 @@ namespace ddfem::app
     // run's own is written with its tables).
     made_directories = create_directories(directory, "Output/Output directory");
     remove_earlier_results(directory);
-    if (std::find(inputs.begin(),
-                  inputs.end(),
-                  resolved_path(directory + "/parameters.prm").string()) ==
-        inputs.end())
+    if (!is_input_file(directory + "/parameters.prm", inputs))
       remove_earlier_in(directory,
                         {"parameters.prm"},
                         "Output/Output directory");

@@ -5,6 +5,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cctype>
 #include <filesystem>
 #include <fstream>
@@ -285,6 +286,19 @@ namespace ddfem
       std::filesystem::weakly_canonical(absolute, error);
     return without_final_separator(error ? absolute.lexically_normal() :
                                            resolved);
+  }
+
+  /**
+   * Whether @p file is one of @p inputs, a run's parameter file and the
+   * files it includes as resolved_path() gives them: a result file that a
+   * run reads must survive its failure.
+   */
+  inline bool
+  is_input_file(const std::string &file, const std::vector<std::string> &inputs)
+  {
+    return std::find(inputs.begin(),
+                     inputs.end(),
+                     resolved_path(file).string()) != inputs.end();
   }
 
   /// The extension of the file name @p file in lower case (".stl").
