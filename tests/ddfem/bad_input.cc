@@ -102,6 +102,21 @@ namespace
     report_run(name, arguments, first_sentence, keep_earlier);
   }
 
+  /// Writes @p prm_text to @p file, with results to @p directory, no
+  /// timings and 'Write VTU' = @p vtu.
+  void
+  write_prm(const std::string &file,
+            const std::string &prm_text,
+            const std::string &directory,
+            const std::string &vtu)
+  {
+    std::ofstream(file) << prm_text
+                        << "\nsubsection Output\n  set Output directory = "
+                        << directory
+                        << "\n  set Screen timings = false\n  set Write VTU = "
+                        << vtu << "\nend\n";
+  }
+
   /// The files in @p directory, sorted, each after a space (" nothing"
   /// if it is empty).
   std::string
@@ -130,11 +145,7 @@ namespace
     std::filesystem::create_directories(directory + "/" + blocked);
     if (!earlier.empty())
       std::ofstream(directory + "/" + earlier);
-    std::ofstream(name + ".prm")
-      << prm_text
-      << "\nsubsection Output\n  set Output directory = " << directory
-      << "\n  set Screen timings = false\n  set Write VTU = "
-      << "none\nend\n";
+    write_prm(name + ".prm", prm_text, directory, "none");
     std::vector<std::string> arguments = {name + ".prm"};
     arguments.insert(arguments.end(), extra.begin(), extra.end());
     std::ostringstream out, err;
@@ -180,10 +191,7 @@ namespace
                        const std::vector<std::string> &extra)
   {
     const std::string directory = "out_" + name;
-    std::ofstream(name + ".prm")
-      << prm_text
-      << "\nsubsection Output\n  set Output directory = " << directory
-      << "\n  set Screen timings = false\n  set Write VTU = every step\nend\n";
+    write_prm(name + ".prm", prm_text, directory, "every step");
     std::vector<std::string> arguments = {name + ".prm"};
     arguments.insert(arguments.end(), extra.begin(), extra.end());
     std::ostringstream err;
@@ -1322,11 +1330,7 @@ end
     std::filesystem::create_directories(directory);
     std::filesystem::create_symlink("nowhere.json",
                                     directory + "/summary.json");
-    std::ofstream("summary_dangling_link.prm")
-      << cantilever
-      << "\nsubsection Output\n  set Output directory = " << directory
-      << "\n  set Screen timings = false\n"
-      << "  set Write VTU = none\nend\n";
+    write_prm("summary_dangling_link.prm", cantilever, directory, "none");
     std::ostringstream out, err;
     const int          code = app::run({"summary_dangling_link.prm"}, out, err);
     std::cout << "* summary_dangling_link: exit code " << code
@@ -1535,10 +1539,7 @@ end
   // removed with the rerun's results).
   {
     std::filesystem::remove_all("out_rerun_fails");
-    std::ofstream("rerun_fails.prm")
-      << larger
-      << "\nsubsection Output\n  set Output directory = out_rerun_fails\n"
-         "  set Screen timings = false\n  set Write VTU = none\nend\n";
+    write_prm("rerun_fails.prm", larger, "out_rerun_fails", "none");
     std::ostringstream out, err;
     const int          first = app::run({"rerun_fails.prm"}, out, err);
     const std::string  used =
@@ -1561,10 +1562,7 @@ end
   // what is there), and keeps the one it was started from.
   {
     std::filesystem::remove_all("out_compare_fails");
-    std::ofstream("compare_fails.prm")
-      << larger
-      << "\nsubsection Output\n  set Output directory = out_compare_fails\n"
-         "  set Screen timings = false\n  set Write VTU = none\nend\n";
+    write_prm("compare_fails.prm", larger, "out_compare_fails", "none");
     std::ostringstream out, err;
     const int          simulation = app::run({"compare_fails.prm"}, out, err);
     std::vector<std::string> arguments = {"compare_fails.prm",
