@@ -33,9 +33,11 @@ namespace ddfem::coarsening
       "and lambda. With 1e-6 the springs are nearly free: without void "
       "the median held-out error falls from 7.3 % to 5.1 %, "
       "and a laminate's springs reach its stiffness along the "
-      "layers. 0 is refused where the samples do not determine "
-      "every spring (embedded samples add up the springs of points "
-      "that share a direction). The child fits and level 2 keep their "
+      "layers. A weight below 1e-6 (0 included) is refused where the "
+      "samples do not determine every spring (embedded samples add up "
+      "the springs of points that share a direction), as is such a "
+      "Regularization or Child regularization where they do not "
+      "determine mu and lambda. The child fits and level 2 keep their "
       "own weights. See doc/metamaterial_database.md, 'Free "
       "springs'.");
     prm.declare_entry("Child regularization",
@@ -268,8 +270,8 @@ namespace ddfem::coarsening
     /// change, for its messages.
     constexpr char undetermined_advice[] =
       " Give the regularization weights (Database/Fitting/Regularization, "
-      "Spring regularization and Child regularization) values above 0 "
-      "(1e-6 leaves the parameters nearly free), or more Database/"
+      "Spring regularization and Child regularization) values of at least "
+      "1e-6 (which leaves the parameters nearly free), or more Database/"
       "Sampling/Patterns, or sample mixed blocks with force patterns "
       "(Database/Sampling/Embedded fraction = 0).";
   } // namespace
@@ -463,14 +465,17 @@ namespace ddfem::coarsening
           A(a, a) += weight;
           b(a) += weight * (fine[t] - lower[q][t]) / scale[t];
         }
-    // With a weight of 0 the samples alone must determine the unknowns
-    // it leaves free. Fewer samples than unknowns cannot, and neither can
-    // embedded samples, which move the corners affinely: every point sees
-    // the same deformation, so only the sums of the points' moduli (or of
-    // springs along one direction) count. The solver would split them
-    // arbitrarily (stiff children soft) and report a fit without error.
+    // With a weight of 0, or one so small that round-off decides, the
+    // samples alone must determine the unknowns it leaves free. Fewer
+    // samples than unknowns cannot, and neither can embedded samples,
+    // which move the corners affinely: every point sees the same
+    // deformation, so only the sums of the points' moduli (or of springs
+    // along one direction) count. The solver would split them arbitrarily
+    // (stiff children soft) and report a fit without error.
+    constexpr double checked_below = 1e-6;
     AssertThrow(
-      (regularization > 0 && spring_weight > 0) || determines_unknowns(A),
+      std::min(regularization, spring_weight) >= checked_below ||
+        determines_unknowns(A),
       ExcFitRefused("A metamaterial fit with the regularization weights " +
                     Utilities::to_string(regularization) +
                     " (mu, lambda) and " + Utilities::to_string(spring_weight) +

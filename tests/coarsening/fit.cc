@@ -30,9 +30,10 @@
 //    homogeneous deformations;
 // 7. the bounded least-squares solver agrees with the enumeration of all
 //    active sets on random problems, also ill-conditioned ones;
-// 8. a fit without regularization is refused where its samples do not
-//    determine every unknown: too few, or affine corner motions, which
-//    fix only the sums of the points' moduli (determines_unknowns());
+// 8. a fit without regularization, or with a weight below 1e-6, is
+//    refused where its samples do not determine every unknown: too few,
+//    or affine corner motions, which fix only the sums of the points'
+//    moduli (determines_unknowns());
 // 9. transform() turns a metamaterial as the element's energy demands:
 //    its image under each of the 48 symmetries has, under the turned
 //    corner motions, the energy the metamaterial has.
@@ -300,6 +301,18 @@ main()
       {
         std::cout << affine.size()
                   << " affine samples, no regularization: " << message_of(e)
+                  << std::endl;
+      }
+    // A weight so small that round-off decides the split is no better.
+    settings.regularization = 1e-14;
+    try
+      {
+        fit_metamaterial(element, affine, prior, settings);
+        std::cout << "  with regularization 1e-14: NO ERROR" << std::endl;
+      }
+    catch (const ExceptionBase &e)
+      {
+        std::cout << "  with regularization 1e-14: " << message_of(e)
                   << std::endl;
       }
     settings.regularization = 0.01;

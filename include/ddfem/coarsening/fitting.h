@@ -107,8 +107,10 @@ namespace ddfem::coarsening
    * in p, so this is a bound-constrained linear least-squares problem,
    * solved exactly by an active-set method (nonnegative_least_squares()):
    * the bounds make non-physical parameters impossible. Residuals are
-   * relative so soft and stiff samples weigh alike; the scaling makes the
-   * regularization weigh a relative change of every parameter alike.
+   * relative so soft and stiff samples weigh alike; the scaling measures
+   * every change of a parameter relative to the block's largest fine value
+   * of its kind, so in a mixed block a soft point's parameters are pulled
+   * toward their fine values less than a stiff point's.
    *
    * With @p ties (symmetrize_directions()), the points of one class share
    * their unknowns and points without a spring have C = 0: the fit is then
@@ -122,7 +124,7 @@ namespace ddfem::coarsening
   public:
     /**
      * Assembles the problem (FitSettings::regularization is not used).
-     * Throws ExcMessage if no sample can be fitted: every one is rejected
+     * Throws ExcFitRefused if no sample can be fitted: every one is rejected
      * or held out.
      */
     MetamaterialFit(const CoarseElement       &element,
@@ -133,6 +135,9 @@ namespace ddfem::coarsening
 
     /// The fitted metamaterial for the weight @p regularization of mu and
     /// lambda and @p spring_regularization of C (the same if not given).
+    /// Where a weight is below 1e-6, the samples must determine every
+    /// unknown (determines_unknowns()); throws ExcFitRefused if they do
+    /// not, or if the parameters are not finite.
     Metamaterial
     parameters(const double                regularization,
                const std::optional<double> spring_regularization = {}) const;
@@ -181,8 +186,8 @@ namespace ddfem::coarsening
    * above the tolerance by round-off only, as in ill-conditioned fits) is
    * undone, and that variable is not freed again until a pass lowers the
    * objective; it used to be freed and bounded until the passes ran out.
-   * Throws ExcMessage if 3 n + 10 passes that lower the objective do not
-   * reach the optimum.
+   * Throws ExcFitRefused if 3 n + 10 passes that lower the objective do
+   * not reach the optimum.
    */
   Vector<double>
   nonnegative_least_squares(const FullMatrix<double> &H,
