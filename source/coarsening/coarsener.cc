@@ -127,7 +127,8 @@ namespace ddfem::coarsening
     for (unsigned int q = 0; q < point_voxel.size(); ++q)
       {
         const auto &o = point_voxel[q];
-        if (const auto id = grid(i + o[0], j + o[1], k + o[2]); id != 0)
+        if (const auto id = grid(i + o[0], j + o[1], k + o[2]);
+            id != scene::void_id)
           result.points[q] = palette[id].material_point();
       }
     // Palette materials have mu > 0, so the points with mu = 0 are void.

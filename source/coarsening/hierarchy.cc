@@ -115,6 +115,19 @@ namespace ddfem::coarsening
       low.insert(low.end(), high.begin(), high.end());
       return low;
     }
+
+    /// Whether a stage's pair of classes (@p a, @p b) of the previous
+    /// stage, @p n_previous of them (class n_previous: void), exists: not
+    /// both halves void, and a void half only in a palette with void.
+    bool
+    pair_exists(const std::uint64_t a,
+                const std::uint64_t b,
+                const std::uint64_t n_previous,
+                const bool          with_void)
+    {
+      return !(a == n_previous && b == n_previous) &&
+             (with_void || (a < n_previous && b < n_previous));
+    }
   } // namespace
 
 
@@ -242,10 +255,10 @@ namespace ddfem::coarsening
         for (unsigned int b = 0; b <= n_previous; ++b)
           for (unsigned int a = 0; a <= n_previous; ++a)
             {
-              // Void halves exist only if the palette has void.
-              if ((a == n_previous && b == n_previous) ||
-                  (!level1.combinations().with_void() &&
-                   (a == n_previous || b == n_previous)))
+              if (!pair_exists(a,
+                               b,
+                               n_previous,
+                               level1.combinations().with_void()))
                 continue;
               std::vector<std::int32_t> at =
                 expand(pairs, n_classes, int(s) - 1, a);
@@ -562,9 +575,10 @@ namespace ddfem::coarsening
         for (hsize_t i = 0; i < table[s].size(); ++i)
           {
             const hsize_t a = i % m, b = i / m;
-            const bool    exists = !(a == n_previous && b == n_previous) &&
-                                (level1.combinations().with_void() ||
-                                 (a < n_previous && b < n_previous));
+            const bool    exists = pair_exists(a,
+                                            b,
+                                            n_previous,
+                                            level1.combinations().with_void());
             check(table[s][i] >= 0 && (exists ? hsize_t(table[s][i]) < n :
                                                 hsize_t(table[s][i]) == n),
                   "has an invalid " + stage + " table (pair " +

@@ -143,7 +143,8 @@ namespace ddfem::coarsening
      * @p blocks required, or with none (Scope = all: every block takes its
      * nearest representative): the tables are built from the level-1
      * entries present at the time, so a database extended later (lazy
-     * mode) needs new tables.
+     * mode) needs new tables. Throws ExcMessage if a combination holds a
+     * material id level 1 does not cover (CombinationIndex::check_covered()).
      */
     bool
     covers(const Database                 &level1,
