@@ -90,10 +90,15 @@ namespace ddfem::coarsening
    * double, no line is kept by the point's symmetries (the corner points
    * of a homogeneous block, whose stretch-test springs span the plane
    * normal to the cube's diagonal, or all directions): the point gets no
-   * spring. A fit with these directions and ties gives a symmetric block
-   * an exactly symmetric metamaterial, the best one of its samples among
-   * the symmetric ones, so the lookup does not depend on which symmetry
-   * maps the orbit's entry.
+   * spring; its stored direction is then a unit vector of that eigenspace
+   * that the eigensolver's round-off picks. Level 2 starts each of its
+   * points from its child's direction and fits a spring there too: on a
+   * homogeneous 4x4x4 block, whose children have no springs, it came to
+   * C of about 1e-4 mu (doc/metamaterial_database.md, "Compression and
+   * the second level"). A fit with these directions and ties gives a
+   * symmetric block an exactly symmetric metamaterial, the best one of its
+   * samples among the symmetric ones, so the lookup does not depend on
+   * which symmetry maps the orbit's entry.
    */
   PointTies
   symmetrize_directions(Metamaterial         &m,
