@@ -40,7 +40,10 @@ namespace ddfem::dg
       "and double until the stiffness matrix is positive definite (checked "
       "by a sparse Cholesky factorization, see 'Definiteness check limit'). "
       "A number in (0, 2^30]: that eta; if the matrix is not positive definite "
-      "the run stops with an error. 'automatic' is for interior penalty "
+      "the run stops with an error. eta is not scaled with the polynomial "
+      "degree k: the smallest stable eta grows about like k^2, so a fixed "
+      "eta that holds for k = 1 may be too small for k = 2, where "
+      "'automatic' searches per degree. 'automatic' is for interior penalty "
       "only: with babuska-zlamal every eta > 0 is positive definite, so the "
       "rule would stop at eta = 1, a soft glue with a large O(1/eta) error; "
       "babuska-zlamal needs a fixed eta (the paper uses 10 to 100).");

@@ -23,6 +23,8 @@
 #include <iomanip>
 #include <limits>
 #include <sstream>
+#include <tuple>
+#include <utility>
 
 namespace ddfem::dg
 {
@@ -277,6 +279,36 @@ namespace ddfem::dg
                       CopyDataType                 &c) {
         worker(cell, f, ncell, nf, s.reinit(cell, f, sf, ncell, nf, nsf), c);
       };
+    }
+
+    /// The side (0: the cell, 1: its neighbor) and the index within that
+    /// side's cell of interface dof @p i: a DG dof lives on one side.
+    template <int dim>
+    std::pair<unsigned int, unsigned int>
+    interface_dof_side(const FEInterfaceValues<dim> &fiv, const unsigned int i)
+    {
+      const auto         pair = fiv.interface_dof_to_dof_indices(i);
+      const unsigned int side =
+        pair[0] == numbers::invalid_unsigned_int ? 1 : 0;
+      return {side, pair[side]};
+    }
+
+    /// The jump at face point @p q of the shape function @p local of
+    /// @p side (the first side's value minus the second's), as a vector
+    /// with one entry per field component (a scalar field uses entry 0).
+    template <int dim>
+    Tensor<1, dim>
+    shape_jump(const FiniteElement<dim>     &fe,
+               const FEInterfaceValues<dim> &fiv,
+               const unsigned int            side,
+               const unsigned int            local,
+               const unsigned int            q)
+    {
+      Tensor<1, dim> jump;
+      jump[fe.system_to_component_index(local).first] =
+        (side == 0 ? 1. : -1.) *
+        fiv.get_fe_face_values(side).shape_value(local, q);
+      return jump;
     }
   } // namespace
 
@@ -743,9 +775,7 @@ namespace ddfem::dg
         {std::vector<unsigned int>(n), std::vector<unsigned int>(n)}};
       for (unsigned int i = 0; i < n_if; ++i)
         {
-          const auto pair = fiv.interface_dof_to_dof_indices(i);
-          side[i]         = pair[0] == numbers::invalid_unsigned_int ? 1 : 0;
-          local[i]        = pair[side[i]];
+          std::tie(side[i], local[i])        = interface_dof_side(fiv, i);
           interface_index[side[i]][local[i]] = i;
         }
 
@@ -762,10 +792,7 @@ namespace ddfem::dg
           used.push_back(i);
       // The jump of interface dof i's shape function at point q.
       const auto jump_at = [&](const unsigned int i, const unsigned int q) {
-        return (side[i] == 0 ? 1. : -1.) *
-               value_of(fe.system_to_component_index(local[i]).first,
-                        fiv.get_fe_face_values(side[i]).shape_value(local[i],
-                                                                    q));
+        return shape_jump(fe, fiv, side[i], local[i], q);
       };
       if (!ip)
         {
@@ -1429,12 +1456,8 @@ namespace ddfem::dg
           Tensor<1, dim> jump;
           for (unsigned int i = 0; i < dofs.size(); ++i)
             {
-              const auto         pair = fiv.interface_dof_to_dof_indices(i);
-              const unsigned int side =
-                pair[0] == numbers::invalid_unsigned_int ? 1 : 0;
-              jump[fe.system_to_component_index(pair[side]).first] +=
-                (side == 0 ? 1. : -1.) * u[dofs[i]] *
-                fiv.get_fe_face_values(side).shape_value(pair[side], q);
+              const auto [side, local] = interface_dof_side(fiv, i);
+              jump += u[dofs[i]] * shape_jump(fe, fiv, side, local, q);
             }
           jump_square += jump.norm_square() * fiv.JxW(q);
         }

@@ -17,8 +17,9 @@ namespace ddfem::dg
    * "Discretization/Polynomial degree"). Every enum has an explicit value
    * per allowed prm string. parse_parameters() checks only the penalty;
    * the combinations are checked where they are used: 'automatic' with
-   * Babuska-Zlamal by check_penalty() (called by System::search_penalty()
-   * and the studies' parse_parameters()), strong Dirichlet conditions with
+   * Babuska-Zlamal by check_penalty() (called by System::search_penalty(),
+   * SceneSolver's constructor and the studies' parse_parameters()), strong
+   * Dirichlet conditions with
    * FE_DGP by SceneSolver's constructor.
    */
   struct Parameters

@@ -168,6 +168,8 @@ namespace ddfem::dg
      * warped with the rotations of the elements fitted to @p current
      * (paper section 7) and the load vector contains the warping offsets,
      * so that the solution of the system is the next fixed-point iterate.
+     * The exception is Babuska-Zlamal's interior-face penalty, which stays
+     * unwarped to keep its sparsity (doc/dg.md, "Formulation").
      */
     void
     assemble(const double          eta,
@@ -243,9 +245,12 @@ namespace ddfem::dg
      * (2/h on a uniform grid), where [.] is the jump and that of a
      * continuous @p exact vanishes; and 2 |F| / |K| on a boundary face,
      * where [.] is the trace, counted only with @p exact (every boundary
-     * face, Dirichlet or not). With mu = 1 and Dirichlet data on the whole
-     * boundary, the error in the energy norm of the interior penalty method
-     * is then (|u - exact|_H1^2 + eta J^2)^(1/2). A continuous element has no
+     * face, Dirichlet or not). For a scalar field with mu = 1 and Dirichlet
+     * data on the whole boundary, the error in the energy norm of the
+     * interior penalty method is then (|u - exact|_H1^2 + eta J^2)^(1/2);
+     * for elasticity the energy norm weighs the jumps with the material
+     * (2 mu |[u]|^2 + lambda ([u].n)^2), and J bounds it up to the
+     * material's factors. A continuous element has no
      * jumps: only its boundary traces count. @p exact has as many
      * components as the field.
      */
