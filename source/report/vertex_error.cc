@@ -207,6 +207,8 @@ namespace ddfem::report
            const Vector<double>         &u_fine,
            const solver::Discretization &coarse)
   {
+    // The field's nodal values are vertex values: a trilinear element.
+    Assert(coarse.fe.degree == 1, ExcNotImplemented());
     // Stop once the bound is within 0.2 % of the mean error, once the mean
     // is at round-off, or after 500 steps.
     const double       tolerance      = 2e-3;

@@ -31,7 +31,8 @@ namespace ddfem::solver
                      "the 64 points leave their voxels." :
                      ". Below " + format_number(low) +
                        " the element nears a mechanism (its bending energy "
-                       "scales with the offset squared).")));
+                       "scales with the offset squared); at 1 its points "
+                       "reach the cell's faces.")));
   }
 
 

@@ -72,7 +72,7 @@ namespace ddfem::app
       double wall_time = 0;
       /// Wall time per timer section (s).
       std::map<std::string, double> phases;
-      /// Smallest det F at any quadrature point.
+      /// Smallest det F at any quadrature point in the final state.
       double min_J = 1;
       /// Median, 99th percentile and largest over the cells of each cell's
       /// largest principal strain (StaticSolver::CellFields::strain), by
@@ -154,7 +154,8 @@ namespace ddfem::app
     unsigned int pending_cells      = 0;
   };
 
-  /// Peak resident memory of this process (MB), for the run summaries.
+  /// Peak resident memory of this process in MiB (2^20 bytes; the
+  /// summaries' key keeps the name peak_memory_mb).
   double
   peak_memory_mb();
 

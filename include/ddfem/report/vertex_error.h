@@ -97,7 +97,8 @@ namespace ddfem::report
    * bound. The steps stop once the bound is within 0.2 % of the field's
    * mean error, once that mean is at round-off (1e-14 of the largest
    * fine displacement), or after 500 steps.
-   * Both discretizations must have been built from @p grid.
+   * Both discretizations must have been built from @p grid, @p coarse
+   * with the trilinear element.
    */
   GridFit
   grid_fit(const scene::VoxelGrid       &grid,
