@@ -84,7 +84,7 @@ def main():
                  "(scripts/setup.sh makes one).")
     failed = []
     print("| scene | grid | DoFs | solver | load steps | Newton its | setups "
-          "| s / Newton it | total s | peak MB | reference s / it |")
+          "| s / Newton it | total s | peak MiB | reference s / it |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")
     for name in names:
         code, s = run(name)

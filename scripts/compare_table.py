@@ -232,7 +232,7 @@ def main(argv):
                     cells.append(text(bound, ".2e"))
             lookups = [r["coarsening_time_s"] for r in runs if r["method"] == "ddfem"]
             cells.append(f"{max(lookups) * 1e3:.2f} ms" if lookups else "-")
-            cells.append(f"{data['peak_memory_mb']:.0f} MB" if index == 0 else "")
+            cells.append(f"{data['peak_memory_mb']:.0f} MiB" if index == 0 else "")
             print("| " + " | ".join(cells) + " |")
 
             # The targets, per state. A model that did not converge misses

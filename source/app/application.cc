@@ -610,7 +610,7 @@ namespace ddfem::app
                   << " s, adding into K and F "
                   << summary["time_assembly_s"].get<double>()
                   << " s\n  peak memory "
-                  << summary["peak_memory_mb"].get<double>() << " MB"
+                  << summary["peak_memory_mb"].get<double>() << " MiB"
                   << std::endl;
           return 0;
         });
@@ -756,7 +756,7 @@ namespace ddfem::app
           summary["peak_memory_mb"]    = peak_memory;
           write_summary(summary);
           if (screen_timings)
-            pcout << "  peak memory " << peak_memory << " MB" << std::endl;
+            pcout << "  peak memory " << peak_memory << " MiB" << std::endl;
           return converged ? 0 : 1;
         });
       }

@@ -980,7 +980,7 @@ namespace ddfem::app
     tables_written = true;
     plot(rows, scene_name, directory, out);
     if (screen_timings)
-      out << "Peak memory " << peak_memory << " MB" << std::endl;
+      out << "Peak memory " << peak_memory << " MiB" << std::endl;
     return all_converged ? 0 : 1;
   }
 } // namespace ddfem::app
