@@ -473,16 +473,16 @@ namespace ddfem::coarsening
     // along one direction) count. The solver would split them arbitrarily
     // (stiff children soft) and report a fit without error.
     constexpr double checked_below = 1e-6;
-    AssertThrow(
-      std::min(regularization, spring_weight) >= checked_below ||
-        determines_unknowns(A),
-      ExcFitRefused("A metamaterial fit with the regularization weights " +
-                    Utilities::to_string(regularization) +
-                    " (mu, lambda) and " + Utilities::to_string(spring_weight) +
-                    " (springs) has " + std::to_string(n_fit) +
-                    " samples that fix only combinations of its " +
-                    std::to_string(unknowns.size()) +
-                    " unknowns, not each one." + undetermined_advice));
+    AssertThrow(std::min(regularization, spring_weight) >= checked_below ||
+                  determines_unknowns(A),
+                ExcFitRefused(
+                  "A metamaterial fit with the regularization weights " +
+                  Utilities::to_string(regularization) + " (mu, lambda) and " +
+                  Utilities::to_string(spring_weight) + " (springs) has " +
+                  std::to_string(n_fit) +
+                  " samples that fix only combinations of its " +
+                  std::to_string(unknowns.size()) + " unknowns, not each one." +
+                  undetermined_advice));
 
     const Vector<double> x = nonnegative_least_squares(A, b);
     AssertThrow(all_finite(x),

@@ -255,10 +255,8 @@ namespace ddfem::coarsening
         for (unsigned int b = 0; b <= n_previous; ++b)
           for (unsigned int a = 0; a <= n_previous; ++a)
             {
-              if (!pair_exists(a,
-                               b,
-                               n_previous,
-                               level1.combinations().with_void()))
+              if (!pair_exists(
+                    a, b, n_previous, level1.combinations().with_void()))
                 continue;
               std::vector<std::int32_t> at =
                 expand(pairs, n_classes, int(s) - 1, a);
@@ -575,10 +573,8 @@ namespace ddfem::coarsening
         for (hsize_t i = 0; i < table[s].size(); ++i)
           {
             const hsize_t a = i % m, b = i / m;
-            const bool    exists = pair_exists(a,
-                                            b,
-                                            n_previous,
-                                            level1.combinations().with_void());
+            const bool    exists =
+              pair_exists(a, b, n_previous, level1.combinations().with_void());
             check(table[s][i] >= 0 && (exists ? hsize_t(table[s][i]) < n :
                                                 hsize_t(table[s][i]) == n),
                   "has an invalid " + stage + " table (pair " +
