@@ -503,6 +503,21 @@ namespace ddfem::scene
               skin_high[d] =
                 skin_high[d] || face == "all" || face == axis + "+";
             }
+        // Each fiber's center line in the cross-section, per voxel layer
+        // along the axis: fiber_centers[layer * fiber_count + f].
+        std::vector<Point<2>> fiber_centers;
+        if (type == "fibers")
+          for (unsigned int layer = 0; layer < n[fiber_axis]; ++layer)
+            for (unsigned int f = 0; f < fiber_count; ++f)
+              {
+                // The voxel centers' coordinate along the axis, computed as
+                // VoxelGrid::center() does.
+                const double along = (layer + 0.5) * grid.voxel_size();
+                const double angle = 2 * numbers::PI * f / fiber_count +
+                                     2 * numbers::PI * along / fiber_pitch;
+                fiber_centers.emplace_back(helix_radius * std::cos(angle),
+                                           helix_radius * std::sin(angle));
+              }
         for (unsigned int k = 0; k < n[2]; ++k)
           for (unsigned int j = 0; j < n[1]; ++j)
             for (unsigned int i = 0; i < n[0]; ++i)
@@ -535,13 +550,14 @@ namespace ddfem::scene
                                        a2 = (fiber_axis + 2) % 3;
                     const double x        = c[a1] - 0.5 * extent[a1];
                     const double y        = c[a2] - 0.5 * extent[a2];
+                    const unsigned int layer =
+                      std::array<unsigned int, 3>{{i, j, k}}[fiber_axis];
                     for (unsigned int f = 0; f < fiber_count; ++f)
                       {
-                        const double angle =
-                          2 * numbers::PI * f / fiber_count +
-                          2 * numbers::PI * c[fiber_axis] / fiber_pitch;
-                        const double dx = x - helix_radius * std::cos(angle);
-                        const double dy = y - helix_radius * std::sin(angle);
+                        const Point<2> &center =
+                          fiber_centers[layer * fiber_count + f];
+                        const double dx = x - center[0];
+                        const double dy = y - center[1];
                         if (dx * dx + dy * dy <= fiber_radius * fiber_radius)
                           id = fiber_material;
                       }

@@ -9,7 +9,6 @@
 #include <array>
 #include <cmath>
 #include <limits>
-#include <map>
 
 namespace ddfem::scene
 {
@@ -136,14 +135,56 @@ namespace ddfem::scene
     AssertThrow(grid.n_solid_voxels() > 0, no_solid_voxel(grid));
     for (const Point<3> &p : probes)
       check_probe(grid, p);
-    // Every edit is checked now, before anything is solved or written.
-    // Edits keep the solid's voxels, so the probes stay in the solid.
-    if (n_edits() > 0)
+    // Every edit is checked and its changes recorded now, before anything
+    // is solved or written. Edits keep the solid's voxels, so the probes
+    // stay in the solid.
+    edit_changes.clear();
+    n_applied = 0;
+    VoxelGrid edited = grid;
+    for (unsigned int e = 0; e < layout.n_edits(); ++e)
       {
-        VoxelGrid edited = grid;
-        for (unsigned int e = 0; e < n_edits(); ++e)
-          layout.apply_edit(e, edited);
+        edit_changes.emplace_back();
+        for (const std::size_t v : layout.apply_edit(e, edited))
+          edit_changes.back().emplace_back(v, edited[v]);
       }
+  }
+
+
+
+  std::vector<std::size_t>
+  Scene::apply_edit(const unsigned int e)
+  {
+    AssertIndexRange(e, n_edits());
+    Assert(e == n_applied,
+           ExcMessage("Edits are applied in turn: the next one is edit " +
+                      std::to_string(n_applied + 1) + "."));
+    std::vector<std::size_t> changed;
+    changed.reserve(edit_changes[e].size());
+    for (const auto &[v, id] : edit_changes[e])
+      {
+        grid[v] = id;
+        changed.push_back(v);
+      }
+    ++n_applied;
+    return changed;
+  }
+
+
+
+  std::vector<VoxelGrid>
+  Scene::states() const
+  {
+    Assert(n_applied == 0,
+           ExcMessage("The states start from the grid as laid out, before "
+                      "any edit is applied."));
+    std::vector<VoxelGrid> result = {grid};
+    for (const auto &changes : edit_changes)
+      {
+        result.push_back(result.back());
+        for (const auto &[v, id] : changes)
+          result.back()[v] = id;
+      }
+    return result;
   }
 
 
@@ -198,19 +239,20 @@ namespace ddfem::scene
   {
     const unsigned int width = 1u << level;
     const auto         o     = block_origin(grid, block, level);
-    std::map<types::material_id, unsigned int> count;
+    // Voxels per id.
+    std::array<unsigned int, std::numeric_limits<MaterialId>::max() + 1>
+      count{};
     for (unsigned int k = 0; k < width; ++k)
       for (unsigned int j = 0; j < width; ++j)
         for (unsigned int i = 0; i < width; ++i)
-          if (const auto id = grid(o[0] + i, o[1] + j, o[2] + k); id != void_id)
-            ++count[id];
+          ++count[grid(o[0] + i, o[1] + j, o[2] + k)];
     types::material_id dominant = void_id;
     unsigned int       most     = 0;
-    for (const auto &[id, n] : count) // ascending ids: ties keep the smaller
-      if (n > most)
+    for (unsigned int id = void_id + 1; id < count.size(); ++id)
+      if (count[id] > most) // ascending ids: ties keep the smaller
         {
           dominant = id;
-          most     = n;
+          most     = count[id];
         }
     return dominant;
   }

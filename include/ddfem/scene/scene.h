@@ -39,34 +39,24 @@ namespace ddfem::scene
     unsigned int
     n_edits() const
     {
-      return layout.n_edits();
+      return edit_changes.size();
     }
 
     /**
      * Applies material edit @p e (from 0) to the grid; returns the linear
-     * indices of the changed voxels (see Layout::apply_edit()).
+     * indices of the changed voxels (see Layout::apply_edit()). Edits are
+     * applied in turn: @p e must be the number applied so far.
      */
     std::vector<std::size_t>
-    apply_edit(const unsigned int e)
-    {
-      return layout.apply_edit(e, grid);
-    }
+    apply_edit(const unsigned int e);
 
     /**
      * The grids of every state of the scene: as laid out, then after each
-     * material edit in turn (the grid itself is not changed).
+     * material edit in turn (the grid itself is not changed). Call it
+     * before apply_edit().
      */
     std::vector<VoxelGrid>
-    states() const
-    {
-      std::vector<VoxelGrid> result = {grid};
-      for (unsigned int e = 0; e < n_edits(); ++e)
-        {
-          result.push_back(result.back());
-          layout.apply_edit(e, result.back());
-        }
-      return result;
-    }
+    states() const;
 
     /// The voxel grid with one material id per voxel.
     VoxelGrid grid;
@@ -79,6 +69,11 @@ namespace ddfem::scene
 
   private:
     Layout layout;
+    /// Per material edit, found once when the scene is read: the voxels
+    /// it changes and their new material ids.
+    std::vector<std::vector<std::pair<std::size_t, MaterialId>>> edit_changes;
+    /// How many edits apply_edit() has applied to the grid.
+    unsigned int n_applied = 0;
   };
 
   /// How far, in voxel sizes, a probe point may lie off the solid's
