@@ -32,24 +32,44 @@ namespace ddfem::scene
                     const std::string &where)
     {
       const std::string start = where + " = \"" + text + "\": ";
-      int               depth = 0;
+      // Per open parenthesis: whether it holds the arguments of min(),
+      // max(), sum() or avg(), which take any number of them.
+      std::vector<bool> variadic;
       for (std::size_t i = 0; i < expression.size(); ++i)
         {
           const char c = expression[i];
-          depth += (c == '(') - (c == ')');
-          AssertThrow(c != ',' || depth > 0,
+          if (c == '(')
+            {
+              std::size_t name_end = i;
+              while (name_end > 0 && expression[name_end - 1] == ' ')
+                --name_end;
+              std::size_t name_start = name_end;
+              while (name_start > 0 &&
+                     (std::isalnum(static_cast<unsigned char>(
+                        expression[name_start - 1])) ||
+                      expression[name_start - 1] == '_'))
+                --name_start;
+              const std::string name =
+                expression.substr(name_start, name_end - name_start);
+              variadic.push_back(name == "min" || name == "max" ||
+                                 name == "sum" || name == "avg");
+            }
+          else if (c == ')' && !variadic.empty())
+            variadic.pop_back();
+          AssertThrow(c != ',' || !variadic.empty(),
                       ExcMessage(start + "a ',' outside parentheses in \"" +
                                  expression +
                                  "\" (write decimals with '.'; components "
                                  "are separated by ';')."));
-          // Inside parentheses, "1,5" is a decimal comma too: min(), max(),
-          // sum() and avg() take any number of arguments, so min(2, 1,5)
-          // would silently be min(2, 1, 5).
+          // In the arguments of min(), max(), sum() and avg(), "1,5" is a
+          // decimal comma too: min(2, 1,5) would silently be min(2, 1, 5).
+          // Elsewhere muparser refuses the extra argument itself.
           const auto digit = [&](const std::size_t at) {
             return std::isdigit(static_cast<unsigned char>(expression[at]));
           };
-          AssertThrow(c != ',' || i == 0 || i + 1 == expression.size() ||
-                        !digit(i - 1) || !digit(i + 1),
+          AssertThrow(c != ',' || !variadic.back() || i == 0 ||
+                        i + 1 == expression.size() || !digit(i - 1) ||
+                        !digit(i + 1),
                       ExcMessage(start + "a ',' between two digits in \"" +
                                  expression +
                                  "\" (write decimals with '.'; separate the "

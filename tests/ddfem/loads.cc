@@ -177,6 +177,14 @@ main(int argc, char **argv)
               "subsection Loads\n  set Body force = 0; 0; x\nend\n",
               Tensor<1, 3>({0., 0., 126.}),
               Tensor<1, 3>({252., -340., 0.}));
+  // deal.II's if(condition, a, b) with no space after its commas (only
+  // min(), max(), sum() and avg() are checked for decimal commas): (0, 0,
+  // -1) N/m^3 for x > 1, on the 48 voxels of x from 1 to 4, y and z from 0
+  // to 4 (the notch lies at x < 1), with int x dV = 120, int y dV = 96.
+  check_loads("Body force if(x<1,0,-1) in z",
+              "subsection Loads\n  set Body force = 0; 0; if(x<1,0,-1)\nend\n",
+              Tensor<1, 3>({0., 0., -48.}),
+              Tensor<1, 3>({-96., 120., 0.}));
   // The top face z = 4 has 12 solid voxel faces of 1 m^2, centroid
   // (2.5, 2, 4).
   check_loads("Traction (0, 0, -1) Pa on z+",
