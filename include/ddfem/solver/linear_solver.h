@@ -100,7 +100,9 @@ namespace ddfem::solver
      * term of an inexact Newton method; 'Cholesky tolerance' replaces
      * 'Tolerance' for cg-cholesky, and the direct solver ignores it).
      * Returns the number of iterations (1 for the direct solver). Throws
-     * Failure if the solver does not succeed.
+     * Failure if the solver does not succeed, std::bad_alloc if a
+     * factorization runs out of memory, and std::runtime_error if CHOLMOD
+     * fails otherwise (e.g. a factor too large for its 32-bit indices).
      *
      * @p configuration, if given, is the displacement u (of the DoFHandler
      * of initialize()) at which @p K is the tangent. A multigrid hierarchy

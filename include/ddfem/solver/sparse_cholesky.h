@@ -49,7 +49,7 @@ namespace ddfem::solver
     drop_factor();
 
     /// The number of values (8 bytes each) the factor holds now: 0 after
-    /// clear(), drop_factor() or a factorize() that failed.
+    /// clear(), drop_factor() or a factorize() that returned false.
     std::size_t
     values_held() const;
 
