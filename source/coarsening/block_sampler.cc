@@ -218,6 +218,17 @@ namespace ddfem::coarsening
 
 
 
+  unsigned int
+  SamplingSettings::n_embedded() const
+  {
+    unsigned int n = 0;
+    for (unsigned int p = 0; p < n_directions; ++p)
+      n += is_embedded(p);
+    return n;
+  }
+
+
+
   BlockSampler::BlockSampler(
     const std::array<std::vector<material::MaterialPoint>, 8> &children,
     const double                     child_point_offset,
@@ -769,8 +780,9 @@ namespace ddfem::coarsening
           return false;
         // Converged when the unbalanced forces are negligible against the
         // forces on the prescribed nodes.
+        // No forces at all (the base state itself) is balanced.
         const double residual = g.l2_norm() / force_norm;
-        if (!(residual > 1e-9))
+        if (force_norm == 0 || residual <= 1e-9)
           return true;
 
         // Newton's direction; where the Hessian is indefinite (the soft
@@ -1118,8 +1130,9 @@ namespace ddfem::coarsening
   BlockSampler::anisotropy_directions(const SamplingSettings &settings,
                                       const CoarseElement    &element) const
   {
-    // As in sample(): a block with void is never embedded.
-    return settings.embedded > 0 && !has_void ?
+    // As in sample(): a block with void is never embedded, nor one whose
+    // fraction of embedded patterns rounds down to none.
+    return settings.n_embedded() > 0 && !has_void ?
              embedded_stretch_directions(settings, element) :
              free_stretch_directions(settings, element);
   }

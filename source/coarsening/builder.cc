@@ -180,10 +180,8 @@ namespace ddfem::coarsening
     // The held-out split takes every n-th pattern of each kind (a mixed
     // block's embedded and force patterns are numbered apart), so each kind
     // a block may have needs n patterns at least.
-    unsigned int n_embedded = 0;
-    for (unsigned int p = 0; p < sampling.n_directions; ++p)
-      n_embedded += sampling.is_embedded(p);
-    unsigned int fewest = sampling.n_directions;
+    const unsigned int n_embedded = sampling.n_embedded();
+    unsigned int       fewest = sampling.n_directions;
     for (const unsigned int n_of_kind :
          {n_embedded, sampling.n_directions - n_embedded})
       if (n_of_kind > 0)

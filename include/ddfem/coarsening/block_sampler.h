@@ -78,6 +78,11 @@ namespace ddfem::coarsening
     /// fraction 'embedded' of them, spread evenly.
     bool
     is_embedded(const unsigned int p) const;
+
+    /// The number of embedded patterns of the n_directions: 0 if
+    /// 'embedded' is too small for a whole one.
+    unsigned int
+    n_embedded() const;
   };
 
   /**
@@ -91,7 +96,8 @@ namespace ddfem::coarsening
     CornerDisplacements corners;
     /// Fine strain energy (per unit volume of the block).
     double energy = 0;
-    /// Largest principal stretch deviation max |lambda_i - 1| in the block.
+    /// Largest principal stretch deviation max |lambda_i - 1| over the
+    /// quadrature points of the block's solid voxels.
     double strain = 0;
     /// The index of the pattern the sample came from among the patterns of
     /// its kind, force or embedded (for held-out splits).
@@ -217,8 +223,8 @@ namespace ddfem::coarsening
      * per point of @p element the block's stiffest direction there. The
      * stretch follows the block's sampling (@p settings, as
      * SamplingSettings::for_block() gives them):
-     * - force patterns (SamplingSettings::embedded = 0, or a block with
-     *   void, which sample() never embeds either): the free block
+     * - force patterns (SamplingSettings::n_embedded() = 0, or a block
+     *   with void, which sample() never embeds either): the free block
      *   under uniaxial surface stress along d, the same stress for every d
      *   (solved linearly and scaled once, so that the largest strain of any
      *   direction is 0.01). The stretch l = |F d| of the coarse element's F
