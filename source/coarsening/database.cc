@@ -565,6 +565,8 @@ namespace ddfem::coarsening
       }
     catch (const ExceptionBase &e)
       {
+        // Closed before it is removed (HDF5 would write to it still).
+        h5.close_now();
         std::filesystem::remove(temporary, ignored);
         AssertThrow(false,
                     ExcMessage("Cannot write the database file " + temporary +
@@ -573,9 +575,15 @@ namespace ddfem::coarsening
       }
     catch (...) // out of memory, say: no partial file either
       {
+        h5.close_now();
         std::filesystem::remove(temporary, ignored);
         throw;
       }
+    // The new file keeps the old one's permissions (a database shared by a
+    // group stays writable for it).
+    if (const auto old = std::filesystem::status(file, ignored);
+        std::filesystem::exists(old))
+      std::filesystem::permissions(temporary, old.permissions(), ignored);
     std::error_code error;
     std::filesystem::rename(temporary, file, error);
     if (error)
@@ -701,9 +709,18 @@ namespace ddfem::coarsening
           read_dataset<std::int32_t>(h5, "lookup/entry", {n_keys});
         db.symmetry_of =
           read_dataset<std::uint8_t>(h5, "lookup/symmetry", {n_keys});
-        // read_entries() checked that the keys increase.
+        // read_entries() checked that the keys increase. An entry is fitted
+        // for its orbit's representative, and the all-void block has none.
         for (const Entry &e : db.fitted)
-          check(e.key < n_keys, "has an entry key beyond the palette");
+          {
+            check(e.key < n_keys, "has an entry key beyond the palette");
+            const Combination c = db.index.combination(e.key);
+            check(!all_void(c) && db.group.canonical(c).first == c,
+                  "has an entry at key " + std::to_string(e.key) +
+                    ", which is " +
+                    (all_void(c) ? "the all-void block" :
+                                   "not its orbit's representative"));
+          }
         const std::int64_t n = db.fitted.size();
         // Positions in the file, entry keys in memory.
         std::vector<bool> used(n, false);
@@ -712,6 +729,13 @@ namespace ddfem::coarsening
             std::int32_t &e = db.entry_key_of[k];
             check(e >= -1 && e < n && db.symmetry_of[k] < CubeSymmetries::size,
                   "has an invalid lookup table at combination " +
+                    std::to_string(k));
+            // A compressed database was complete (Database/Scope = all)
+            // and takes no new entries: every block but the all-void one
+            // is looked up.
+            check(db.representatives == 0 || e >= 0 ||
+                    all_void(db.index.combination(k)),
+                  "is compressed but has no entry for combination " +
                     std::to_string(k));
             if (e >= 0)
               {

@@ -157,6 +157,7 @@ namespace ddfem::coarsening::hdf5
     const Handle space(H5Screate_simple(dims.size(), dims.data(), nullptr),
                        H5Sclose);
     const Handle lcpl(H5Pcreate(H5P_LINK_CREATE), H5Pclose);
+    // Should this fail, H5Dcreate2() does below for a name in a group.
     H5Pset_create_intermediate_group(lcpl, 1);
     std::size_t n_elements = 1;
     for (const hsize_t d : dims)
@@ -165,7 +166,8 @@ namespace ddfem::coarsening::hdf5
            ExcDimensionMismatch(n_elements, data.size()));
     const Handle dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
     // No modification times: a file's bytes depend on its contents only.
-    H5Pset_obj_track_times(dcpl, false);
+    AssertThrow(H5Pset_obj_track_times(dcpl, false) >= 0,
+                ExcMessage("Could not write the dataset '" + name + "'."));
     if (!dims.empty() && n_elements > 0)
       {
         std::vector<hsize_t> chunk = dims;
@@ -234,8 +236,10 @@ namespace ddfem::coarsening::hdf5
     // (h5repack -f GZIP): deflate stores at least one byte per 1032.
     const Handle type(H5Dget_type(set), H5Tclose);
     const Handle creation(H5Dget_create_plist(set), H5Pclose);
-    const int    n_filters = creation.valid() ? H5Pget_nfilters(creation) : 0;
-    bool         filtered  = false;
+    const int    n_filters = creation.valid() ? H5Pget_nfilters(creation) : -1;
+    check(type.valid() && n_filters >= 0,
+          "has the dataset '" + name + "' with unreadable properties");
+    bool filtered = false;
     for (int f = 0; f < n_filters; ++f)
       {
         unsigned int flags    = 0;
@@ -246,7 +250,7 @@ namespace ddfem::coarsening::hdf5
             creation, f, &flags, &n_values, nullptr, 0, nullptr, nullptr) !=
             H5Z_FILTER_FLETCHER32;
       }
-    const std::size_t size   = type.valid() ? H5Tget_size(type) : 0;
+    const std::size_t size   = H5Tget_size(type);
     const hsize_t     bytes  = H5Dget_storage_size(set);
     const hsize_t     most   = std::numeric_limits<hsize_t>::max();
     hsize_t           stored = size > 0 ? bytes / size : 0;
@@ -265,7 +269,7 @@ namespace ddfem::coarsening::hdf5
     // HDF5 reads a dataset chunk by chunk and trusts the chunks' shape: one
     // larger than the dataset's largest extent (a damaged byte in its
     // header; ddfem's and h5repack's are not) made it copy past its buffer.
-    if (creation.valid() && H5Pget_layout(creation) == H5D_CHUNKED)
+    if (H5Pget_layout(creation) == H5D_CHUNKED)
       {
         std::vector<hsize_t> chunk(H5S_MAX_RANK);
         bool ok = H5Pget_chunk(creation, H5S_MAX_RANK, chunk.data()) == rank;
@@ -361,7 +365,8 @@ namespace ddfem::coarsening::hdf5
                   const std::string &value)
   {
     const Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
-    H5Tset_size(type, std::max<std::size_t>(1, value.size()));
+    AssertThrow(H5Tset_size(type, std::max<std::size_t>(1, value.size())) >= 0,
+                ExcMessage("Could not write the attribute '" + name + "'."));
     const Handle space(H5Screate(H5S_SCALAR), H5Sclose);
     const Handle attribute(
       H5Acreate2(file, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT),
@@ -389,10 +394,13 @@ namespace ddfem::coarsening::hdf5
             H5Tget_class(type) == H5T_STRING && H5Tis_variable_str(type) == 0 &&
             H5Sget_simple_extent_npoints(space) == 1,
           "has an attribute '" + name + "' that is not a single string");
-    std::string  value(H5Tget_size(type), '\0');
+    // One byte more than stored, for the terminator: a string that fills
+    // its size (as ddfem writes them, or padded by another tool) is read
+    // whole.
+    std::string  value(H5Tget_size(type) + 1, '\0');
     const Handle memory(H5Tcopy(H5T_C_S1), H5Tclose);
-    H5Tset_size(memory, value.size());
-    check(H5Aread(attribute, memory, value.data()) >= 0,
+    check(H5Tset_size(memory, value.size()) >= 0 &&
+            H5Aread(attribute, memory, value.data()) >= 0,
           "cannot read the attribute " + name);
     value.erase(std::min(value.size(), value.find('\0')));
     check(std::all_of(value.begin(),

@@ -907,6 +907,20 @@ main()
     std::cout << "compressed round trip: "
               << same_entries(compressed, Database::load("compressed.h5"))
               << std::endl;
+    {
+      // A save replaces the file by a new one, which keeps the permissions
+      // of the old (a database shared by a group stays writable for it).
+      namespace fs = std::filesystem;
+      const fs::perms shared = fs::perms::owner_read | fs::perms::owner_write |
+                               fs::perms::group_read | fs::perms::group_write;
+      fs::permissions("compressed.h5", shared);
+      compressed.save("compressed.h5");
+      std::cout << "saved over a file of mode 660: mode " << std::oct
+                << static_cast<unsigned int>(fs::status("compressed.h5")
+                                               .permissions() &
+                                             fs::perms::mask)
+                << std::dec << std::endl;
+    }
     // A build asking for another compression of a compressed file.
     std::cout << "the same compression builds: "
               << build(builder("compressed.h5", false, "all", 1, 5), palette())
@@ -971,6 +985,22 @@ main()
                          ", " + std::to_string(k),
                        [] { Database::load("compressed_wrong_symmetry.h5"); });
         }
+      // A combination of a compressed file left without its entry, one
+      // that is not a representative (whose entry others still use): a
+      // compressed file was complete and takes no new entries.
+      std::size_t hole = 0;
+      while (position[hole] < 0 || representatives.count(hole) > 0)
+        ++hole;
+      edit_dataset<std::int32_t>("compressed.h5",
+                                 "compressed_hole.h5",
+                                 "lookup/entry",
+                                 [&](std::vector<std::int32_t> &values,
+                                     std::vector<hsize_t> &) {
+                                   values[hole] = -1;
+                                 });
+      expect_error("compressed table without an entry at " +
+                     std::to_string(hole),
+                   [] { Database::load("compressed_hole.h5"); });
     }
     // More representatives asked for than combinations have distinct
     // features: all are kept, and the file builds again with the setting.
@@ -1755,6 +1785,40 @@ main()
                                  });
       expect_error("table that leaves out a member of a fitted orbit",
                    [] { Database::load("orbit_member_left_out.h5"); });
+    }
+    {
+      // An entry stored under a member of its orbit other than the
+      // representative it was fitted for: the first entry with such a
+      // member between its neighbours' keys, so that the keys still
+      // increase.
+      const Database small   = Database::load("small.h5");
+      const auto    &entries = small.entries();
+      std::size_t    moved = entries.size(), member = 0;
+      for (std::size_t e = 0; e < entries.size() && moved == entries.size();
+           ++e)
+        for (unsigned int g = 0; g < CubeSymmetries::size; ++g)
+          {
+            const std::size_t k = small.combinations().key(
+              small.symmetries().apply(
+                g, small.combinations().combination(entries[e].key)));
+            if (k > entries[e].key &&
+                (e + 1 == entries.size() || k < entries[e + 1].key))
+              {
+                moved  = e;
+                member = k;
+                break;
+              }
+          }
+      edit_dataset<std::int64_t>("small.h5",
+                                 "entry_off_representative.h5",
+                                 "entries/key",
+                                 [&](std::vector<std::int64_t> &values,
+                                     std::vector<hsize_t> &) {
+                                   values[moved] = member;
+                                 });
+      expect_error("entry " + std::to_string(moved) +
+                     " stored under another member of its orbit",
+                   [] { Database::load("entry_off_representative.h5"); });
     }
     edit_dataset<double>("small.h5",
                          "negative_mu.h5",
