@@ -44,10 +44,9 @@ namespace ddfem::scene
               while (name_end > 0 && expression[name_end - 1] == ' ')
                 --name_end;
               std::size_t name_start = name_end;
-              while (name_start > 0 &&
-                     (std::isalnum(static_cast<unsigned char>(
-                        expression[name_start - 1])) ||
-                      expression[name_start - 1] == '_'))
+              while (name_start > 0 && (std::isalnum(static_cast<unsigned char>(
+                                          expression[name_start - 1])) ||
+                                        expression[name_start - 1] == '_'))
                 --name_start;
               const std::string name =
                 expression.substr(name_start, name_end - name_start);
@@ -625,17 +624,14 @@ namespace ddfem::scene
                         }) :
             holds_one_of(nodes);
         AssertThrow(reached || is_load || !holds_one_of(vertices),
-                    ExcMessage(condition.where + " (" + condition.type +
-                               " on \"" + condition.region->name +
-                               "\") holds vertices of the solid but no "
+                    ExcMessage(condition.describe() +
+                               " holds vertices of the solid but no "
                                "quadrature point of a face. With "
                                "DG/Dirichlet = weak, conditions act at the "
                                "quadrature points of faces: use regions that "
                                "cover faces, or DG/Dirichlet = strong."));
         AssertThrow(reached,
-                    ExcMessage(condition.where + " (" + condition.type +
-                               " on \"" + condition.region->name +
-                               "\") acts on no " +
+                    ExcMessage(condition.describe() + " acts on no " +
                                (is_load ? "boundary face" : "node") +
                                " of the solid: its region misses the solid."));
       }
@@ -693,9 +689,8 @@ namespace ddfem::scene
           };
           AssertThrow(acts() || !nonzero,
                       ExcMessage(
-                        condition.where + " (" + condition.type + " on \"" +
-                        condition.region->name +
-                        "\") loads only components that Dirichlet conditions "
+                        condition.describe() +
+                        " loads only components that Dirichlet conditions "
                         "prescribe at every " +
                         (weak ? "quadrature point of its faces where it is not "
                                 "zero (they act weakly there)" :
@@ -723,9 +718,8 @@ namespace ddfem::scene
                         return condition->region->contains(p) &&
                                (keeps(p, 0) || keeps(p, 1) || keeps(p, 2));
                       }),
-          ExcMessage(condition->where + " (" + condition->type + " on \"" +
-                     condition->region->name +
-                     "\") prescribes nothing: at every node of its region, "
+          ExcMessage(condition->describe() +
+                     " prescribes nothing: at every node of its region, "
                      "a higher-numbered condition prescribes every component "
                      "it holds, and a component takes the value of the "
                      "highest-numbered condition. Remove it, or give it the "
@@ -789,8 +783,7 @@ namespace ddfem::scene
             AssertThrow(
               first > last || (first % width == 0 && last % width == 0),
               ExcMessage(
-                condition.where + " (" + condition.type + " on \"" +
-                region.name + "\"): along " + axis +
+                condition.describe() + ": along " + axis +
                 " the region holds the voxel grid's nodes from " +
                 format_number(first * h) + " m to " + format_number(last * h) +
                 " m, but the coarse model, with blocks of " +
@@ -853,8 +846,7 @@ namespace ddfem::scene
               AssertThrow(
                 false,
                 ExcMessage(
-                  condition.where + " (" + condition.type + " on \"" +
-                  region.name + "\"): its " + axis + " bound " +
+                  condition.describe() + ": its " + axis + " bound " +
                   format_number(bound) + " m reaches into the voxels from " +
                   format_number(layer * h) + " to " +
                   format_number((layer + 1) * h) + " m along " + axis +

@@ -272,6 +272,14 @@ namespace ddfem::scene
       /// @p component at @p p.
       bool
       prescribes(const Point<3> &p, const unsigned int component) const;
+
+      /// The condition for messages: its subsection, type and region, as
+      /// in 'Boundary conditions/Condition 2 (fixed on "z-")'.
+      std::string
+      describe() const
+      {
+        return where + " (" + type + " on \"" + region->name + "\")";
+      }
     };
 
     /// The highest-numbered Dirichlet condition that prescribes component
