@@ -435,16 +435,24 @@ namespace ddfem::solver
                         "voxels at the joint so parts share faces.");
     };
 
+    // The rows of face-connected part p and, in every direction, those of
+    // its shared vertices that @p pinned selects.
+    const auto rows_pinned = [&](const std::size_t p, const auto &pinned) {
+      std::vector<ConstrainedRow> rows = face_rows[p];
+      for (const unsigned int v : shared_vertices[p])
+        if (pinned(v))
+          for (unsigned int d = 0; d < 3; ++d)
+            rows.emplace_back(vertices[v], d);
+      return rows;
+    };
+
     // A face-connected part that hangs on its neighbors only by nodes on
     // one edge or corner is a mechanism, even with its shared nodes
     // pinned.
     for (const auto &[p, part] : face_parts)
       {
-        std::vector<ConstrainedRow> rows = face_rows[p];
-        for (const unsigned int v : shared_vertices[p])
-          for (unsigned int d = 0; d < 3; ++d)
-            rows.emplace_back(vertices[v], d);
-        const unsigned int fixed = fixed_rigid_modes(rows);
+        const unsigned int fixed =
+          fixed_rigid_modes(rows_pinned(p, [](unsigned int) { return true; }));
         AssertThrow(fixed == 6,
                     mechanism(part.cells,
                               part.first_center,
@@ -467,26 +475,26 @@ namespace ddfem::solver
                            return held.count(q) > 0;
                          });
     };
+    // The parts to examine, each queued once: it is examined with the
+    // parts held by then.
     std::deque<std::size_t> to_examine;
+    std::set<std::size_t>   queued;
     for (const auto &[p, part] : face_parts)
-      to_examine.push_back(p);
+      {
+        to_examine.push_back(p);
+        queued.insert(p);
+      }
     while (!to_examine.empty())
       {
         const std::size_t p = to_examine.front();
         to_examine.pop_front();
-        if (held.count(p) > 0)
-          continue;
-        std::vector<ConstrainedRow> rows = face_rows[p];
-        for (const unsigned int v : shared_vertices[p])
-          if (at_held(v))
-            for (unsigned int d = 0; d < 3; ++d)
-              rows.emplace_back(vertices[v], d);
-        if (fixed_rigid_modes(rows) < 6)
+        queued.erase(p);
+        if (held.count(p) > 0 || fixed_rigid_modes(rows_pinned(p, at_held)) < 6)
           continue;
         held.insert(p);
         for (const unsigned int v : shared_vertices[p])
           for (const std::size_t q : parts_at_vertex[v])
-            if (held.count(q) == 0)
+            if (held.count(q) == 0 && queued.insert(q).second)
               to_examine.push_back(q);
       }
     if (held.size() == face_parts.size())
