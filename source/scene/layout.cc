@@ -440,7 +440,7 @@ namespace ddfem::scene
     };
 
     if (type == "voxel file")
-      read_voxel_file(voxel_file, n_materials + 1, grid);
+      read_voxel_file(voxel_file, n_materials + 1 /* with void */, grid);
     else if (type == "surface mesh")
       {
         TriangleMesh mesh = read_surface_mesh(surface_file);
@@ -548,8 +548,8 @@ namespace ddfem::scene
                   {
                     const unsigned int a1 = (fiber_axis + 1) % 3,
                                        a2 = (fiber_axis + 2) % 3;
-                    const double x        = c[a1] - 0.5 * extent[a1];
-                    const double y        = c[a2] - 0.5 * extent[a2];
+                    const double       x  = c[a1] - 0.5 * extent[a1];
+                    const double       y  = c[a2] - 0.5 * extent[a2];
                     const unsigned int layer =
                       std::array<unsigned int, 3>{{i, j, k}}[fiber_axis];
                     for (unsigned int f = 0; f < fiber_count; ++f)

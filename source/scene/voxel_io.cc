@@ -562,7 +562,7 @@ namespace ddfem::scene
 
   void
   read_voxel_file(const std::string &filename,
-                  const unsigned int n_materials,
+                  const unsigned int n_ids,
                   VoxelGrid         &grid)
   {
     const std::string file = "Voxel file \"" + filename + "\"";
@@ -572,7 +572,7 @@ namespace ddfem::scene
     const std::string header = size_string(n);
     // Ids are stored as MaterialId, which caps the usable range.
     const unsigned long id_bound =
-      std::min<unsigned long>(n_materials,
+      std::min<unsigned long>(n_ids,
                               std::numeric_limits<MaterialId>::max() + 1ul);
 
     std::vector<MaterialId> ids;

@@ -20,7 +20,8 @@ namespace ddfem::scene
    * its line. The first non-comment line holds three integers "nx ny nz" which
    * must equal the size of @p grid. Then follow nx*ny*nz integer material ids
    * in lexicographic order (i fastest, then j, then k), separated by any white
-   * space. Every id must be less than @p n_materials (0 is void).
+   * space. Every id must be less than @p n_ids, the number of ids: void
+   * (0) and the palette's materials (1 to @p n_ids - 1).
    *
    * Throws ExcMessage naming the file and the problem (unreadable file,
    * size mismatch, too few or too many ids, id out of range, non-integer
@@ -28,7 +29,7 @@ namespace ddfem::scene
    */
   void
   read_voxel_file(const std::string &filename,
-                  const unsigned int n_materials,
+                  const unsigned int n_ids,
                   VoxelGrid         &grid);
 
   /**
