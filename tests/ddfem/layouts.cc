@@ -224,6 +224,36 @@ main()
   print("4 helical fibers in a 20x40x20 bar", fibers);
   std::cout << "  fiber voxels per layer " << histogram(fibers)[3] / 40.
             << ", 4 pi r^2 / h^2 = " << 4 * numbers::PI * 9 << std::endl;
+  // The helix's turn: with a pitch of 40 layers, the fibers of a layer
+  // turned by 90 degrees about the bar's axis (y; the cross-section is z,
+  // x about its center) are those 10 layers on. Three fibers, which a
+  // quarter turn does not map onto themselves, so that straight fibers or
+  // another pitch would break it.
+  {
+    const auto three =
+      make_scene("set Type = fibers\nsubsection Fibers\n set Count = 3\n"
+                 " set Fiber radius = 0.03\n set Helix radius = 0.07\n"
+                 " set Pitch = 0.4\nend",
+                 "20, 40, 20")
+        .grid;
+    const auto fiber =
+      [&](const unsigned int i, const unsigned int j, const unsigned int k) {
+        return three(i, j, k) == 3;
+      };
+    bool quarter_turn = true, turns = false;
+    for (unsigned int j = 0; j + 10 < 40; ++j)
+      for (unsigned int i = 0; i < 20; ++i)
+        for (unsigned int k = 0; k < 20; ++k)
+          {
+            // (z, x) -> (-x, z) about the center: voxel (i, k) -> (k, 19 - i).
+            quarter_turn &= fiber(i, j, k) == fiber(k, j + 10, 19 - i);
+            turns |= fiber(i, j, k) != fiber(i, j + 1, k);
+          }
+    std::cout << "  3 fibers, pitch 40 layers: a layer turned by 90 degrees "
+                 "is the one 10 layers on: "
+              << std::boolalpha << quarter_turn
+              << "; a layer differs from the next: " << turns << std::endl;
+  }
 
   // 'Skin material' and 'Fiber material' other than their default id 3
   // paint the same voxels with their id.
