@@ -28,7 +28,8 @@
 // 6. The stretch test of an embedded block: a stiff column along x among
 //    soft children puts the springs of the column's points along x and
 //    those of the soft points across it; the free-block stretch test does
-//    not.
+//    not. A block whose embedded fraction rounds to no pattern is sampled
+//    and stretched as a free block.
 
 #include <ddfem/coarsening/block_sampler.h>
 
@@ -343,8 +344,9 @@ main()
     bool         same = a.size() == b.size();
     for (unsigned int s = 0; same && s < a.size(); ++s)
       same = a[s].energy == b[s].energy;
-    std::cout << "samples equal to the force patterns': "
-              << (same ? "yes" : "no") << std::endl;
+    std::cout << "samples: " << a.size() << ", dropped: " << dropped_a
+              << "; equal to the force patterns': " << (same ? "yes" : "no")
+              << std::endl;
   }
 
   {
@@ -405,6 +407,14 @@ main()
     SamplingSettings free_block = sampling;
     free_block.embedded         = 0;
     report("free block", free_block);
+    // A fraction too small for one of the 20 patterns to be embedded: the
+    // block is sampled with force patterns only, and stretched as a free
+    // block.
+    SamplingSettings too_few = sampling;
+    too_few.embedded         = 0.04;
+    std::cout << "embedded fraction 0.04 of 20 patterns: "
+              << too_few.n_embedded() << " embedded" << std::endl;
+    report("  its stretch test", too_few);
   }
 
   {
