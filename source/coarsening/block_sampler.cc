@@ -779,8 +779,7 @@ namespace ddfem::coarsening
         if (!gather(w, E, g, &H, force_norm))
           return false;
         // Converged when the unbalanced forces are negligible against the
-        // forces on the prescribed nodes.
-        // No forces at all (the base state itself) is balanced.
+        // forces on the prescribed nodes, or there are no forces at all.
         const double residual = g.l2_norm() / force_norm;
         if (force_norm == 0 || residual <= 1e-9)
           return true;
