@@ -139,7 +139,7 @@ namespace ddfem::scene
     // is solved or written. Edits keep the solid's voxels, so the probes
     // stay in the solid.
     edit_changes.clear();
-    n_applied = 0;
+    laid_out = layout.n_edits() > 0 ? grid : VoxelGrid();
     VoxelGrid edited = grid;
     for (unsigned int e = 0; e < layout.n_edits(); ++e)
       {
@@ -155,9 +155,6 @@ namespace ddfem::scene
   Scene::apply_edit(const unsigned int e)
   {
     AssertIndexRange(e, n_edits());
-    Assert(e == n_applied,
-           ExcMessage("Edits are applied in turn: the next one is edit " +
-                      std::to_string(n_applied + 1) + "."));
     std::vector<std::size_t> changed;
     changed.reserve(edit_changes[e].size());
     for (const auto &[v, id] : edit_changes[e])
@@ -165,7 +162,6 @@ namespace ddfem::scene
         grid[v] = id;
         changed.push_back(v);
       }
-    ++n_applied;
     return changed;
   }
 
@@ -174,10 +170,7 @@ namespace ddfem::scene
   std::vector<VoxelGrid>
   Scene::states() const
   {
-    Assert(n_applied == 0,
-           ExcMessage("The states start from the grid as laid out, before "
-                      "any edit is applied."));
-    std::vector<VoxelGrid> result = {grid};
+    std::vector<VoxelGrid> result = {n_edits() > 0 ? laid_out : grid};
     for (const auto &changes : edit_changes)
       {
         result.push_back(result.back());

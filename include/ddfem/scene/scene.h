@@ -45,15 +45,15 @@ namespace ddfem::scene
     /**
      * Applies material edit @p e (from 0) to the grid; returns the linear
      * indices of the changed voxels (see Layout::apply_edit()). Edits are
-     * applied in turn: @p e must be the number applied so far.
+     * applied in turn, from the grid as laid out: edit @p e gives the
+     * voxels it changes the ids it gave them after edits 0 to @p e - 1.
      */
     std::vector<std::size_t>
     apply_edit(const unsigned int e);
 
     /**
      * The grids of every state of the scene: as laid out, then after each
-     * material edit in turn (the grid itself is not changed). Call it
-     * before apply_edit().
+     * material edit in turn (the grid itself is not changed).
      */
     std::vector<VoxelGrid>
     states() const;
@@ -69,11 +69,11 @@ namespace ddfem::scene
 
   private:
     Layout layout;
+    /// The grid as laid out, before any edit (empty without edits).
+    VoxelGrid laid_out;
     /// Per material edit, found once when the scene is read: the voxels
     /// it changes and their new material ids.
     std::vector<std::vector<std::pair<std::size_t, MaterialId>>> edit_changes;
-    /// How many edits apply_edit() has applied to the grid.
-    unsigned int n_applied = 0;
   };
 
   /// How far, in voxel sizes, a probe point may lie off the solid's
