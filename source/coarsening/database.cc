@@ -7,6 +7,8 @@
 #include <ddfem/coarsening/database.h>
 #include <ddfem/coarsening/hierarchy.h>
 #include <ddfem/solver/discretization.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -579,11 +581,20 @@ namespace ddfem::coarsening
         std::filesystem::remove(temporary, ignored);
         throw;
       }
-    // The new file keeps the old one's permissions (a database shared by a
-    // group stays writable for it).
-    if (const auto old = std::filesystem::status(file, ignored);
-        std::filesystem::exists(old))
-      std::filesystem::permissions(temporary, old.permissions(), ignored);
+    // The new file keeps the old one's group, where the user may give it
+    // (a member of the group may), and its mode: a database shared by a
+    // group stays the group's. Best effort: the save itself succeeded.
+    if (struct stat old; ::stat(file.c_str(), &old) == 0)
+      {
+        // Where the user is not in the old file's group, chown refuses and
+        // the new file keeps the user's group.
+        [[maybe_unused]] const int status =
+          ::chown(temporary.c_str(), -1, old.st_gid);
+        std::filesystem::permissions(temporary,
+                                     static_cast<std::filesystem::perms>(
+                                       old.st_mode & 07777),
+                                     ignored);
+      }
     std::error_code error;
     std::filesystem::rename(temporary, file, error);
     if (error)

@@ -908,17 +908,17 @@ main()
               << same_entries(compressed, Database::load("compressed.h5"))
               << std::endl;
     {
-      // A save replaces the file by a new one, which keeps the permissions
-      // of the old (a database shared by a group stays writable for it).
+      // A save replaces the file by a new one, which keeps the mode of the
+      // old: 604, which no common umask gives a new file.
       namespace fs = std::filesystem;
-      const fs::perms shared = fs::perms::owner_read | fs::perms::owner_write |
-                               fs::perms::group_read | fs::perms::group_write;
-      fs::permissions("compressed.h5", shared);
+      const fs::perms mode =
+        fs::perms::owner_read | fs::perms::owner_write | fs::perms::others_read;
+      fs::permissions("compressed.h5", mode);
       compressed.save("compressed.h5");
-      std::cout << "saved over a file of mode 660: mode " << std::oct
-                << static_cast<unsigned int>(fs::status("compressed.h5")
-                                               .permissions() &
-                                             fs::perms::mask)
+      std::cout << "saved over a file of mode 604: mode " << std::oct
+                << static_cast<unsigned int>(
+                     fs::status("compressed.h5").permissions() &
+                     fs::perms::mask)
                 << std::dec << std::endl;
     }
     // A build asking for another compression of a compressed file.
@@ -1798,8 +1798,8 @@ main()
            ++e)
         for (unsigned int g = 0; g < CubeSymmetries::size; ++g)
           {
-            const std::size_t k = small.combinations().key(
-              small.symmetries().apply(
+            const std::size_t k =
+              small.combinations().key(small.symmetries().apply(
                 g, small.combinations().combination(entries[e].key)));
             if (k > entries[e].key &&
                 (e + 1 == entries.size() || k < entries[e + 1].key))
@@ -1819,6 +1819,24 @@ main()
       expect_error("entry " + std::to_string(moved) +
                      " stored under another member of its orbit",
                    [] { Database::load("entry_off_representative.h5"); });
+    }
+    {
+      // An entry for the all-void block, which has none: the first entry's
+      // key set to it (the smallest key, so the keys still increase).
+      const std::size_t all_void_key =
+        Database::load("full.h5").combinations().key(Combination{});
+      edit_dataset<std::int64_t>("full.h5",
+                                 "entry_all_void.h5",
+                                 "entries/key",
+                                 [&](std::vector<std::int64_t> &values,
+                                     std::vector<hsize_t> &) {
+                                   AssertThrow(std::int64_t(all_void_key) <
+                                                 values[1],
+                                               ExcInternalError());
+                                   values[0] = all_void_key;
+                                 });
+      expect_error("an entry for the all-void block",
+                   [] { Database::load("entry_all_void.h5"); });
     }
     edit_dataset<double>("small.h5",
                          "negative_mu.h5",
