@@ -412,8 +412,15 @@ main()
     // block.
     SamplingSettings too_few = sampling;
     too_few.embedded         = 0.04;
+    unsigned int dropped_a, dropped_b;
+    const auto   a    = sampler.sample(too_few, 9, dropped_a);
+    const auto   b    = sampler.sample(free_block, 9, dropped_b);
+    bool         same = !a.empty() && a.size() == b.size();
+    for (unsigned int s = 0; same && s < a.size(); ++s)
+      same = a[s].energy == b[s].energy;
     std::cout << "embedded fraction 0.04 of 20 patterns: "
-              << too_few.n_embedded() << " embedded" << std::endl;
+              << too_few.n_embedded() << " embedded; samples equal to the "
+              << "free block's: " << (same ? "yes" : "no") << std::endl;
     report("  its stretch test", too_few);
   }
 

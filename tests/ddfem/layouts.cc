@@ -227,8 +227,9 @@ main()
   // The helix's turn: with a pitch of 40 layers, the fibers of a layer
   // turned by 90 degrees about the bar's axis (y; the cross-section is z,
   // x about its center) are those 10 layers on. Three fibers, which a
-  // quarter turn does not map onto themselves, so that straight fibers or
-  // another pitch would break it.
+  // quarter turn does not map onto themselves: straight fibers, or a pitch
+  // that turns 10 layers by other than a quarter turn (up to the fibers'
+  // third of a turn), would break it.
   {
     const auto three =
       make_scene("set Type = fibers\nsubsection Fibers\n set Count = 3\n"

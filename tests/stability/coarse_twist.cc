@@ -1,10 +1,10 @@
 // The coarse models on the fine solver's 180 degree twist of a layered bar
 // (twist_180.prm) on 4 x 12 x 4 voxels, as the fine test's 3 x 12 x 3 grid
 // cannot be coarsened, and with layers 3 voxels thick (the fine test's are
-// 2), so that half the level-1 blocks hold two materials and every level-2
-// block does; solved with the ddfem, naive and average coarse models at level 1
-// (also with the level-1 point offset 0.45, which softens the element in
-// bending) and at level 2, whose default point offset softens the element in
+// 2), so that a third of the level-1 blocks hold two materials and every
+// level-2 block does; solved with the ddfem, naive and average coarse models at
+// level 1 (also with the level-1 point offset 0.45, which softens the element
+// in bending) and at level 2, whose default point offset softens the element in
 // bending (the metamaterials fitted lazily into a fresh database per level-1
 // offset).
 // Every solve must converge with det F > 0 everywhere (coarse_cases.h).
