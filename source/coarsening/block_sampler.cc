@@ -606,6 +606,14 @@ namespace ddfem::coarsening
   namespace
   {
     /**
+     * The Newton steps solve() and relax() take at most; the state after
+     * the last of them is checked for convergence too.
+     */
+    constexpr unsigned int max_newton_steps = 40;
+
+
+
+    /**
      * Armijo backtracking: halves the step along @p dx from @p x until
      * @p merit (false where inadmissible) decreases by at least 1e-4 of
      * the linear prediction @p slope (negative) from @p merit0, and moves
@@ -672,7 +680,7 @@ namespace ddfem::coarsening
     Vector<double>           r;
     FullMatrix<double>       K;
     LAPACKFullMatrix<double> A;
-    for (unsigned int it = 0; it < 40; ++it)
+    for (unsigned int it = 0;; ++it)
       {
         if (!assemble(u, true, E, r, K))
           return false;
@@ -683,6 +691,8 @@ namespace ddfem::coarsening
         const double residual = projected.l2_norm() / f_norm;
         if (residual <= 1e-9)
           return true;
+        if (it == max_newton_steps)
+          return false;
 
         // An exactly singular tangent gives no direction: the sample is
         // dropped, as where Newton fails.
@@ -723,7 +733,6 @@ namespace ddfem::coarsening
         if (!backtrack(potential, E - f * u, du, slope, u))
           return residual <= 1e-6;
       }
-    return false;
   }
 
 
@@ -771,7 +780,7 @@ namespace ddfem::coarsening
       return true;
     };
 
-    for (unsigned int it = 0; it < 40; ++it)
+    for (unsigned int it = 0;; ++it)
       {
         double                   E, force_norm;
         Vector<double>           g;
@@ -783,6 +792,8 @@ namespace ddfem::coarsening
         const double residual = g.l2_norm() / force_norm;
         if (force_norm == 0 || residual <= 1e-9)
           return true;
+        if (it == max_newton_steps)
+          return false;
 
         // Newton's direction; where the Hessian is indefinite (the soft
         // children buckle under compression), shift it until it descends.
@@ -836,7 +847,6 @@ namespace ddfem::coarsening
             !take_full_step_if_residual_falls(unbalanced, g.l2_norm(), dw, w))
           return residual <= 1e-6;
       }
-    return false;
   }
 
 
