@@ -679,6 +679,13 @@ namespace ddfem::solver
     // Loads on held nodes go into reactions, not into the residual.
     Vector<double> free_load(external_force);
     const double   free_load_norm = free_residual_norm(free_load);
+    // Whether residual, energy_now and min_J already hold u's: the line
+    // search assembles them for the state it accepts. The tangent pass
+    // (which assembles them again, to the bit) then runs only if that
+    // state is neither converged nor the last Newton may take.
+    bool           state_known = false;
+    double         min_J = 0, energy_now = 0;
+    Vector<double> trial_residual(n);
 
     // Up to max_iterations Newton steps; the state after the last one is
     // tested for convergence too.
@@ -701,13 +708,13 @@ namespace ddfem::solver
         constraints.close();
         const bool on_boundary_values = (gap <= 1e-12 * length);
 
-        double min_J;
-        double energy_now;
-        {
+        const auto assemble_tangent = [&]() {
           TimerOutput::Scope scope(timer, "assembly");
           energy_now = assemble(
             u, t, &residual, &constraints, &system_matrix, &rhs, min_J);
-        }
+        };
+        if (!state_known)
+          assemble_tangent();
         const double residual_norm = free_residual_norm(residual);
         reference = std::max({reference, residual_norm, t * free_load_norm});
 
@@ -728,6 +735,13 @@ namespace ddfem::solver
         if (iteration == parameters.max_iterations)
           break;
         ++statistics.newton_iterations;
+        if (state_known)
+          {
+            // The same residual again, with the tangent and its right-hand
+            // side; its held entries are zeroed, as above, for the slope.
+            assemble_tangent();
+            free_residual_norm(residual);
+          }
 
         // Newton direction; shift the tangent by a multiple of its diagonal
         // while the solve fails or the direction does not descend.
@@ -844,7 +858,16 @@ namespace ddfem::solver
           {
             trial = u;
             trial.add(alpha, du);
-            const double energy_trial = energy(trial, t);
+            // With the residual, which the next iteration's convergence test
+            // needs if this step is accepted.
+            double       trial_min_J;
+            const double energy_trial = assemble(trial,
+                                                 t,
+                                                 &trial_residual,
+                                                 nullptr,
+                                                 nullptr,
+                                                 nullptr,
+                                                 trial_min_J);
             if (!std::isfinite(energy_trial))
               continue;
             admissible = true;
@@ -853,15 +876,17 @@ namespace ddfem::solver
             if (!accepted && alpha * std::abs(slope) <= 1e3 * noise &&
                 energy_trial <= energy_now + 1e3 * noise)
               {
-                Vector<double> trial_residual(n);
-                assemble(
-                  trial, t, &trial_residual, nullptr, nullptr, nullptr, min_J);
+                Vector<double> free_trial_residual(trial_residual);
                 by_residual =
-                  free_residual_norm(trial_residual) < residual_norm;
+                  free_residual_norm(free_trial_residual) < residual_norm;
                 accepted = by_residual;
               }
             if (accepted)
-              break;
+              {
+                energy_now = energy_trial;
+                min_J      = trial_min_J;
+                break;
+              }
           }
         if (!accepted)
           {
@@ -883,7 +908,9 @@ namespace ddfem::solver
               << (by_residual ? " [energy at round-off, residual decreased]" :
                                 "")
               << std::endl;
-        u = trial;
+        u.swap(trial);
+        residual.swap(trial_residual);
+        state_known = true;
       }
     pcout << std::endl
           << "    no convergence in " << parameters.max_iterations
