@@ -206,29 +206,49 @@ namespace ddfem::coarsening
 
 
 
-    /**
-     * Whether stored fit statistics can be an entry's: finite errors that
-     * are not negative with the median at most the largest, finite strains
-     * whose range is not reversed, and whole sample counts that fit into
-     * Entry's.
-     */
     bool
-    valid_statistics(const double median_error,
-                     const double max_error,
-                     const double min_strain,
-                     const double max_strain,
-                     const double n_samples,
-                     const double n_dropped)
+    set_statistics(const std::array<double, 6> &stored, Entry &entry)
     {
       const auto is_count = [](const double count) {
         return count >= 0 && count == std::floor(count) &&
                count <= std::numeric_limits<unsigned int>::max();
       };
-      return std::isfinite(median_error) && median_error >= 0 &&
-             std::isfinite(max_error) && median_error <= max_error &&
-             std::isfinite(min_strain) && std::isfinite(max_strain) &&
-             min_strain <= max_strain && is_count(n_samples) &&
-             is_count(n_dropped);
+      const auto [median_error,
+                  max_error,
+                  min_strain,
+                  max_strain,
+                  n_samples,
+                  n_dropped] = stored;
+      if (!(std::isfinite(median_error) && median_error >= 0 &&
+            std::isfinite(max_error) && median_error <= max_error &&
+            std::isfinite(min_strain) && std::isfinite(max_strain) &&
+            min_strain <= max_strain && is_count(n_samples) &&
+            is_count(n_dropped)))
+        return false;
+      entry.median_error = median_error;
+      entry.max_error    = max_error;
+      entry.min_strain   = min_strain;
+      entry.max_strain   = max_strain;
+      entry.n_samples    = n_samples;
+      entry.n_dropped    = n_dropped;
+      return true;
+    }
+
+
+
+    unsigned int
+    append_points(const double      *values,
+                  const unsigned int n_points,
+                  Metamaterial      &m)
+    {
+      for (unsigned int q = 0; q < n_points; ++q)
+        {
+          const material::MaterialPoint p = point_from(values + q * n_values);
+          if (!is_physical(p))
+            return q;
+          m.points.push_back(p);
+        }
+      return n_points;
     }
 
 
@@ -326,18 +346,6 @@ namespace ddfem::coarsening
                                                    group + "/child parameters",
                                                    {n, n_points, n_values}) :
                                 std::vector<double>();
-      // Entry e's point q of @p values, checked to be physical.
-      const auto point = [&](const std::vector<double> &values,
-                             const std::string         &name,
-                             const hsize_t              e,
-                             const unsigned int         q) {
-        const material::MaterialPoint p =
-          point_from(&values[(e * n_points + q) * n_values]);
-        check(is_physical(p),
-              "has non-physical " + name + " at " + group + " " +
-                std::to_string(e) + ", point " + std::to_string(q));
-        return p;
-      };
       const auto errors =
         read_dataset<double>(file, group + "/fit error", {n, 2});
       const auto strains =
@@ -351,28 +359,28 @@ namespace ddfem::coarsening
           check(keys[e] >= 0 && (e == 0 || keys[e] > keys[e - 1]),
                 "has an invalid key at " + group + " " + std::to_string(e));
           entry.key = keys[e];
-          for (unsigned int q = 0; q < n_points; ++q)
-            {
-              entry.material.points.push_back(
-                point(parameters, "parameters", e, q));
-              if (with_children)
-                entry.child_material.points.push_back(
-                  point(children, "child parameters", e, q));
-            }
-          check(valid_statistics(errors[2 * e],
+          // Entry e's points in @p values, checked to be physical.
+          const auto read_points = [&](const std::vector<double> &values,
+                                       const std::string         &name,
+                                       Metamaterial              &m) {
+            const unsigned int q =
+              append_points(&values[e * n_points * n_values], n_points, m);
+            check(q == n_points,
+                  "has non-physical " + name + " at " + group + " " +
+                    std::to_string(e) + ", point " + std::to_string(q));
+          };
+          read_points(parameters, "parameters", entry.material);
+          if (with_children)
+            read_points(children, "child parameters", entry.child_material);
+          check(set_statistics({{errors[2 * e],
                                  errors[2 * e + 1],
                                  strains[2 * e],
                                  strains[2 * e + 1],
-                                 counts[2 * e],
-                                 counts[2 * e + 1]),
+                                 double(counts[2 * e]),
+                                 double(counts[2 * e + 1])}},
+                               entry),
                 "has invalid fit statistics at " + group + " " +
                   std::to_string(e));
-          entry.median_error = errors[2 * e];
-          entry.max_error    = errors[2 * e + 1];
-          entry.min_strain   = strains[2 * e];
-          entry.max_strain   = strains[2 * e + 1];
-          entry.n_samples    = counts[2 * e];
-          entry.n_dropped    = counts[2 * e + 1];
           entries.push_back(entry);
         }
       return entries;
@@ -1135,32 +1143,24 @@ namespace ddfem::coarsening
               sum != checksum(values))
             break;
           if (!(values[0] >= 0 && values[0] < n_keys &&
-                values[0] == std::floor(values[0]) &&
-                valid_statistics(values[1],
+                values[0] == std::floor(values[0])))
+            break;
+          Entry e;
+          e.key = values[0];
+          if (!(set_statistics({{values[1],
                                  values[2],
                                  values[3],
                                  values[4],
                                  values[5],
-                                 values[6])))
-            break;
-          Entry e;
-          e.key          = values[0];
-          e.median_error = values[1];
-          e.max_error    = values[2];
-          e.min_strain   = values[3];
-          e.max_strain   = values[4];
-          e.n_samples    = values[5];
-          e.n_dropped    = values[6];
-          for (unsigned int q = 0; q < n_level_points; ++q)
-            e.material.points.push_back(
-              point_from(&values[n_header + q * n_values]));
-          for (unsigned int q = 0; q < n_level_children; ++q)
-            e.child_material.points.push_back(
-              point_from(&values[n_header + (n_level_points + q) * n_values]));
-          const auto physical = [](const Metamaterial &m) {
-            return std::all_of(m.points.begin(), m.points.end(), is_physical);
-          };
-          if (!(physical(e.material) && physical(e.child_material)))
+                                 values[6]}},
+                               e) &&
+                append_points(values.data() + n_header,
+                              n_level_points,
+                              e.material) == n_level_points &&
+                append_points(values.data() + n_header +
+                                n_level_points * n_values,
+                              n_level_children,
+                              e.child_material) == n_level_children))
             break;
           entries.push_back(e);
           valid_end = std::ftell(in);

@@ -11,6 +11,7 @@
 #include <hdf5.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -441,6 +442,27 @@ namespace ddfem::coarsening::hdf5
    */
   bool
   is_physical(const material::MaterialPoint &p);
+
+  /**
+   * Appends to @p m the @p n_points points whose n_values stored numbers
+   * each follow one another from @p values, up to the first that is not
+   * physical, and returns that point's index (@p n_points if there is none).
+   */
+  unsigned int
+  append_points(const double      *values,
+                const unsigned int n_points,
+                Metamaterial      &m);
+
+  /**
+   * Sets the fit statistics of @p entry from their @p stored values: median
+   * and largest error, smallest and largest strain, samples kept and
+   * dropped. Returns false, and leaves @p entry unchanged, where they cannot
+   * be an entry's: errors that are not finite or negative or a median above
+   * the largest, strains that are not finite or whose range is reversed, or
+   * counts that are not whole numbers that fit into Entry's.
+   */
+  bool
+  set_statistics(const std::array<double, 6> &stored, Entry &entry);
 
   /// Appends the n_values stored numbers of every point of @p m to @p values.
   void

@@ -387,11 +387,14 @@ main()
               << !std::filesystem::exists("unsaved.h5.journal") << std::endl;
 
     // A journal is read up to its first damaged record, also one whose
-    // checksum holds: a key beyond the palette or a negative modulus.
+    // checksum holds: a key beyond the palette, a negative modulus or a
+    // child fit's direction that is not a unit vector.
     for (const auto &[damage, spoil] :
          std::vector<std::pair<std::string, std::function<void(Entry &)>>>{
            {"key beyond the palette", [&](Entry &e) { e.key = n_keys; }},
            {"negative mu", [](Entry &e) { e.material.points[3].mu = -1; }},
+           {"child direction not of unit length",
+            [](Entry &e) { e.child_material.points[5].direction *= 2; }},
            {"median error above the largest",
             [](Entry &e) { e.median_error = e.max_error + 1; }},
            {"reversed strain range",
@@ -1847,6 +1850,16 @@ main()
                              -values[6 * 2]; // entry 0, point 2, mu
                          });
     expect_error("negative mu", [] { Database::load("negative_mu.h5"); });
+    edit_dataset<double>("small.h5",
+                         "child_direction.h5",
+                         "entries/child parameters",
+                         [](std::vector<double> &values,
+                            std::vector<hsize_t> &) {
+                           values[6 * 8 + 6 * 5 + 3] =
+                             2; // entry 1, point 5, v_x: |v| >= 2
+                         });
+    expect_error("child direction not of unit length",
+                 [] { Database::load("child_direction.h5"); });
     {
       // A flipped bit in a stored shear modulus: still a valid, physical
       // number (it changes by a few 1e-14 of itself), caught by the checksum
