@@ -478,6 +478,47 @@ namespace ddfem::scene
 
 
     /**
+     * Edge @p e (0, 1 or 2, from corner e to corner e+1) of triangle @p t
+     * of @p mesh: its vertex indices, lower first, and +1 where the
+     * triangle runs along it from the lower to the higher, -1 the other way.
+     */
+    std::pair<std::pair<unsigned int, unsigned int>, int>
+    edge_of(const TriangleMesh &mesh,
+            const unsigned int  t,
+            const unsigned int  e)
+    {
+      const unsigned int a = mesh.triangles[t][e],
+                         b = mesh.triangles[t][(e + 1) % 3];
+      // A copy: std::minmax returns references to a and b.
+      const std::pair<unsigned int, unsigned int> key = std::minmax(a, b);
+      return {key, a < b ? 1 : -1};
+    }
+
+
+
+    /**
+     * The triangles on each edge of @p mesh (see edge_of()), each with the
+     * direction it runs along the edge.
+     */
+    std::map<std::pair<unsigned int, unsigned int>,
+             std::vector<std::pair<unsigned int, int>>>
+    triangles_on_edges(const TriangleMesh &mesh)
+    {
+      std::map<std::pair<unsigned int, unsigned int>,
+               std::vector<std::pair<unsigned int, int>>>
+        edges;
+      for (unsigned int t = 0; t < mesh.triangles.size(); ++t)
+        for (unsigned int e = 0; e < 3; ++e)
+          {
+            const auto [key, direction] = edge_of(mesh, t, e);
+            edges[key].emplace_back(t, direction);
+          }
+      return edges;
+    }
+
+
+
+    /**
      * For each triangle of @p mesh, +1 to keep it as it is or -1 to reverse
      * it, so that every shell (the triangles joined by edges of exactly two
      * triangles) is oriented consistently, each the way most of its
@@ -489,24 +530,7 @@ namespace ddfem::scene
     std::vector<int>
     consistent_orientation(const TriangleMesh &mesh)
     {
-      // The triangles on each edge, with +1 where they run along it from
-      // its lower vertex index to its higher one, -1 the other way.
-      std::map<std::pair<unsigned int, unsigned int>,
-               std::vector<std::pair<unsigned int, int>>>
-                 edges;
-      const auto edge = [&mesh](const unsigned int t, const unsigned int e) {
-        const unsigned int a = mesh.triangles[t][e],
-                           b = mesh.triangles[t][(e + 1) % 3];
-        // A copy: std::minmax returns references to a and b.
-        const std::pair<unsigned int, unsigned int> key = std::minmax(a, b);
-        return std::make_pair(key, a < b ? 1 : -1);
-      };
-      for (unsigned int t = 0; t < mesh.triangles.size(); ++t)
-        for (unsigned int e = 0; e < 3; ++e)
-          {
-            const auto [key, direction] = edge(t, e);
-            edges[key].emplace_back(t, direction);
-          }
+      const auto edges = triangles_on_edges(mesh);
 
       std::vector<int> sign(mesh.triangles.size(), 0); // 0: not reached
       for (unsigned int seed = 0; seed < sign.size(); ++seed)
@@ -519,8 +543,8 @@ namespace ddfem::scene
               for (unsigned int e = 0; e < 3; ++e)
                 {
                   const unsigned int t        = shell[next];
-                  const auto [key, direction] = edge(t, e);
-                  const auto &on_edge         = edges[key];
+                  const auto [key, direction] = edge_of(mesh, t, e);
+                  const auto &on_edge         = edges.at(key);
                   if (on_edge.size() != 2)
                     continue;
                   const auto &other =
@@ -668,12 +692,8 @@ namespace ddfem::scene
       ExcMessage(file + ": contains no triangle with three distinct corners."));
     // voxelize() tells inside from outside by counting crossings, which
     // needs a closed surface: every edge on an even number of triangles.
-    std::map<std::pair<unsigned int, unsigned int>, unsigned int> edges;
-    for (const auto &t : mesh.triangles)
-      for (unsigned int e = 0; e < 3; ++e)
-        ++edges[std::minmax(t[e], t[(e + 1) % 3])];
-    for (const auto &[edge, count] : edges)
-      if (count % 2 != 0)
+    for (const auto &[edge, on_edge] : triangles_on_edges(mesh))
+      if (const std::size_t count = on_edge.size(); count % 2 != 0)
         {
           AssertThrow(false,
                       ExcMessage(
