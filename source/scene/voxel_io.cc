@@ -74,6 +74,16 @@ namespace ddfem::scene
       {
         return file + ", line " + std::to_string(number) + ": ";
       }
+
+      /// The line in double quotes for a message: at most its first 80
+      /// characters, then "..." (a file may be one long line).
+      std::string
+      quoted() const
+      {
+        constexpr std::size_t shown = 80;
+        return '"' + text.substr(0, shown) +
+               (text.size() > shown ? "...\"" : "\"");
+      }
     };
 
 
@@ -330,8 +340,8 @@ namespace ddfem::scene
       for_each_line(in, file, false, [&](const Line &line) {
         const auto check = [&](const bool ok, const std::string &problem) {
           AssertThrow(ok,
-                      ExcMessage(line.where() + problem + " in \"" + line.text +
-                                 "\"."));
+                      ExcMessage(line.where() + problem + " in " +
+                                 line.quoted() + "."));
         };
         const std::string_view keyword = line.tokens[0];
         Point<3>               p;
@@ -403,9 +413,9 @@ namespace ddfem::scene
                 well_formed  = parse(line.tokens[t], extra);
               }
             AssertThrow(well_formed,
-                        ExcMessage(line.where() + "malformed vertex line \"" +
-                                   line.text +
-                                   "\"; expected \"v x y z\", optionally "
+                        ExcMessage(line.where() + "malformed vertex line " +
+                                   line.quoted() +
+                                   "; expected \"v x y z\", optionally "
                                    "followed by a weight or by r g b."));
             vertices.push_back(p);
           }
@@ -414,8 +424,8 @@ namespace ddfem::scene
             AssertThrow(line.tokens.size() >= 4,
                         ExcMessage(line.where() +
                                    "a face needs at least 3 "
-                                   "vertices: \"" +
-                                   line.text + "\"."));
+                                   "vertices: " +
+                                   line.quoted() + "."));
             // Vertex indices are 1-based, negative ones count from the
             // last vertex read; "a/b/c" forms carry the vertex index first.
             std::vector<unsigned int> face;
@@ -622,9 +632,9 @@ namespace ddfem::scene
                           parse(line.tokens[1], m[1]) &&
                           parse(line.tokens[2], m[2]),
                         ExcMessage(line.where() +
-                                   "expected the header \"nx ny nz\", "
-                                   "found \"" +
-                                   line.text + "\"."));
+                                   "expected the header \"nx ny nz\" on a "
+                                   "line of its own, found " +
+                                   line.quoted() + "."));
             AssertThrow(m == n,
                         ExcMessage(line.where() + "the header \"" +
                                    size_string(m) +
@@ -740,10 +750,11 @@ namespace ddfem::scene
         mesh_center[d] = 0.5 * (min[d] + max[d]);
         box_center[d]  = 0.5 * (lower[d] + upper[d]);
       }
-    AssertThrow(
-      std::isfinite(scale),
-      ExcMessage(
-        "all its vertices coincide, so it cannot be scaled to the grid."));
+    // All vertices at one place, or an extent so small (subnormal) that
+    // the scale overflows.
+    AssertThrow(std::isfinite(scale),
+                ExcMessage("its extent " + format_point(Point<3>(max - min)) +
+                           " is too small to be scaled to the grid."));
 
     for (Point<3> &p : mesh.vertices)
       p = box_center + scale * (p - mesh_center);
@@ -779,11 +790,14 @@ namespace ddfem::scene
     };
 
     // Bin the triangles by the rows of columns (j) their xy bounding box
-    // covers, and each row's by its columns (i) when the row is voxelized:
-    // bins for every column of a flat grid (up to 2e8) would take GBs.
-    std::vector<std::vector<unsigned int>>             row_triangles(n[1]);
+    // covers, and each row's by its columns (i) when the row is voxelized.
+    // The bins span the rays the mesh may cross, not the grid: bins for
+    // every row or column of a long grid (up to 2e8 voxels along an axis)
+    // would take GBs, and the rays outside cross nothing.
     std::vector<std::pair<unsigned int, unsigned int>> i_ranges(
-      mesh.triangles.size());
+      mesh.triangles.size()),
+      j_ranges(mesh.triangles.size());
+    unsigned int i_first = n[0], i_last = 0, j_first = n[1], j_last = 0;
     for (unsigned int t = 0; t < mesh.triangles.size(); ++t)
       {
         Point<3> low = mesh.vertices[mesh.triangles[t][0]], high = low;
@@ -793,12 +807,25 @@ namespace ddfem::scene
               low[d]  = std::min(low[d], mesh.vertices[v][d]);
               high[d] = std::max(high[d], mesh.vertices[v][d]);
             }
-        i_ranges[t]                 = ray_range(low[0], high[0], dx, n[0]);
-        const auto [j_begin, j_end] = ray_range(low[1], high[1], dy, n[1]);
-        for (unsigned int j = j_begin; j < j_end; ++j)
-          row_triangles[j].push_back(t);
+        i_ranges[t] = ray_range(low[0], high[0], dx, n[0]);
+        j_ranges[t] = ray_range(low[1], high[1], dy, n[1]);
+        if (i_ranges[t].first < i_ranges[t].second &&
+            j_ranges[t].first < j_ranges[t].second)
+          {
+            i_first = std::min(i_first, i_ranges[t].first);
+            i_last  = std::max(i_last, i_ranges[t].second);
+            j_first = std::min(j_first, j_ranges[t].first);
+            j_last  = std::max(j_last, j_ranges[t].second);
+          }
       }
-    std::vector<std::vector<unsigned int>> column_triangles(n[0]);
+    if (i_first >= i_last) // no triangle over the grid
+      return;
+    std::vector<std::vector<unsigned int>> row_triangles(j_last - j_first);
+    for (unsigned int t = 0; t < mesh.triangles.size(); ++t)
+      if (i_ranges[t].first < i_ranges[t].second)
+        for (unsigned int j = j_ranges[t].first; j < j_ranges[t].second; ++j)
+          row_triangles[j - j_first].push_back(t);
+    std::vector<std::vector<unsigned int>> column_triangles(i_last - i_first);
 
     // Overlapping bodies of a mesh that can be oriented consistently make
     // a union (inside: nonzero winding number); otherwise inside is odd
@@ -806,19 +833,19 @@ namespace ddfem::scene
     const std::vector<int> orientation = consistent_orientation(mesh);
     const bool             winding     = !orientation.empty();
     std::vector<std::pair<double, int>> crossings; // z, winding change
-    for (unsigned int j = 0; j < n[1]; ++j)
+    for (unsigned int j = j_first; j < j_last; ++j)
       {
         for (std::vector<unsigned int> &column : column_triangles)
           column.clear();
-        for (const unsigned int t : row_triangles[j])
+        for (const unsigned int t : row_triangles[j - j_first])
           for (unsigned int i = i_ranges[t].first; i < i_ranges[t].second; ++i)
-            column_triangles[i].push_back(t);
-        for (unsigned int i = 0; i < n[0]; ++i)
+            column_triangles[i - i_first].push_back(t);
+        for (unsigned int i = i_first; i < i_last; ++i)
           {
             const double x = (i + 0.5) * h + dx;
             const double y = (j + 0.5) * h + dy;
             crossings.clear();
-            for (const unsigned int t : column_triangles[i])
+            for (const unsigned int t : column_triangles[i - i_first])
               {
                 const Point<3> &a = mesh.vertices[mesh.triangles[t][0]];
                 const Point<3> &b = mesh.vertices[mesh.triangles[t][1]];

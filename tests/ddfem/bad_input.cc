@@ -645,12 +645,11 @@ main(int argc, char **argv)
   // free line: it is not zero at the faces' Gauss points, and the free
   // nodes' shape functions carry it there, so it moves the part.
   const std::string tapering_to_held_line =
-    cantilever +
-    "subsection Boundary conditions\n  subsection Condition 2\n"
-    "    set Region = box 0 0.04 0 0.01 0.04 0.02\n"
-    "    set Value = 0; 0; -1e7*(0.01-x)\n  end\n"
-    "  subsection Condition 3\n    set Type = fixed\n"
-    "    set Region = box 0 0.04 0 0 0.04 0.02\n  end\nend\n";
+    cantilever + "subsection Boundary conditions\n  subsection Condition 2\n"
+                 "    set Region = box 0 0.04 0 0.01 0.04 0.02\n"
+                 "    set Value = 0; 0; -1e7*(0.01-x)\n  end\n"
+                 "  subsection Condition 3\n    set Type = fixed\n"
+                 "    set Region = box 0 0.04 0 0 0.04 0.02\n  end\nend\n";
   run_case("load_tapering_to_held_line", tapering_to_held_line);
   run_case("load_tapering_to_held_line_dg",
            tapering_to_held_line,
@@ -999,6 +998,13 @@ main(int argc, char **argv)
                                "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
   run_case("huge_mesh",
            from_surface_mesh("huge.obj", "    set Fit to grid = true\n"));
+  // A closed tetrahedron of subnormal size: the scale that fits it to the
+  // grid overflows.
+  std::ofstream("tiny.obj") << "v 0 0 0\nv 1e-310 0 0\nv 0 1e-310 0\n"
+                               "v 0 0 1e-310\nf 1 3 2\nf 1 2 4\nf 1 4 3\n"
+                               "f 2 3 4\n";
+  run_case("tiny_mesh",
+           from_surface_mesh("tiny.obj", "    set Fit to grid = true\n"));
   // Two faces of a tetrahedron: an open surface encloses nothing.
   std::ofstream("open.obj")
     << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\n";
@@ -1087,6 +1093,16 @@ main(int argc, char **argv)
   // Windows line ends: the quoted line shows no carriage return.
   std::ofstream("bad_header.txt") << "2 4 x\r\n" << fifteen_ids << " 1\r\n";
   run_case("voxel_file_bad_header", from_voxel_file("bad_header.txt"));
+  std::ofstream("header_with_ids.txt") << "2 4 2 " << fifteen_ids << " 1\n";
+  run_case("voxel_file_header_with_ids",
+           from_voxel_file("header_with_ids.txt"));
+  // Old Mac line ends (carriage returns only) make an OBJ file one line:
+  // the message quotes its first 80 characters.
+  std::ofstream("carriage_returns.obj")
+    << "v 0.000 0.000 0.000\rv 1.000 0.000 0.000\rv 0.000 1.000 0.000\r"
+       "v 0.000 0.000 1.000\rf 1 3 2\rf 1 2 4\rf 1 4 3\rf 2 3 4\r";
+  run_case("obj_with_carriage_returns_only",
+           from_surface_mesh("carriage_returns.obj"));
   run_case("surface_mesh_unknown_extension", from_surface_mesh("part.ply"));
   std::ofstream("damaged.h5.journal") << "not a journal\n";
   run_case("damaged_journal",

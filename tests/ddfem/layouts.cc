@@ -8,6 +8,7 @@
 // mesh: one cell per solid voxel or per non-void 2x2x2 block, in
 // lexicographic order.
 
+#include <deal.II/base/utilities.h>
 #include <deal.II/grid/tria.h>
 
 #include <ddfem/base/exceptions.h>
@@ -496,6 +497,40 @@ main()
             << boxes(hollow, {false, true}, 3) << std::endl
             << "two cubes touching along an edge: "
             << boxes(touching, {false, false}) << " voxels" << std::endl;
+  // A cube of one voxel in a grid 2e7 voxels long: the triangles' bins span
+  // the rays the mesh may cross, not the grid (bins for every row took
+  // 24 bytes each, 480 MB here; the grid holds 20 MB).
+  {
+    scene::TriangleMesh cube;
+    for (unsigned int v = 0; v < 8; ++v)
+      cube.vertices.emplace_back(0.01 * (v & 1),
+                                 0.01 * ((v >> 1) & 1),
+                                 0.01 * (v >> 2));
+    // Two triangles per face, counterclockwise seen from outside.
+    for (const auto &[a, b, c, d] :
+         std::vector<std::array<unsigned int, 4>>{{{0, 2, 3, 1}},
+                                                  {{4, 5, 7, 6}},
+                                                  {{0, 1, 5, 4}},
+                                                  {{2, 6, 7, 3}},
+                                                  {{0, 4, 6, 2}},
+                                                  {{1, 3, 7, 5}}})
+      {
+        cube.triangles.push_back({{a, b, c}});
+        cube.triangles.push_back({{a, c, d}});
+      }
+    const auto peak_mb = [] {
+      Utilities::System::MemoryStats stats;
+      Utilities::System::get_memory_stats(stats);
+      return stats.VmHWM / 1024.;
+    };
+    scene::VoxelGrid long_grid({{1, 20000000, 1}}, 0.01);
+    const double     peak_before = peak_mb();
+    scene::voxelize(cube, 2, long_grid);
+    std::cout << "a cube in a grid of 1 x 2e7 x 1 voxels: "
+              << histogram(long_grid)[2] << " voxel, peak memory up by less "
+              << "than 100 MB: " << (peak_mb() - peak_before < 100)
+              << std::endl;
+  }
   // Cubes whose faces pass through rows of voxel centers: a face that
   // bounds the body from below keeps its centers, one that bounds it from
   // above does not, along z as along x and y (3^3 and 4^3 voxels; rounding
