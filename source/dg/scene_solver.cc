@@ -31,6 +31,11 @@ namespace ddfem::dg
     if (parameters.formulation == Parameters::Formulation::corotated)
       scene.boundary_conditions.check_rotation_steps(parameters.load_steps,
                                                      "DG/Load steps");
+    else
+      scene.boundary_conditions.check_rotation_steps(
+        1,
+        "DG/Formulation = linear solves once; corotated takes DG/Load "
+        "steps");
   }
 
 

@@ -514,6 +514,12 @@ namespace ddfem::scene
                                      cross_product_3d(k, r) * std::sin(a) +
                                      k * (k * r) * (1 - std::cos(a));
         value = rotated[component] - r[component];
+        AssertThrow(std::isfinite(value),
+                    ExcMessage(condition->where + "/Center " +
+                               format_point(condition->center) +
+                               " lies so far from the part that the "
+                               "rotation's displacement at " +
+                               format_point(p) + " is not a number."));
       }
     else
       value = 0;
@@ -700,6 +706,43 @@ namespace ddfem::scene
                         "the components it loads."));
         }
 
+    // So does a body force on components held at every node (a region
+    // given in millimeters that covers the whole part, say). It is taken
+    // at the nodes: one that is zero at all of them is left alone. Weak
+    // conditions hold no node.
+    if (has_body_force() && !weak)
+      {
+        std::array<bool, 3> loaded{}, free{};
+        for (const Point<3> &x : nodes)
+          {
+            // A value that is not finite here is the assembly's error, if
+            // it is not finite where the force is integrated too.
+            Tensor<1, 3> b;
+            try
+              {
+                b = body_force(x);
+              }
+            catch (const ExceptionBase &)
+              {
+                continue;
+              }
+            for (unsigned int d = 0; d < 3; ++d)
+              {
+                loaded[d] = loaded[d] || b[d] != 0;
+                free[d]   = free[d] || !prescribes(x, d);
+              }
+          }
+        AssertThrow(!(loaded[0] || loaded[1] || loaded[2]) ||
+                      (loaded[0] && free[0]) || (loaded[1] && free[1]) ||
+                      (loaded[2] && free[2]),
+                    ExcMessage(
+                      "Loads/Body force loads only components that Dirichlet "
+                      "conditions prescribe at every node of the solid: all of "
+                      "it would go into the reactions and move nothing. Free "
+                      "the components it loads somewhere (check the regions "
+                      "of the conditions: in meters, not millimeters)."));
+      }
+
     // A component takes the value of the highest-numbered condition that
     // prescribes it, so a Dirichlet condition must keep some component of
     // some node to itself.
@@ -743,11 +786,15 @@ namespace ddfem::scene
             std::abs(condition.angle) / (numbers::PI / 2 * (1 + 1e-12));
           const double degrees = std::abs(condition.angle) * 180. / numbers::PI;
           std::ostringstream message;
+          message << condition.where << "/Angle turns by " << degrees;
+          if (load_steps == 1)
+            message << " degrees in one step (" << parameter << ")";
+          else
+            message << " degrees in " << parameter << " = " << load_steps
+                    << " equal steps, " << degrees / load_steps
+                    << " degrees per step";
           message
-            << condition.where << "/Angle turns by " << degrees
-            << " degrees in " << parameter << " = " << load_steps
-            << " equal steps, " << degrees / load_steps
-            << " degrees per step: a step may turn by at most 90 "
+            << ": a step may turn by at most 90 "
                "degrees, since it prescribes only where each node "
                "ends, and the first step's first iterate moves the "
                "nodes along the chords of their arcs, which squeezes the part "

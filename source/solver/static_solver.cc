@@ -256,9 +256,9 @@ namespace ddfem::solver
     prm.declare_entry(
       "Maximum Newton iterations",
       "30",
-      Patterns::Integer(1),
+      Patterns::Integer(1, 1000),
       "Newton iterations per load increment before the increment "
-      "counts as failed (and is cut).");
+      "counts as failed (and is cut): 1 to 1000.");
     prm.declare_entry(
       "Newton tolerance",
       "1e-8",

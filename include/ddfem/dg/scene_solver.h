@@ -33,8 +33,9 @@ namespace ddfem::dg
     /**
      * A solver for @p scene with @p parameters (both must outlive it).
      * Throws ExcMessage if DG/Dirichlet = strong is combined with FE_DGP,
-     * which has no nodes on the boundary to constrain, or if the corotated
-     * formulation turns a rotation by more than 90 degrees per load step
+     * which has no nodes on the boundary to constrain, or if a rotation
+     * turns by more than 90 degrees per load step of the corotated
+     * formulation or in the one solve of the linear one
      * (BoundaryConditions::check_rotation_steps()). The systems are solved
      * with @p linear_solver (the scene's 'Linear solver', which must
      * outlive it too).

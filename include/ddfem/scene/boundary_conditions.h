@@ -161,7 +161,9 @@ namespace ddfem::scene
      * Throws ExcMessage naming the condition if, where its region meets
      * the solid (check_regions()), a condition would still do nothing: a
      * traction or pressure, not zero on its faces among @p boundary_faces,
-     * that would go into the reactions whole; or a Dirichlet condition
+     * that would go into the reactions whole (and, unless @p weak, a body
+     * force, not zero at some of @p nodes, on components held at all of
+     * them); or a Dirichlet condition
      * whose every component, at every one of @p nodes it holds, a
      * higher-numbered condition prescribes too (the highest number wins).
      *
