@@ -521,7 +521,7 @@ namespace ddfem::app
         if (method != "dg")
           scene.palette.require_nonnegative_lambda("Method = " + method);
         if (method == "ddfem")
-          database.check_input(scene.palette, level);
+          database.check_simulation_input(scene.palette, level);
         AssertThrow(method != "dg" || scene.n_edits() == 0,
                     ExcMessage("Layout/Edits is not supported with Method = "
                                "dg (a DG run solves the base state only): "

@@ -658,7 +658,7 @@ namespace ddfem::app
       if (c.name == "ddfem")
         ddfem_level = std::max(ddfem_level, c.level);
     if (ddfem_level > 0)
-      database.check_input(scene.palette, ddfem_level);
+      database.check_simulation_input(scene.palette, ddfem_level);
 
     // The results are written once every model has run: gnuplot must start
     // and their files (each model's VTU files of every state too) must be

@@ -92,11 +92,13 @@ namespace ddfem::coarsening
     prm.enter_subsection("Sampling");
     prm.declare_entry("Patterns",
                       "500",
-                      Patterns::Integer(1),
+                      Patterns::Integer(1, 20000),
                       "Number of random deformation patterns per 2x2x2 "
                       "block (the paper uses 500): self-equilibrated force "
                       "patterns on a free block, or embedded strains (see "
-                      "Embedded fraction).");
+                      "Embedded fraction). At most 20000, and Patterns x "
+                      "Magnitudes at most 100000 samples per block (40 times "
+                      "the paper's: hours for a full database).");
     prm.declare_entry("Embedded fraction",
                       "1",
                       Patterns::Double(0, 1),
@@ -114,7 +116,7 @@ namespace ddfem::coarsening
                       "doc/coarsening.md compares them.");
     prm.declare_entry("Magnitudes",
                       "5",
-                      Patterns::Integer(1),
+                      Patterns::Integer(1, 100),
                       "Number of magnitudes per pattern (the paper uses 5)."
                       " Each pattern gives this many samples.");
     prm.declare_entry("Minimum strain",
@@ -154,7 +156,7 @@ namespace ddfem::coarsening
                       "voxels wide.");
     prm.declare_entry("Stretch directions",
                       "500",
-                      Patterns::Integer(3),
+                      Patterns::Integer(3, 20000),
                       "Number of stretching directions over the sphere used "
                       "to estimate the anisotropy directions (paper: 500).");
     prm.declare_entry("Seed",

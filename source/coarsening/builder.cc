@@ -43,15 +43,18 @@ namespace ddfem::coarsening
                       "per symmetry orbit). 'scene' fits only the "
                       "combinations of this scene's 2x2x2 blocks (before and "
                       "after each of its material edits) that the file lacks "
-                      "and appends them (lazy mode).");
+                      "and appends them (lazy mode). Run type = database "
+                      "only: a simulation (Method = ddfem) always fits only "
+                      "what its scene lacks.");
     prm.declare_entry("Representatives",
                       "0",
                       Patterns::Integer(0, 999999999), // as files store it
                       "Compression: keep this many representative "
                       "metamaterials, chosen by farthest point sampling of "
                       "log-energy features, and map every combination to its "
-                      "nearest one. 0 keeps every entry. Only with Scope = "
-                      "all.");
+                      "nearest one. 0 keeps every entry. Only with Run type "
+                      "= database and Scope = all. Compressing a file drops "
+                      "its level 2, which Levels = 2 builds anew.");
     prm.declare_entry("Levels",
                       "1",
                       Patterns::Integer(1, 2),
@@ -61,7 +64,8 @@ namespace ddfem::coarsening
                       "all, from the complete level 1; with Scope = scene, "
                       "from the level-1 entries in the file, whose staged "
                       "compression keeps the scene's 4x4x4 blocks first; the "
-                      "grid must then divide by 4.");
+                      "grid must then divide by 4. Run type = database only: "
+                      "a simulation fits what its Coarsening levels need.");
     prm.declare_entry("Threads",
                       "0",
                       Patterns::Integer(0),
@@ -177,11 +181,21 @@ namespace ddfem::coarsening
                            "by its 8 corners, so no samples determine each "
                            "point's parameters. 1e-6 leaves them nearly "
                            "free."));
+    // A block's samples take about 0.17 ms each to solve and fit on two
+    // cores (the 1995 blocks of 2500 samples of a database with void took
+    // 13.8 min): 100000 per block take 9 hours for such a database.
+    AssertThrow(std::size_t(sampling.n_directions) * sampling.n_magnitudes <=
+                  100000,
+                ExcMessage("Database/Sampling/Patterns x Magnitudes = " +
+                           std::to_string(sampling.n_directions) + " x " +
+                           std::to_string(sampling.n_magnitudes) +
+                           " samples per block exceeds 100000 (40 times the "
+                           "paper's 500 x 5: hours for a full database)."));
     // The held-out split takes every n-th pattern of each kind (a mixed
     // block's embedded and force patterns are numbered apart), so each kind
     // a block may have needs n patterns at least.
     const unsigned int n_embedded = sampling.n_embedded();
-    unsigned int       fewest = sampling.n_directions;
+    unsigned int       fewest     = sampling.n_directions;
     for (const unsigned int n_of_kind :
          {n_embedded, sampling.n_directions - n_embedded})
       if (n_of_kind > 0)
@@ -272,6 +286,23 @@ namespace ddfem::coarsening
           for (const auto &block : scene_blocks(grid))
             Hierarchy::check_representable(index, block);
       }
+  }
+
+
+
+  void
+  DatabaseBuilder::check_simulation_input(const scene::Palette &palette,
+                                          const unsigned int    level) const
+  {
+    AssertThrow(n_representatives == 0,
+                ExcMessage("Database/Representatives = " +
+                           std::to_string(n_representatives) +
+                           " compresses a complete database, which Run type "
+                           "= database builds (Database/Scope = all). A "
+                           "simulation fits only the blocks its scene lacks "
+                           "and compresses nothing: set it to 0 here, and "
+                           "compress the file with Run type = database."));
+    check_input(palette, level);
   }
 
 
@@ -854,8 +885,16 @@ namespace ddfem::coarsening
     // tables that earlier lazy runs made, and drops their blocks.
     bool new_tables = false;
     // Compression changes the level-1 models level 2 was sampled from.
-    if (compressed_now)
-      level2 = Hierarchy();
+    if (compressed_now && !level2.empty())
+      {
+        out << "Level 2 (" << level2.entries.size()
+            << " fits) dropped: it was sampled from the level-1 entries "
+               "before the compression"
+            << (levels == 2 ? "; it is built anew." :
+                              "; Database/Levels = 2 builds it anew.")
+            << std::endl;
+        level2 = Hierarchy();
+      }
     const std::string level2_journal = level2_journal_base(database_file);
     // A level-2 journal holds fits of these level-1 entries and level-2
     // settings.
@@ -1017,6 +1056,7 @@ namespace ddfem::coarsening
                            Hierarchy                           &level2,
                            std::ostream                        &out) const
   {
+    check_simulation_input(palette, level);
     DatabaseBuilder lazy(*this);
     lazy.levels            = level;
     lazy.run_scope         = Scope::scene;

@@ -1204,6 +1204,30 @@ main()
          {"Representatives = 12", "Regularization = 0.5"})
       build_level2("level2.h5", setting);
 
+    // Compressing level 1 drops the level 2 sampled from it, and the build
+    // says so; with Levels = 1 the file is saved without it.
+    {
+      std::filesystem::copy_file(
+        "level2.h5",
+        "level2_compressed.h5",
+        std::filesystem::copy_options::overwrite_existing);
+      std::ostringstream    log;
+      const DatabaseBuilder b =
+        builder("level2_compressed.h5", false, "all", 1, 5, 1);
+      Hierarchy kept;
+      Database  db = b.open(palette(), kept, log);
+      b.build(palette(), db, kept, nullptr, log, false);
+      std::istringstream lines(log.str());
+      for (std::string line; std::getline(lines, line);)
+        if (line.rfind("Compressed to", 0) == 0 ||
+            line.rfind("Level 2 (", 0) == 0)
+          std::cout << line << std::endl;
+      Hierarchy saved;
+      Database::load("level2_compressed.h5", &saved);
+      std::cout << "compressed file holds a level 2: " << !saved.empty()
+                << std::endl;
+    }
+
     // The second level's point offset and sampler version: named in its
     // settings. Files written before either had one of its own name none;
     // their second level is the Gauss rule's where the first level has the

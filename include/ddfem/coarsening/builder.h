@@ -111,6 +111,15 @@ namespace ddfem::coarsening
     check_input(const scene::Palette &palette, const unsigned int level) const;
 
     /**
+     * check_input() for a simulation at coarsening @p level, whose lazy
+     * fits (prepare()) compress nothing: throws ExcMessage first if
+     * Database/Representatives asks for compression. Writes nothing.
+     */
+    void
+    check_simulation_input(const scene::Palette &palette,
+                           const unsigned int    level) const;
+
+    /**
      * check_input(), and throws ExcMessage if a build with these settings
      * cannot fit the blocks of @p grids (Scope = scene): a grid that
      * Database/Levels cannot coarsen, or a block that the database cannot
@@ -189,7 +198,8 @@ namespace ddfem::coarsening
 
     /**
      * Lazy mode for a coarse simulation at coarsening @p level (1 or 2):
-     * checks the blocks of @p grids (check_scene(), before anything is
+     * checks the settings (check_simulation_input()) and the blocks of
+     * @p grids (check_scene(), before anything is
      * written), locks (lock()) and opens the database, fits the metamaterials
      * the blocks of @p grids (the states of a scene) need at that level if they
      * are missing (appending them to the file), and returns the database, with
