@@ -217,11 +217,18 @@ namespace ddfem::dg
      * Throws ExcMessage naming @p setting (the parameter and its value)
      * if the system of @p method with @p n_components components on the
      * n^dim mesh of @p problem cannot fit into the machine's physical
-     * memory. Its matrix is estimated from below: every DoF couples at
-     * least with those of one of its cells, 12 bytes per entry (value and
-     * column), and there are at least n^dim k^dim DoFs per component (k
-     * the degree; each cell's for DG). A size that passes may still not
-     * fit, with UMFPACK's factor; one that fails cannot.
+     * memory: the entries of its sparsity pattern, 12 bytes each (value and
+     * column). A Q_k element's pattern on the tensor grid is the tensor
+     * product of n_components^2 one-dimensional ones of n (k+1)^2 - (n-1)
+     * entries. A DG element's couples the pc functions (with their
+     * components) of each cell with each other, pc^2 entries, and across
+     * each of the dim n^(dim-1) (n-1) interior faces with the neighbor's:
+     * all of them for IP (its flux has the gradients), 2 pc^2 entries; for
+     * BZ only equal components of the m functions per component that are
+     * not zero on the face (all of them for FE_DGP, (k+1)^(dim-1) for
+     * FE_DGQ), 2 n_components m^2 (tests/dg/cost_sparsity*.prm count them).
+     * A size that passes may still not fit, with UMFPACK's factor; one that
+     * fails cannot.
      */
     template <int dim>
     void
@@ -233,19 +240,28 @@ namespace ddfem::dg
                          const std::string &setting)
     {
       const double memory = physical_memory();
-      const double cells  = std::pow(double(n), dim);
-      const double per_cell =
-        n_components * study_element<dim>(method, dg)->n_dofs_per_cell();
-      const double dofs =
-        method.continuous ?
-          cells * std::pow(double(method.degree), dim) * n_components :
-          cells * per_cell;
-      const double bytes = 12 * dofs * per_cell;
+      double       entries;
+      if (method.continuous)
+        entries = std::pow(n_components, 2) *
+                  std::pow(n * std::pow(method.degree + 1., 2) - (n - 1.), dim);
+      else
+        {
+          const double pc =
+            n_components * study_element<dim>(method, dg)->n_dofs_per_cell();
+          const double m     = dg.element == Parameters::Element::dgp ?
+                                 pc / n_components :
+                                 std::pow(method.degree + 1., dim - 1);
+          const double faces = dim * std::pow(double(n), dim - 1) * (n - 1.);
+          entries            = std::pow(double(n), dim) * pc * pc +
+                    faces * (method.flux == Parameters::Flux::interior_penalty ?
+                               2 * pc * pc :
+                               2 * n_components * m * m);
+        }
+      const double bytes = 12 * entries;
       AssertThrow(memory == 0 || bytes <= memory,
                   ExcMessage(setting + ": the " + std::to_string(n) + "^" +
                              std::to_string(dim) + " grid of " + problem +
-                             " with " + method.name +
-                             " has a matrix of at least " +
+                             " with " + method.name + " has a matrix of " +
                              format_number(bytes / (1u << 30)) +
                              " GiB, more than the physical memory of this "
                              "machine. Use a coarser grid."));

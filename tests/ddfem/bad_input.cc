@@ -526,6 +526,26 @@ main(int argc, char **argv)
             "Coarsening levels=2",
             "--set",
             "Database/Level 2/Regularization=0"});
+  // A simulation fits the blocks its scene lacks and compresses nothing.
+  run_case("compression_in_simulation",
+           cantilever,
+           {"--set",
+            "Method=ddfem",
+            "--set",
+            "Database/File=out_compression_in_simulation.h5",
+            "--set",
+            "Database/Representatives=10"});
+  // 2e6 samples per block, each within its parameter's range.
+  run_case("samples_per_block_beyond_range",
+           cantilever,
+           {"--set",
+            "Method=ddfem",
+            "--set",
+            "Database/File=out_samples_per_block_beyond_range.h5",
+            "--set",
+            "Database/Sampling/Patterns=20000",
+            "--set",
+            "Database/Sampling/Magnitudes=100"});
   // The database's settings concern ddfem alone: a naive run that gives
   // none runs.
   run_case("naive_without_database_file",
@@ -585,6 +605,21 @@ main(int argc, char **argv)
              "subsection Boundary conditions\n  subsection Condition 2\n"
              "    set Type = rotation\n    set Angle = 1620\n  end\nend\n"
              "subsection Nonlinear solver\n  set Load steps = 17\nend\n");
+  // Linear DG solves once: a full turn in that one step prescribes none.
+  run_case("rotation_in_linear_dg",
+           cantilever +
+             "subsection Boundary conditions\n  subsection Condition 2\n"
+             "    set Type = rotation\n    set Angle = 360\n  end\nend\n",
+           {"--set", "Method=dg"});
+  // A centre so far away that the displacement it prescribes overflows.
+  run_case("rotation_center_far_away",
+           cantilever +
+             "subsection Boundary conditions\n  subsection Condition 2\n"
+             "    set Type = rotation\n    set Axis = 1, 1, 1\n"
+             "    set Center = 1.7e308, 1.7e308, 1.7e308\n  end\nend\n");
+  run_case("newton_iterations_beyond_range",
+           cantilever + "subsection Nonlinear solver\n"
+                        "  set Maximum Newton iterations = 2000000000\nend\n");
   run_case("rotation_step_exactly_90",
            cantilever +
              "subsection Boundary conditions\n  subsection Condition 2\n"
@@ -654,6 +689,14 @@ main(int argc, char **argv)
   run_case("load_tapering_to_held_line_dg",
            tapering_to_held_line,
            {"--set", "Method=dg", "--set", "DG/Dirichlet=strong"});
+  // A body force on a part held at every node (the clamp's box given in
+  // millimeters covers it all): it would all go into the reactions.
+  run_case("body_force_on_held_part",
+           cantilever +
+             "subsection Boundary conditions\n  subsection Condition 1\n"
+             "    set Region = box 0 0 0 20 40 20\n  end\n"
+             "  subsection Condition 2\n    set Type = none\n  end\nend\n"
+             "subsection Loads\n  set Body force = 0; 0; -9810\nend\n");
   run_case("pressure_on_sliding_face",
            cantilever +
              "subsection Boundary conditions\n  subsection Condition 3\n"
