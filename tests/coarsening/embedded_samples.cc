@@ -283,10 +283,10 @@ main()
               << affine_stretch << std::endl;
     testing::check_below("relative error of the stretch energy",
                          std::abs(E_stretch / exact_stretch - 1),
-                         1e-3);
+                         1e-4);
     testing::check_below("relative error of the affine stretch energy",
                          std::abs(affine_stretch - 1),
-                         1e-3);
+                         1e-4);
 
     Tensor<2, 3> shear;
     shear[1][0]          = delta; // u_y = delta x
@@ -302,10 +302,10 @@ main()
               << std::endl;
     testing::check_below("relative error of the shear energy",
                          std::abs(E_shear / exact_shear - 1),
-                         1e-3);
+                         1e-4);
     testing::check_below("relative error of the affine shear energy",
                          std::abs(affine_shear - 1),
-                         1e-3);
+                         1e-4);
   }
 
   {

@@ -166,8 +166,16 @@ main()
     BlockSampler::VoidVoxels void_voxels{};
     void_voxels[0] = 1u << 0;
     const BlockSampler sampler(children, child_point_offset, void_voxels);
-    const dealii::Vector<double> f =
-      sampler.boundary_forces(random_stress(generator, true));
+    const auto         stress      = random_stress(generator, true);
+    const dealii::Vector<double> f = sampler.boundary_forces(stress);
+    // The block without its void voxel under the same stress: the forces
+    // of the voxels that are kept change little.
+    const BlockSampler full(children,
+                            child_point_offset,
+                            BlockSampler::VoidVoxels{});
+    std::cout << "|f| / |f of the full block|: " << std::setprecision(2)
+              << f.l2_norm() / full.boundary_forces(stress).l2_norm()
+              << std::setprecision(6) << std::endl;
     testing::check_below("resultant force and moment",
                          resultant(sampler, f),
                          1e-14);
@@ -205,8 +213,16 @@ main()
     const BlockSampler sampler(voxels);
     std::cout << "zero-energy modes: " << sampler.n_zero_energy_modes()
               << std::endl;
-    const dealii::Vector<double> f =
-      sampler.boundary_forces(random_stress(generator, true));
+    const auto                   stress = random_stress(generator, true);
+    const dealii::Vector<double> f      = sampler.boundary_forces(stress);
+    // Against the solid block under the same stress: two of its eight
+    // voxels carry a share of its surface forces.
+    std::array<std::vector<material::MaterialPoint>, 8> solid;
+    solid.fill(std::vector<material::MaterialPoint>(8, p));
+    std::cout << "|f| / |f of the solid block|: " << std::setprecision(2)
+              << f.l2_norm() /
+                   BlockSampler(solid).boundary_forces(stress).l2_norm()
+              << std::setprecision(6) << std::endl;
     testing::check_below("resultant force and moment",
                          resultant(sampler, f),
                          1e-14);

@@ -176,6 +176,22 @@ main()
   sigma[1][1] = 2e5;
   std::cout << "von Mises of uniaxial 2e5 Pa: " << material::von_mises(sigma)
             << std::endl;
+  // Pure shear tau has sqrt(3) tau; a uniaxial stress turned off the axes
+  // (Q diag(s, 0, 0) Q^T, with shear entries) keeps |s|.
+  sigma       = 0;
+  sigma[0][1] = sigma[1][0] = 1e5;
+  testing::check_below(
+    "von Mises of pure shear 1e5 Pa vs sqrt(3) 1e5",
+    std::abs(material::von_mises(sigma) - std::sqrt(3.) * 1e5) / 1e5,
+    1e-14);
+  {
+    const Tensor<1, 3> e({0.36, 0.48, 0.8}); // a unit vector
+    const Tensor<2, 3> turned = -2e5 * outer_product(e, e);
+    testing::check_below("von Mises of uniaxial -2e5 Pa along (0.36, 0.48, "
+                         "0.8) vs 2e5",
+                         std::abs(material::von_mises(turned) - 2e5) / 2e5,
+                         1e-14);
+  }
 
   // The largest principal stretch deviation: a rotated stretch (1.2, 0.9,
   // 1) gives 0.2, a rotation 0, a compression to half 0.5, and a simple

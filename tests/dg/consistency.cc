@@ -114,8 +114,10 @@ main(int argc, char **argv)
               if (flux == dg::Parameters::Flux::interior_penalty)
                 testing::check_below("L2 error", error, 1e-10);
               else
-                std::cout << "L2 error > 1e-4: "
-                          << (error > 1e-4 ? "yes" : "NO") << std::endl;
+                std::cout << "L2 error " << std::setprecision(2) << error
+                          << std::setprecision(6)
+                          << " > 1e-4: " << (error > 1e-4 ? "yes" : "NO")
+                          << std::endl;
             }
     }
 }

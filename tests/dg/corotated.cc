@@ -123,9 +123,10 @@ main(int argc, char **argv)
                                testing::relative_force(system, u),
                                1e-12);
           system.assemble(10, 1);
-          std::cout << "    linear |force| / (|K| |u|) > 1e-3: "
-                    << (testing::relative_force(system, u) > 1e-3 ? "yes" :
-                                                                    "NO")
+          const double linear_force = testing::relative_force(system, u);
+          std::cout << "    linear |force| / (|K| |u|) " << std::setprecision(2)
+                    << linear_force << std::setprecision(6)
+                    << " > 1e-3: " << (linear_force > 1e-3 ? "yes" : "NO")
                     << std::endl;
         }
 
