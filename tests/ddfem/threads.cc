@@ -13,6 +13,8 @@
 //   the last Newton step's inexact CG solve, which the reductions steer,
 //   left differences of 6.9e-13 in a trial, not round-off.
 
+#include "../threads.h"
+
 #include <deal.II/base/multithread_info.h>
 
 #include "../tests.h"
@@ -64,6 +66,9 @@ int
 main(int argc, char **argv)
 {
   Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  std::cout << "Threads running a WorkStream with the limit 1: "
+            << threads_running(1)
+            << ", with the limit 2: " << threads_running(2) << std::endl;
   std::cout << "Threaded assembly:" << std::endl;
   for (const std::string type : {"cg-cholesky", "cg-amg"})
     {

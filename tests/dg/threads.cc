@@ -4,6 +4,8 @@
 // 2 x 8 x 2 cells, FE_DGQ(2), both fluxes, linear and corotated (warped
 // with the rotations of a twisted state), and a cube with hanging faces.
 
+#include "../threads.h"
+
 #include <deal.II/base/multithread_info.h>
 
 #include <iostream>
@@ -58,7 +60,11 @@ int
 main(int argc, char **argv)
 {
   Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
-  Triangulation<3>                 beam;
+  std::cout << "Threads running a WorkStream with the limit 1: "
+            << testing::threads_running(1)
+            << ", with the limit 2: " << testing::threads_running(2)
+            << std::endl;
+  Triangulation<3> beam;
   testing::make_beam(beam, 2);
   dg::ProblemData<3> data = testing::cantilever_data(beam, {1, 1.5});
   for (const auto &cell : beam.active_cell_iterators())
