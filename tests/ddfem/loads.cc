@@ -10,6 +10,10 @@
 // off that of the small rotations u = w x x: their elastic energy is even
 // in w, so the central difference of E(w) and E(-w) is -2 M . w. A moment
 // catches loads put on the wrong coarse nodes that keep the total force.
+// The loads' work on all 24 trilinear fields, which every model represents,
+// must be the fine model's (to 1e-12) at both levels; it catches wrong
+// coarse load vectors that keep force and moment too. One of them has a
+// known value: -756 J for u = (0, 0, x y) under the body force (1, -2, -3).
 //
 // Also: a Dirichlet condition on a box region whose node planes a coarse
 // grid does not have is rejected for the coarse models, with a message
@@ -57,12 +61,11 @@ namespace
       )" + loads;
   }
 
-  /// The potential energy of @p problem at the displacement field
-  /// c + w x x, at full load.
+  /// The potential energy of @p problem at load factor @p t at the
+  /// displacement field @p u (a function of the point).
+  template <typename Field>
   double
-  rigid_motion_energy(const testing::Problem &problem,
-                      const Tensor<1, 3>     &c,
-                      const Tensor<1, 3>     &w)
+  energy_of(const testing::Problem &problem, const Field &u, const double t = 1)
   {
     const auto           &dof_handler = problem.discretization->dof_handler;
     std::vector<Point<3>> points(dof_handler.n_dofs());
@@ -71,10 +74,51 @@ namespace
                                          points);
     const std::vector<unsigned int> component =
       solver::dof_components(dof_handler);
-    Vector<double> u(dof_handler.n_dofs());
-    for (unsigned int i = 0; i < u.size(); ++i)
-      u(i) = (c + cross_product_3d(w, points[i]))[component[i]];
-    return problem.solver->energy(u, 1.);
+    Vector<double> values(dof_handler.n_dofs());
+    for (unsigned int i = 0; i < values.size(); ++i)
+      values(i) = u(points[i])[component[i]];
+    return problem.solver->energy(values, t);
+  }
+
+  /// The potential energy of @p problem at the displacement field
+  /// c + w x x, at full load.
+  double
+  rigid_motion_energy(const testing::Problem &problem,
+                      const Tensor<1, 3>     &c,
+                      const Tensor<1, 3>     &w)
+  {
+    return energy_of(problem, [&](const Point<3> &x) {
+      return c + cross_product_3d(w, x);
+    });
+  }
+
+  /**
+   * The work of the loads of @p problem on the 24 trilinear fields m e_d
+   * (m one of 1, x, y, z, xy, yz, zx, xyz; every model represents them
+   * exactly), read off the energies at load factors 0 and 1 of 1e-6 of
+   * each (dead loads: the difference is the loads' work alone). They probe
+   * the coarse load vectors beyond the total force and moment.
+   */
+  std::vector<double>
+  trilinear_works(const testing::Problem &problem)
+  {
+    const double        s = 1e-6;
+    std::vector<double> works;
+    for (unsigned int m = 0; m < 8; ++m)
+      for (unsigned int d = 0; d < 3; ++d)
+        {
+          const auto field = [m, d, s](const Point<3> &x) {
+            Tensor<1, 3> u;
+            u[d] = s;
+            for (unsigned int k = 0; k < 3; ++k)
+              if (m & (1u << k))
+                u[d] *= x[k];
+            return u;
+          };
+          works.push_back(
+            (energy_of(problem, field, 0) - energy_of(problem, field, 1)) / s);
+        }
+    return works;
   }
 
   /// The total external force of @p problem and its moment about the
@@ -121,6 +165,7 @@ namespace
   {
     std::cout << name << ", expected force (" << expected_force
               << ") N, moment (" << expected_moment << ") N m:" << std::endl;
+    std::vector<double> fine_works;
     for (const unsigned int level : {0u, 1u, 2u})
       {
         const testing::Problem problem(notched_block(loads), false, level);
@@ -128,6 +173,23 @@ namespace
         std::cout << "  level " << level << ": force "
                   << compare(force, expected_force, 1e-10) << ", moment "
                   << compare(moment, expected_moment, 1e-8) << std::endl;
+        const std::vector<double> works = trilinear_works(problem);
+        if (level == 0)
+          fine_works = works;
+        else
+          {
+            double largest = 0, difference = 0;
+            for (unsigned int i = 0; i < works.size(); ++i)
+              {
+                largest = std::max(largest, std::abs(fine_works[i]));
+                difference =
+                  std::max(difference, std::abs(works[i] - fine_works[i]));
+              }
+            testing::check_below("    the 24 trilinear works against the "
+                                 "fine model's, relative",
+                                 difference / largest,
+                                 1e-12);
+          }
       }
   }
 
@@ -169,6 +231,16 @@ main(int argc, char **argv)
               "subsection Loads\n  set Body force = 1; -2; -3\nend\n",
               Tensor<1, 3>({60., -120., -180.}),
               Tensor<1, 3>({-132., 492., -372.}));
+  // One trilinear work against its known value: on u = (0, 0, x y) the
+  // body force (1, -2, -3) does -3 int x y dV = -3 (256 - 4) = -756 J.
+  {
+    const testing::Problem problem(
+      notched_block("subsection Loads\n  set Body force = 1; -2; -3\nend\n"));
+    testing::check_below("  the work on (0, 0, x y) against -756 J, relative",
+                         std::abs(trilinear_works(problem)[3 * 3 + 2] / -756. -
+                                  1),
+                         1e-12);
+  }
   // A body force that varies in space, (0, 0, x) N/m^3, is evaluated where
   // each cell's quadrature points are: force (0, 0, int x dV) and moment
   // (int x y dV, -int x^2 dV, 0), with int x y dV = 256 - 4 = 252 and
