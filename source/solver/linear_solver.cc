@@ -385,57 +385,71 @@ namespace ddfem::solver
     // built. Per decade, since inexact Newton asks its last solves for
     // more decades than its first, which costs iterations with any
     // preconditioner.
-    const bool rebuild =
+    bool rebuild =
       (rate_after_setup == 0 || 2 * last_rate > 3 * rate_after_setup);
-    if (rebuild)
+    const double reduction        = std::min(forcing, tolerance);
+    unsigned int stale_iterations = 0;
+    while (true)
       {
-        TimerOutput::Scope scope(*timer, "factorization / preconditioner");
-        amg.clear(); // it refers to the matrix about to be replaced
-        trilinos_matrix.reinit(K);
-        compute_rigid_body_modes(configuration);
-        TrilinosWrappers::PreconditionAMG::AdditionalData data;
-        data.elliptic              = true;
-        data.higher_order_elements = (degree > 1);
-        data.smoother_sweeps       = 2;
-        data.aggregation_threshold = 1e-4;
-        Teuchos::ParameterList              list;
-        std::unique_ptr<Epetra_MultiVector> unused_modes;
-        data.set_parameters(list, unused_modes, trilinos_matrix);
-        list.set("PDE equations", 3);
-        list.set("null space: type", "pre-computed");
-        list.set("null space: dimension", 6);
-        list.set("null space: vectors", rigid_body_modes.data());
-        amg.initialize(trilinos_matrix, list);
-        ++n_preconditioner_setups;
-      }
-
-    const double reduction = std::min(forcing, tolerance);
-    try
-      {
-        // Closed before a fallback to the direct solver times its own.
-        TimerOutput::Scope scope(*timer, "linear solve");
-        last_iterations =
-          solve_with_cg(K, x, b, amg, max_iterations, reduction);
-      }
-    catch (const SolverControl::NoConvergence &failure)
-      {
-        rate_after_setup = 0;
-        if (requested == "auto" && x.size() <= fallback_limit)
-          return fall_back_to_direct(
-            K, x, b, direct_solves_after_cg_failure, failure.last_step);
-        throw Failure(
-          failure.last_step < max_iterations ?
-            "CG stopped at iteration " + std::to_string(failure.last_step) +
-              " on a residual that is not finite" :
-            "CG did not converge in Linear solver/Maximum iterations = " +
-              std::to_string(max_iterations) +
-              " (an indefinite or ill-conditioned tangent?)",
-          failure.last_step);
+        if (rebuild)
+          {
+            TimerOutput::Scope scope(*timer, "factorization / preconditioner");
+            amg.clear(); // it refers to the matrix about to be replaced
+            trilinos_matrix.reinit(K);
+            compute_rigid_body_modes(configuration);
+            TrilinosWrappers::PreconditionAMG::AdditionalData data;
+            data.elliptic              = true;
+            data.higher_order_elements = (degree > 1);
+            data.smoother_sweeps       = 2;
+            data.aggregation_threshold = 1e-4;
+            Teuchos::ParameterList              list;
+            std::unique_ptr<Epetra_MultiVector> unused_modes;
+            data.set_parameters(list, unused_modes, trilinos_matrix);
+            list.set("PDE equations", 3);
+            list.set("null space: type", "pre-computed");
+            list.set("null space: dimension", 6);
+            list.set("null space: vectors", rigid_body_modes.data());
+            amg.initialize(trilinos_matrix, list);
+            ++n_preconditioner_setups;
+          }
+        try
+          {
+            // Closed before a fallback to the direct solver times its own.
+            TimerOutput::Scope scope(*timer, "linear solve");
+            last_iterations =
+              solve_with_cg(K, x, b, amg, max_iterations, reduction);
+            break;
+          }
+        catch (const SolverControl::NoConvergence &failure)
+          {
+            rate_after_setup = 0;
+            // The hierarchy of an earlier tangent may be what failed, not
+            // this tangent: one more try with a hierarchy of its own.
+            if (!rebuild)
+              {
+                rebuild          = true;
+                stale_iterations = failure.last_step;
+                continue;
+              }
+            const unsigned int iterations =
+              stale_iterations + failure.last_step;
+            if (requested == "auto" && x.size() <= fallback_limit)
+              return fall_back_to_direct(
+                K, x, b, direct_solves_after_cg_failure, iterations);
+            throw Failure(
+              failure.last_step < max_iterations ?
+                "CG stopped at iteration " + std::to_string(failure.last_step) +
+                  " on a residual that is not finite" :
+                "CG did not converge in Linear solver/Maximum iterations = " +
+                  std::to_string(max_iterations) +
+                  " (an indefinite or ill-conditioned tangent?)",
+              iterations);
+          }
       }
     const double n_decades = decades(reduction);
     last_rate              = last_iterations / n_decades;
     if (rebuild)
       rate_after_setup = std::max(1u, last_iterations) / n_decades;
-    return last_iterations;
+    return stale_iterations + last_iterations;
   }
 } // namespace ddfem::solver

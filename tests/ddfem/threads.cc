@@ -67,8 +67,9 @@ main(int argc, char **argv)
 {
   Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   std::cout << "Threads running a WorkStream with the limit 1: "
-            << threads_running(1)
-            << ", with the limit 2: " << threads_running(2) << std::endl;
+            << testing::threads_running(1)
+            << ", with the limit 2: " << testing::threads_running(2)
+            << std::endl;
   std::cout << "Threaded assembly:" << std::endl;
   for (const std::string type : {"cg-cholesky", "cg-amg"})
     {

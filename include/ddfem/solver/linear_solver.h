@@ -38,7 +38,8 @@ namespace ddfem::solver
    *   hierarchy is kept across Newton iterations and rebuilt when CG
    *   needs 1.5 times the iterations per decade of residual reduction it
    *   needed right after the last rebuild, after a failed solve, and after
-   *   reset().
+   *   reset(); a solve that fails with the hierarchy of an earlier tangent
+   *   is tried once more with one of its own.
    * 'auto' picks cg-cholesky for small systems and cg-amg for large ones.
    * In 'auto' mode, a cg-amg failure on a system of moderate size switches
    * to the direct solver for a few systems.
