@@ -16,7 +16,7 @@
 #include <filesystem>
 #include <map>
 
-#include "../tests.h"
+#include "ddfem_against_naive.h"
 
 int
 main(int argc, char **argv)
@@ -45,12 +45,11 @@ main(int argc, char **argv)
       {
         const std::string directory = "layers-" + axis;
         std::filesystem::remove_all(directory);
-        const auto [status, json] = ddfem::testing::run_comparison(
+        ddfem::testing::check_ddfem_against_naive(
           ddfem::testing::compare_run("layers",
                                       "4, 16, 4",
                                       "0.04, 0.32, 0.04") +
             ddfem::testing::layers("0.02", axis, palette, ids) +
-            ddfem::testing::ddfem_and_naive_level_1() +
             "subsection Database\n"
             "  set File = " +
             database +
@@ -59,15 +58,9 @@ main(int argc, char **argv)
             "    set Laminate springs = true\n"
             "  end\n"
             "end\n",
-          directory);
-        bool       converged;
-        const auto error = ddfem::testing::level_errors(json, 1, converged);
-        std::cout << "layers normal to " << axis << label << ": exit status "
-                  << status << ", every model converged: " << std::boolalpha
-                  << converged << std::endl;
-        ddfem::testing::check_below("  ddfem L1 mean vertex error / naive's",
-                                    error.at("ddfem") / error.at("naive"),
-                                    bound,
-                                    2);
+          directory,
+          bound,
+          "layers normal to " + axis + label + ": ",
+          "  ");
       }
 }
