@@ -102,14 +102,15 @@ namespace ddfem::coarsening
     prm.declare_entry("Embedded fraction",
                       "1",
                       Patterns::Double(0, 1),
-                      "Fraction of the patterns of a mixed block (more than "
-                      "one material, no void voxel) that sample it as it "
-                      "deforms inside a part: a random homogeneous strain "
-                      "that the block's corners follow exactly and its other "
-                      "nodes up to a periodic fluctuation (the block's "
-                      "homogenized energy). The other patterns, and all "
-                      "patterns of homogeneous blocks and of blocks with void "
-                      "voxels, are force patterns on a free block (the "
+                      "Fraction of the patterns of a mixed block (its solid "
+                      "voxels hold more than one material; with void voxels, "
+                      "only a 2x2x2 block whose solid voxels are joined "
+                      "through faces) that sample it as it deforms inside a "
+                      "part: a random homogeneous strain that the block's "
+                      "corners follow exactly and its other nodes up to a "
+                      "periodic fluctuation (the block's homogenized "
+                      "energy). The other patterns, and all patterns of "
+                      "other blocks, are force patterns on a free block (the "
                       "paper's sampling, 0). Force patterns soften the stiff "
                       "children of mixed blocks; embedded samples of a "
                       "homogeneous block would equal the naive element. "
@@ -196,16 +197,54 @@ namespace ddfem::coarsening
 
 
 
+  namespace
+  {
+    /// Whether the solid voxels of the 2x2x2 block @p voxels (child k at
+    /// octant (k & 1, (k >> 1) & 1, (k >> 2) & 1)) form one group joined
+    /// through faces.
+    bool
+    face_connected(const std::vector<scene::MaterialId> &voxels)
+    {
+      solver::Components groups(8);
+      for (unsigned int a = 0; a < 8; ++a)
+        for (unsigned int d = 0; d < 3; ++d)
+          if (voxels[a] != scene::void_id &&
+              voxels[a ^ (1u << d)] != scene::void_id)
+            groups.join(a, a ^ (1u << d));
+      std::optional<std::size_t> root;
+      for (unsigned int a = 0; a < 8; ++a)
+        if (voxels[a] != scene::void_id)
+          {
+            if (root && *root != groups.find(a))
+              return false;
+            root = groups.find(a);
+          }
+      return true;
+    }
+  } // namespace
+
+
+
   SamplingSettings
   SamplingSettings::for_block(
     const std::vector<scene::MaterialId> &voxels) const
   {
     SamplingSettings result = *this;
-    if (std::find(voxels.begin(), voxels.end(), scene::void_id) !=
-          voxels.end() ||
-        std::all_of(voxels.begin(), voxels.end(), [&](const auto id) {
-          return id == voxels.front();
-        }))
+    // Mixed: the solid voxels hold more than one material.
+    std::optional<scene::MaterialId> material;
+    bool                             mixed = false;
+    for (const auto id : voxels)
+      if (id != scene::void_id)
+        {
+          mixed    = mixed || (material && *material != id);
+          material = id;
+        }
+    const bool has_void =
+      std::find(voxels.begin(), voxels.end(), scene::void_id) != voxels.end();
+    // With void, only a 2x2x2 block whose solid voxels are joined through
+    // their faces: children joined at an edge or a corner alone, each held
+    // at its own corner, would relax to no energy.
+    if (!mixed || (has_void && (voxels.size() != 8 || !face_connected(voxels))))
       result.embedded = 0;
     return result;
   }
@@ -458,12 +497,9 @@ namespace ddfem::coarsening
 
     // Periodic classes of nodes (embedded samples): a node's class is the
     // set of its coordinates at mid-block, so opposite faces and edges
-    // share one; corners (the empty set) follow the field exactly.
-    has_void =
-      grid.n_solid_voxels() < 8 ||
-      std::any_of(void_octants.begin(),
-                  void_octants.end(),
-                  [](const std::uint8_t octants) { return octants != 0; });
+    // share one; corners (the empty set) follow the field exactly. A void
+    // voxel leaves some nodes without a partner: the others of the class
+    // share its fluctuation, and a node alone in its class moves freely.
     std::map<unsigned int, unsigned int> class_number;
     periodic_dof.assign(dof_handler.n_dofs(), -1);
     for (unsigned int i = 0; i < dof_handler.n_dofs(); ++i)
@@ -755,7 +791,6 @@ namespace ddfem::coarsening
   bool
   BlockSampler::relax(const Vector<double> &u_base, Vector<double> &w) const
   {
-    Assert(!has_void, ExcInternalError());
     // Energy, gradient g and (if H is given) Hessian with respect to the
     // fluctuation v, gathered over the periodic classes, and the norm of
     // all nodal forces (the scale of g).
@@ -993,7 +1028,7 @@ namespace ddfem::coarsening
     // of 0.2 and Held-out every = 5, and the fit saw force patterns only.
     unsigned int n_embedded = 0;
     for (unsigned int p = 0; p < settings.n_directions; ++p)
-      if (!has_void && settings.is_embedded(p))
+      if (settings.is_embedded(p))
         embedded_pattern(settings, n_embedded++, normal, samples, n_dropped);
       else
         force_pattern(settings, p - n_embedded, normal, samples, n_dropped);
@@ -1141,9 +1176,9 @@ namespace ddfem::coarsening
   BlockSampler::anisotropy_directions(const SamplingSettings &settings,
                                       const CoarseElement    &element) const
   {
-    // As in sample(): a block with void is never embedded, nor one whose
-    // fraction of embedded patterns rounds down to none.
-    return settings.n_embedded() > 0 && !has_void ?
+    // As in sample(): not embedded where the fraction of embedded patterns
+    // rounds down to none.
+    return settings.n_embedded() > 0 ?
              embedded_stretch_directions(settings, element) :
              free_stretch_directions(settings, element);
   }

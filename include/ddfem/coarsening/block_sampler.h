@@ -64,12 +64,21 @@ namespace ddfem::coarsening
 
     /**
      * The settings for a block whose fine voxels have the material IDs
-     * @p voxels: these settings if the block is mixed (more than one
-     * material, no void voxel), otherwise the same with force patterns
-     * only. A block with a void voxel lies on a part's surface and deforms
-     * as a free block. A homogeneous block's embedded samples are exactly
-     * the naive element's energy (its periodic fluctuation vanishes), so
-     * only force patterns can correct the coarse element there.
+     * @p voxels (8 of a 2x2x2 block, or 64 of a 4x4x4 one listed child by
+     * child): these settings if the block is mixed (its solid voxels hold
+     * more than one material) and either has no void voxel or is a 2x2x2
+     * block whose solid voxels are joined through faces; otherwise the
+     * same with force patterns only. A homogeneous block's embedded
+     * samples are exactly the naive element's energy (its periodic
+     * fluctuation vanishes), so only force patterns can correct the
+     * coarse element there; a homogeneous block with void voxels keeps
+     * them too (a lattice's hinges fit better as free blocks). The stiff
+     * voxels of a mixed block with void voxels, as in a porous part, carry
+     * load through their neighbours, which a free block lacks: its force
+     * patterns made them up to a hundred times too soft. Children joined
+     * at an edge or a corner alone would relax to no energy, each held at
+     * its own corner, and level-2 blocks with void keep force patterns
+     * (doc/coarsening.md, "Porous parts").
      */
     SamplingSettings
     for_block(const std::vector<scene::MaterialId> &voxels) const;
@@ -193,24 +202,26 @@ namespace ddfem::coarsening
      * Newton's method. A magnitude whose solve fails ends its pattern: it
      * and the larger ones are dropped and counted in @p n_dropped.
      *
-     * A block with a void voxel lies on a part's surface and is sampled by
-     * force patterns (paper section 4.2): the traction of a random,
+     * Force patterns (paper section 4.2) are the traction of a random,
      * linearly varying stress on the block's surface (boundary_forces())
      * with its resultant force and moment removed, the deformations of a
      * free block.
      *
-     * A block without void voxels lies inside the part, where its
-     * neighbours hold its boundary. A fraction SamplingSettings::embedded
-     * of its patterns, spread evenly, are embedded patterns instead: a
-     * random homogeneous strain H (symmetric, standard normal entries)
-     * that the corners follow exactly and the other nodes follow up to a
-     * periodic fluctuation, equal on opposite faces and edges as in a
-     * periodic medium, which minimizes the fine energy (relax()). The
-     * samples are then the block's homogenized energy. A free block
-     * deforms mostly through its soft children and a fit to it softens
-     * the stiff ones; inside a body the stiff children carry load as
-     * well. The database builder passes SamplingSettings::for_block(), so
-     * only mixed blocks get embedded patterns.
+     * Inside a part, the block's neighbours hold its boundary. A fraction
+     * SamplingSettings::embedded of the patterns, spread evenly, are
+     * embedded patterns instead: a random homogeneous strain H
+     * (symmetric, standard normal entries) that the corners follow
+     * exactly and the other nodes follow up to a periodic fluctuation,
+     * equal on opposite faces and edges as in a periodic medium, which
+     * minimizes the fine energy (relax()). The samples are then the
+     * block's homogenized energy. Where a void voxel leaves a node without
+     * its periodic partner, the node moves with the rest of its class, or
+     * freely if it is alone in it, and a corner without a node follows
+     * nothing. A free block deforms mostly through its soft children and
+     * a fit to it softens the stiff ones; inside a body the stiff children
+     * carry load as well. The database builder passes
+     * SamplingSettings::for_block(), so only mixed blocks get embedded
+     * patterns.
      */
     std::vector<Sample>
     sample(const SamplingSettings &settings,
@@ -223,8 +234,7 @@ namespace ddfem::coarsening
      * per point of @p element the block's stiffest direction there. The
      * stretch follows the block's sampling (@p settings, as
      * SamplingSettings::for_block() gives them):
-     * - force patterns (SamplingSettings::n_embedded() = 0, or a block
-     *   with void, which sample() never embeds either): the free block
+     * - force patterns (SamplingSettings::n_embedded() = 0): the free block
      *   under uniaxial surface stress along d, the same stress for every d
      *   (solved linearly and scaled once, so that the largest strain of any
      *   direction is 0.01). The stretch l = |F d| of the coarse element's F
@@ -267,8 +277,7 @@ namespace ddfem::coarsening
     /**
      * Minimizes the fine energy over the periodic fluctuation @p w added
      * to the nodal displacements @p u_base (see sample()); @p w is the
-     * initial guess on input. Needs a block without void voxels.
-     * Returns false if Newton's method fails.
+     * initial guess on input. Returns false if Newton's method fails.
      */
     bool
     relax(const Vector<double> &u_base, Vector<double> &w) const;
@@ -431,8 +440,6 @@ namespace ddfem::coarsening
     /// Least-squares trilinear fit: corner value = sum_n weights(v, n) u_n
     /// over the nodes n.
     FullMatrix<double> corner_weights;
-    /// Whether the block has a void voxel.
-    bool has_void = false;
     /// Per degree of freedom, its fluctuation unknown, or -1 at corners.
     std::vector<int> periodic_dof;
     /// Number of fluctuation unknowns.

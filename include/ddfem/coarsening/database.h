@@ -26,7 +26,7 @@ namespace ddfem::coarsening
    * differently. Increase it with every change that alters entries for the
    * same settings.
    */
-  constexpr int sampler_revision = 8;
+  constexpr int sampler_revision = 9;
 
   /**
    * The point offset of every child fit (Entry::child_material): the
