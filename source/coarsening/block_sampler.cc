@@ -243,7 +243,9 @@ namespace ddfem::coarsening
       std::find(voxels.begin(), voxels.end(), scene::void_id) != voxels.end();
     // With void, only a 2x2x2 block whose solid voxels are joined through
     // their faces: children joined at an edge or a corner alone, each held
-    // at its own corner, would relax to no energy.
+    // at its own corner, would relax to no energy. Embedded level-2 blocks
+    // with void left a representative of the full database without a
+    // sample.
     if (!mixed || (has_void && (voxels.size() != 8 || !face_connected(voxels))))
       result.embedded = 0;
     return result;
