@@ -199,25 +199,38 @@ namespace ddfem::coarsening
 
   namespace
   {
-    /// Whether the solid voxels of the 2x2x2 block @p voxels (child k at
-    /// octant (k & 1, (k >> 1) & 1, (k >> 2) & 1)) form one group joined
-    /// through faces.
-    bool
-    face_connected(const std::vector<scene::MaterialId> &voxels)
+    /// The groups of the solid children of a 2x2x2 block (@p solid[k]:
+    /// whether child k, at octant (k & 1, (k >> 1) & 1, (k >> 2) & 1), is
+    /// solid) that are joined through faces.
+    solver::Components
+    face_groups(const std::array<bool, 8> &solid)
     {
       solver::Components groups(8);
       for (unsigned int a = 0; a < 8; ++a)
         for (unsigned int d = 0; d < 3; ++d)
-          if (voxels[a] != scene::void_id &&
-              voxels[a ^ (1u << d)] != scene::void_id)
+          if (solid[a] && solid[a ^ (1u << d)])
             groups.join(a, a ^ (1u << d));
+      return groups;
+    }
+
+
+
+    /// Whether the solid voxels of the 2x2x2 block @p voxels form one
+    /// group joined through faces.
+    bool
+    face_connected(const std::vector<scene::MaterialId> &voxels)
+    {
+      std::array<bool, 8> solid;
+      for (unsigned int k = 0; k < 8; ++k)
+        solid[k] = voxels[k] != scene::void_id;
+      solver::Components         groups = face_groups(solid);
       std::optional<std::size_t> root;
-      for (unsigned int a = 0; a < 8; ++a)
-        if (voxels[a] != scene::void_id)
+      for (unsigned int k = 0; k < 8; ++k)
+        if (solid[k])
           {
-            if (root && *root != groups.find(a))
+            if (root && *root != groups.find(k))
               return false;
-            root = groups.find(a);
+            root = groups.find(k);
           }
       return true;
     }
@@ -232,15 +245,15 @@ namespace ddfem::coarsening
     SamplingSettings result = *this;
     // Mixed: the solid voxels hold more than one material.
     std::optional<scene::MaterialId> material;
-    bool                             mixed = false;
+    bool                             mixed = false, has_void = false;
     for (const auto id : voxels)
-      if (id != scene::void_id)
+      if (id == scene::void_id)
+        has_void = true;
+      else
         {
           mixed    = mixed || (material && *material != id);
           material = id;
         }
-    const bool has_void =
-      std::find(voxels.begin(), voxels.end(), scene::void_id) != voxels.end();
     // With void, only a 2x2x2 block whose solid voxels are joined through
     // their faces: children joined at an edge or a corner alone, each held
     // at its own corner, would relax to no energy. Embedded level-2 blocks
@@ -321,14 +334,10 @@ namespace ddfem::coarsening
                                          support_points);
 
     // Face-connected groups of children (octants).
-    solver::Components groups(8);
-    for (unsigned int a = 0; a < 8; ++a)
-      for (unsigned int d = 0; d < 3; ++d)
-        {
-          const unsigned int b = a ^ (1u << d);
-          if (!children[a].empty() && !children[b].empty())
-            groups.join(a, b);
-        }
+    std::array<bool, 8> solid;
+    for (unsigned int k = 0; k < 8; ++k)
+      solid[k] = !children[k].empty();
+    solver::Components                   groups = face_groups(solid);
     std::vector<std::vector<bool>>       group_dofs;
     std::map<unsigned int, unsigned int> group_number;
     for (unsigned int c = 0; c < cell_child.size(); ++c)

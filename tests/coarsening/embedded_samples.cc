@@ -348,13 +348,14 @@ main()
         unsigned int       dropped_a, dropped_b;
         const auto   a = sampler.sample(sampling.for_block(ids), 9, dropped_a);
         const auto   b = sampler.sample(free_block, 9, dropped_b);
-        bool         same  = a.size() == b.size();
-        unsigned int above = 0;
+        bool         same           = a.size() == b.size();
+        unsigned int above          = 0;
+        const Metamaterial unfitted = naive(children);
         for (unsigned int s = 0; s < a.size(); ++s)
           {
             same = same && a[s].energy == b[s].energy;
             double e;
-            element.energy(a[s].corners, naive(children), e);
+            element.energy(a[s].corners, unfitted, e);
             above += !(a[s].energy <= e * (1 + 1e-12));
           }
         std::cout << "samples: " << a.size() << ", dropped: " << dropped_a
